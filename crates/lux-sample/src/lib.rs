@@ -1,0 +1,1 @@
+//! Importance sampling for UsdLux lights: per-shape samplers, environment maps, light selection.

@@ -1,0 +1,1 @@
+//! UsdLux ShapingAPI: focus, focusTint, cone angle and softness, IES angleScale and normalize.
