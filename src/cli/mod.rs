@@ -1,0 +1,3 @@
+//! Command-line front end of the `lux` binary.
+
+pub mod ies;
