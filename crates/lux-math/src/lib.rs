@@ -6,13 +6,48 @@
 //! colour temperature, and the conformance [`Profile`] that every lux crate takes.
 //!
 //! Conventions: USD matrices are **row-vector** (`p' = p · M`, translation in the last row); a
-//! `glam::DMat4` built from a USD matrix's rows therefore holds `M` transposed, and
-//! `DMat4::transform_point3` applies it correctly (see [`usd_matrix`]). Lights emit along local −Z.
+//! `glam::DMat4` whose columns are the USD rows applies the same map to column vectors
+//! ([`usd_matrix`]). Lights emit along local −Z; polar angles are measured from −Z
+//! ([`light_polar`]).
+//!
+//! ```
+//! use glam::{DMat4, DVec3};
+//! use lux_math::{LightKind, LightParams, LightShape, Profile, emitted_radiance, size_factor};
+//!
+//! // A 2 × 1 RectLight scaled by 3 in X, normalize on: its world area is 6.
+//! let shape = LightShape::Rect { width: 2.0, height: 1.0 };
+//! let xf = DMat4::from_scale(DVec3::new(3.0, 1.0, 1.0));
+//! assert_eq!(size_factor(&shape, &xf, Profile::Spec), 6.0);
+//! let params = LightParams { intensity: 12.0, normalize: true, ..LightParams::defaults_for(LightKind::Rect) };
+//! assert_eq!(emitted_radiance(&params, &shape, &xf, Profile::Spec), DVec3::splat(2.0));
+//! ```
 
+mod blackbody;
+mod elliptic;
+mod emission;
 mod polar;
 mod profile;
 mod scalar;
+mod shape;
+mod size;
+mod transform;
 
+pub use blackbody::{
+    REC709_LUMINANCE, color_temperature_rgb, hdembree_blackbody_rgb, krystek_planckian_uv,
+    spec_blackbody_rgb, usdlux_blackbody_rgb,
+};
+pub use elliptic::{
+    carlson_rf_rd, carlson_rg, ellipse_perimeter, ellipse_perimeter_ramanujan, ellipsoid_area,
+    ellipsoid_area_thomsen,
+};
+pub use emission::{LightParams, emission, emitted_radiance};
 pub use polar::{Frame, azimuth_from_xy, light_direction, light_polar};
 pub use profile::{Profile, UnknownProfile};
 pub use scalar::{lerp, lerp_f32, smooth_step, smooth_step_f32};
+pub use shape::{LightKind, LightShape};
+pub use size::{
+    cylinder_area, cylinder_area_reference, disk_area, disk_area_reference, distant_size_factor,
+    gram_eigenvalues, mesh_area, rect_area, size_factor, sphere_area, sphere_area_reference,
+    world_area,
+};
+pub use transform::{is_finite_matrix, linear_part, transform_vector, usd_matrix, usd_rows};

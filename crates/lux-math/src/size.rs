@@ -1,0 +1,454 @@
+//! `sizeFactor` of `inputs:normalize`: world-space surface areas and the distant-light factor.
+//!
+//! From the UsdLux 26.11 `inputs:normalize` doc: `L = L / sizeFactor`, where sizeFactor is 1 for
+//! DomeLight/PortalLight, the world-space surface area (every scale of the transform stack
+//! included) for area lights, and a function of the angle for DistantLight.
+//!
+//! Under an affine light-to-world map with linear part `A` (columns: images of local x, y, z):
+//!
+//! | light | [`Profile::Spec`] (exact) | [`Profile::HdEmbree`] (the reference's approximations) |
+//! |---|---|---|
+//! | rect | `w·h·‖A x̂ × A ŷ‖` | same |
+//! | disk | `π r²·‖A x̂ × A ŷ‖` (exact under shear) | `π·‖r A x̂‖·‖r A ŷ‖` |
+//! | sphere | ellipsoid with semi-axes `r·σᵢ(A)`: `4π R_G(b²c², c²a², a²b²)` | Thomsen p = 1.6 |
+//! | cylinder | `‖L A x̂‖ ×` exact perimeter of the cross-section ellipse (images of the radial axes projected ⟂ the axis) | `‖L A x̂‖ ×` Ramanujan perimeter of `‖r A ŷ‖, ‖r A ẑ‖` |
+//! | mesh | Σ ½‖(B−A)×(C−A)‖ of world triangles | same |
+//!
+//! Bad input: a non-finite transform or size, a negative size, or a singular transform gives a
+//! size factor of 0 for area lights ("a zero-area light"); [`crate::emission`] then emits 0.
+
+use crate::elliptic::{
+    ellipse_perimeter, ellipse_perimeter_ramanujan, ellipsoid_area, ellipsoid_area_thomsen,
+};
+use crate::{LightShape, Profile};
+use core::f64::consts::{FRAC_PI_2, PI};
+use glam::{DMat3, DMat4, DVec3};
+
+/// `sizeFactor` of `shape` under the light-to-world transform `xf` (glam column convention, see
+/// [`crate::usd_matrix`]), regardless of whether `normalize` is on: the world-space area for area
+/// lights, [`distant_size_factor`] for distant lights, 1 for dome and portal lights.
+///
+/// Always finite and ≥ 0. Invalid geometry (non-finite or negative sizes, non-finite transform)
+/// gives 0 for area lights.
+pub fn size_factor(shape: &LightShape, xf: &DMat4, profile: Profile) -> f64 {
+    match shape {
+        LightShape::Dome | LightShape::Portal { .. } => 1.0,
+        LightShape::Distant { angle_deg } => distant_size_factor(*angle_deg, profile),
+        _ => world_area(shape, xf, profile),
+    }
+}
+
+/// World-space surface area of an area light (0 for dome, portal and distant lights).
+///
+/// See the module table for the formula per shape and profile. Always finite and ≥ 0.
+pub fn world_area(shape: &LightShape, xf: &DMat4, profile: Profile) -> f64 {
+    if !xf.is_finite() {
+        return 0.0;
+    }
+    let a = DMat3::from_mat4(*xf);
+    let area = match *shape {
+        LightShape::Rect { width, height } => {
+            if !valid(width) || !valid(height) {
+                return 0.0;
+            }
+            rect_area(&a, width, height)
+        }
+        LightShape::Disk { radius } => {
+            if !valid(radius) {
+                return 0.0;
+            }
+            match profile {
+                Profile::Spec => disk_area(&a, radius),
+                Profile::HdEmbree => disk_area_reference(&a, radius),
+            }
+        }
+        LightShape::Sphere { radius } => {
+            if !valid(radius) {
+                return 0.0;
+            }
+            match profile {
+                Profile::Spec => sphere_area(&a, radius),
+                Profile::HdEmbree => sphere_area_reference(&a, radius),
+            }
+        }
+        LightShape::Cylinder { radius, length } => {
+            if !valid(radius) || !valid(length) {
+                return 0.0;
+            }
+            match profile {
+                Profile::Spec => cylinder_area(&a, radius, length),
+                Profile::HdEmbree => cylinder_area_reference(&a, radius, length),
+            }
+        }
+        LightShape::Mesh { ref triangles } => mesh_area(xf, triangles),
+        LightShape::Dome | LightShape::Portal { .. } | LightShape::Distant { .. } => 0.0,
+    };
+    if area.is_finite() && area > 0.0 {
+        area
+    } else {
+        0.0
+    }
+}
+
+#[inline]
+fn valid(x: f64) -> bool {
+    x.is_finite() && x >= 0.0
+}
+
+/// Rect: `w·h·‖A x̂ × A ŷ‖`, exact under any affine map (a parallelogram).
+#[inline]
+pub fn rect_area(a: &DMat3, width: f64, height: f64) -> f64 {
+    width * height * a.x_axis.cross(a.y_axis).length()
+}
+
+/// Disk, exact: the image of a disk is an ellipse of area `π r²·‖A x̂ × A ŷ‖`, shear included.
+#[inline]
+pub fn disk_area(a: &DMat3, radius: f64) -> f64 {
+    PI * radius * radius * a.x_axis.cross(a.y_axis).length()
+}
+
+/// Disk as the hdEmbree reference computes it: `π·‖r A x̂‖·‖r A ŷ‖` (ignores shear, so it
+/// over-estimates a sheared disk).
+#[inline]
+pub fn disk_area_reference(a: &DMat3, radius: f64) -> f64 {
+    PI * radius * radius * a.x_axis.length() * a.y_axis.length()
+}
+
+/// Sphere, exact: the image is an ellipsoid whose semi-axes are `r` times the singular values
+/// of `A`; its area by Carlson's R_G ([`crate::ellipsoid_area`]). Rotation + uniform scale takes
+/// the closed form `4π r² s²`.
+pub fn sphere_area(a: &DMat3, radius: f64) -> f64 {
+    let [l1, l2, l3] = gram_eigenvalues(a);
+    let r2 = radius * radius;
+    if l1 == l3 {
+        return 4.0 * PI * r2 * l1;
+    }
+    // Semi-axes² are r²·λᵢ; ellipsoid_area wants the semi-axes.
+    let (sa, sb, sc) = ((r2 * l1).sqrt(), (r2 * l2).sqrt(), (r2 * l3).sqrt());
+    ellipsoid_area(sa, sb, sc)
+}
+
+/// Sphere as the hdEmbree reference computes it: Thomsen's p = 1.6 formula on the same
+/// semi-axes (≤ 1.1 % from exact; exact for uniform scale).
+pub fn sphere_area_reference(a: &DMat3, radius: f64) -> f64 {
+    let [l1, l2, l3] = gram_eigenvalues(a);
+    let r2 = radius * radius;
+    ellipsoid_area_thomsen((r2 * l1).sqrt(), (r2 * l2).sqrt(), (r2 * l3).sqrt())
+}
+
+/// Cylinder lateral area, exact: `‖L·A x̂‖ × perimeter(E)`, where `E` is the ellipse spanned by
+/// the images `r A ŷ`, `r A ẑ` of the radial axes projected onto the plane perpendicular to the
+/// axis image (the right cross-section of the possibly oblique cylinder); its semi-axes are the
+/// square roots of the eigenvalues of that projected pair's 2×2 Gram matrix and its perimeter
+/// is the complete elliptic integral of the second kind ([`crate::ellipse_perimeter`]).
+pub fn cylinder_area(a: &DMat3, radius: f64, length: f64) -> f64 {
+    let axis = a.x_axis;
+    let axis_len = axis.length();
+    if axis_len == 0.0 || radius == 0.0 || length == 0.0 {
+        return 0.0;
+    }
+    let u = axis / axis_len;
+    let w1 = (a.y_axis - u * a.y_axis.dot(u)) * radius;
+    let w2 = (a.z_axis - u * a.z_axis.dot(u)) * radius;
+    let (g11, g22, g12) = (w1.length_squared(), w2.length_squared(), w1.dot(w2));
+    let (big, small) = sym2_eigenvalues(g11, g22, g12);
+    length * axis_len * ellipse_perimeter(big.sqrt(), small.sqrt())
+}
+
+/// Cylinder as the hdEmbree reference computes it: `‖L·A x̂‖ ×` Ramanujan's perimeter of the
+/// ellipse with semi-axes `‖r A ŷ‖`, `‖r A ẑ‖` (no projection).
+pub fn cylinder_area_reference(a: &DMat3, radius: f64, length: f64) -> f64 {
+    length
+        * a.x_axis.length()
+        * ellipse_perimeter_ramanujan(radius * a.y_axis.length(), radius * a.z_axis.length())
+}
+
+/// Mesh light: Σ ½‖(B−A)×(C−A)‖ over the world-space images of the local triangles.
+/// Non-finite triangles are skipped.
+pub fn mesh_area(xf: &DMat4, triangles: &[[DVec3; 3]]) -> f64 {
+    let mut sum = 0.0;
+    for t in triangles {
+        let p0 = xf.transform_point3(t[0]);
+        let p1 = xf.transform_point3(t[1]);
+        let p2 = xf.transform_point3(t[2]);
+        let area = 0.5 * (p1 - p0).cross(p2 - p0).length();
+        if area.is_finite() {
+            sum += area;
+        }
+    }
+    sum
+}
+
+/// DistantLight `sizeFactor` from `inputs:angle` (degrees, the angular diameter).
+///
+/// `θmax = clamp(radians(angle)/2, 0, π)` (this clips `angle` to \[0, 360\]); then
+/// - θmax = 0: 1 (a delta light whose intensity is the illuminance in lux);
+/// - 0 < θmax ≤ π/2: `π·sin²θmax`;
+/// - π/2 < θmax ≤ π: [`Profile::Spec`] `π·(2 − sin²θmax)`; [`Profile::HdEmbree`] keeps
+///   `π·sin²θmax` (the reference has no second branch; at θmax = π that is 0, and a light with a
+///   zero size factor emits nothing).
+///
+/// A NaN angle is treated as 0 (delta light).
+pub fn distant_size_factor(angle_deg: f64, profile: Profile) -> f64 {
+    let theta_max = if angle_deg.is_nan() {
+        0.0
+    } else {
+        (angle_deg.to_radians() * 0.5).clamp(0.0, PI)
+    };
+    if theta_max == 0.0 {
+        return 1.0;
+    }
+    let s = theta_max.sin();
+    let s2 = s * s;
+    if theta_max <= FRAC_PI_2 || profile == Profile::HdEmbree {
+        PI * s2
+    } else {
+        PI * (2.0 - s2)
+    }
+}
+
+/// Eigenvalues of `AᵀA` (the squared singular values of `A`), largest first.
+///
+/// The largest comes from the trigonometric closed form for symmetric 3×3 matrices; the other
+/// two from `λ₂ + λ₃ = tr − λ₁` and `λ₂λ₃ = det(A)²/λ₁`, which keeps the smallest accurate
+/// for nearly flat maps.
+pub fn gram_eigenvalues(a: &DMat3) -> [f64; 3] {
+    let g = a.transpose() * *a;
+    let (g00, g11, g22) = (g.x_axis.x, g.y_axis.y, g.z_axis.z);
+    let (g01, g02, g12) = (g.y_axis.x, g.z_axis.x, g.z_axis.y);
+    let p1 = g01 * g01 + g02 * g02 + g12 * g12;
+    let tr = g00 + g11 + g22;
+    let q = tr / 3.0;
+    let p2 = (g00 - q).powi(2) + (g11 - q).powi(2) + (g22 - q).powi(2) + 2.0 * p1;
+    if p2 <= 1e-30 * q * q {
+        return [q, q, q];
+    }
+    let p = (p2 / 6.0).sqrt();
+    // B = (G − qI)/p; r = det(B)/2.
+    let (b00, b11, b22) = ((g00 - q) / p, (g11 - q) / p, (g22 - q) / p);
+    let (b01, b02, b12) = (g01 / p, g02 / p, g12 / p);
+    let det_b = b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02)
+        + b02 * (b01 * b12 - b11 * b02);
+    let r = (0.5 * det_b).clamp(-1.0, 1.0);
+    let phi = r.acos() / 3.0;
+    let l1 = (q + 2.0 * p * phi.cos()).max(0.0);
+    if l1 == 0.0 {
+        return [0.0, 0.0, 0.0];
+    }
+    let det_a = a.determinant();
+    let prod23 = det_a * det_a / l1;
+    let sum23 = (tr - l1).max(0.0);
+    let disc = (sum23 * sum23 - 4.0 * prod23).max(0.0).sqrt();
+    let l2 = 0.5 * (sum23 + disc);
+    let l3 = if l2 > 0.0 { prod23 / l2 } else { 0.0 };
+    [l1, l2.min(l1), l3.min(l2)]
+}
+
+/// Eigenvalues `(big, small)` of the symmetric 2×2 matrix `[[a, c], [c, b]]` (both ≥ 0 for a
+/// Gram matrix); the small one via the determinant for accuracy.
+#[inline]
+fn sym2_eigenvalues(a: f64, b: f64, c: f64) -> (f64, f64) {
+    let half_tr = 0.5 * (a + b);
+    let d = (0.25 * (a - b) * (a - b) + c * c).sqrt();
+    let big = half_tr + d;
+    if big <= 0.0 {
+        return (0.0, 0.0);
+    }
+    let small = ((a * b - c * c) / big).max(0.0);
+    (big, small)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DQuat;
+
+    fn rel(a: f64, b: f64) -> f64 {
+        ((a - b) / b).abs()
+    }
+
+    #[test]
+    fn identity_areas() {
+        let i = DMat4::IDENTITY;
+        let p = Profile::Spec;
+        assert_eq!(
+            size_factor(
+                &LightShape::Rect {
+                    width: 2.0,
+                    height: 3.0
+                },
+                &i,
+                p
+            ),
+            6.0
+        );
+        assert!(
+            rel(
+                size_factor(&LightShape::Disk { radius: 0.5 }, &i, p),
+                PI * 0.25
+            ) < 1e-15
+        );
+        assert!(rel(size_factor(&LightShape::Sphere { radius: 0.5 }, &i, p), PI) < 1e-15);
+        assert!(
+            rel(
+                size_factor(
+                    &LightShape::Cylinder {
+                        radius: 0.5,
+                        length: 2.0
+                    },
+                    &i,
+                    p
+                ),
+                2.0 * PI
+            ) < 1e-15
+        );
+        assert_eq!(size_factor(&LightShape::Dome, &i, p), 1.0);
+        assert_eq!(
+            size_factor(
+                &LightShape::Portal {
+                    width: 5.0,
+                    height: 5.0
+                },
+                &i,
+                p
+            ),
+            1.0
+        );
+        let tri = LightShape::Mesh {
+            triangles: vec![[DVec3::ZERO, DVec3::X * 2.0, DVec3::Y * 3.0]],
+        };
+        assert_eq!(size_factor(&tri, &i, p), 3.0);
+    }
+
+    #[test]
+    fn sheared_disk_exact_vs_reference() {
+        // USD rows: x ↦ (1,0,0), y ↦ (1,1,0) (shear of y along x by 1).
+        let m = crate::usd_matrix([
+            [1.0, 0.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+        ]);
+        let d = LightShape::Disk { radius: 1.0 };
+        // Shear preserves area: π exactly.
+        assert!(rel(size_factor(&d, &m, Profile::Spec), PI) < 1e-15);
+        // Reference: π·1·√2.
+        assert!(rel(size_factor(&d, &m, Profile::HdEmbree), PI * 2f64.sqrt()) < 1e-15);
+    }
+
+    #[test]
+    fn scaled_sphere_is_spheroid() {
+        let m = DMat4::from_scale(DVec3::new(2.0, 2.0, 0.5));
+        let a = DMat3::from_mat4(m);
+        let e = (1.0f64 - 0.0625).sqrt();
+        let expect = 2.0 * PI * 4.0 * (1.0 + (1.0 - e * e) / e * e.atanh());
+        assert!(rel(sphere_area(&a, 1.0), expect) < 1e-13);
+        // Rotated: the same.
+        let r = DMat4::from_quat(DQuat::from_euler(glam::EulerRot::XYZ, 0.3, -1.1, 2.0));
+        assert!(rel(sphere_area(&DMat3::from_mat4(r * m), 1.0), expect) < 1e-12);
+        assert!(rel(sphere_area_reference(&a, 1.0), expect) < 0.011);
+    }
+
+    #[test]
+    fn sheared_cylinder() {
+        // Shear the radial axis y along the cylinder axis x: the right cross-section is unchanged
+        // (a circle of radius r), only the slant grows: area is still 2πrL.
+        let m = crate::usd_matrix([
+            [1.0, 0.0, 0.0, 0.0],
+            [0.7, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+        ]);
+        let c = LightShape::Cylinder {
+            radius: 0.5,
+            length: 3.0,
+        };
+        assert!(rel(size_factor(&c, &m, Profile::Spec), 2.0 * PI * 0.5 * 3.0) < 1e-14);
+        // Non-uniform radial scale: ellipse 2r × 0.5r, exact perimeter.
+        let s = DMat4::from_scale(DVec3::new(1.0, 2.0, 0.5));
+        let expect = 3.0 * ellipse_perimeter(1.0, 0.25);
+        assert!(rel(size_factor(&c, &s, Profile::Spec), expect) < 1e-14);
+        let approx = 3.0 * ellipse_perimeter_ramanujan(1.0, 0.25);
+        assert!(rel(size_factor(&c, &s, Profile::HdEmbree), approx) < 1e-14);
+    }
+
+    #[test]
+    fn distant_branches() {
+        let p = Profile::Spec;
+        assert_eq!(distant_size_factor(0.0, p), 1.0);
+        assert_eq!(distant_size_factor(-5.0, p), 1.0);
+        assert_eq!(distant_size_factor(f64::NAN, p), 1.0);
+        // angle 80 deg: π sin²(40°)
+        let s = 40f64.to_radians().sin();
+        assert!(rel(distant_size_factor(80.0, p), PI * s * s) < 1e-15);
+        assert!(rel(distant_size_factor(180.0, p), PI) < 1e-15);
+        // 270 deg: θmax = 135°, sin² = 1/2: spec 1.5π, reference 0.5π.
+        assert!(rel(distant_size_factor(270.0, p), 1.5 * PI) < 1e-14);
+        assert!(rel(distant_size_factor(270.0, Profile::HdEmbree), 0.5 * PI) < 1e-14);
+        // clipped at 360: 2π, and beyond
+        assert!(rel(distant_size_factor(360.0, p), 2.0 * PI) < 1e-15);
+        assert!(rel(distant_size_factor(1000.0, p), 2.0 * PI) < 1e-15);
+    }
+
+    #[test]
+    fn bad_input_is_zero_area() {
+        let i = DMat4::IDENTITY;
+        let p = Profile::Spec;
+        for s in [
+            LightShape::Rect {
+                width: f64::NAN,
+                height: 1.0,
+            },
+            LightShape::Rect {
+                width: -1.0,
+                height: 1.0,
+            },
+            LightShape::Disk {
+                radius: f64::INFINITY,
+            },
+            LightShape::Sphere { radius: -0.5 },
+            LightShape::Cylinder {
+                radius: 0.5,
+                length: f64::NAN,
+            },
+        ] {
+            assert_eq!(size_factor(&s, &i, p), 0.0, "{s:?}");
+        }
+        let singular = DMat4::from_scale(DVec3::new(1.0, 0.0, 1.0));
+        assert_eq!(
+            size_factor(
+                &LightShape::Rect {
+                    width: 1.0,
+                    height: 1.0
+                },
+                &singular,
+                p
+            ),
+            0.0
+        );
+        // A sphere squashed flat is a doubly covered disk: 2πr².
+        assert!(
+            rel(
+                size_factor(&LightShape::Sphere { radius: 1.0 }, &singular, p),
+                2.0 * PI
+            ) < 1e-12
+        );
+        let nan = DMat4::from_scale(DVec3::new(f64::NAN, 1.0, 1.0));
+        assert_eq!(
+            size_factor(&LightShape::Sphere { radius: 1.0 }, &nan, p),
+            0.0
+        );
+        assert_eq!(
+            size_factor(&LightShape::Sphere { radius: 1.0 }, &DMat4::ZERO, p),
+            0.0
+        );
+    }
+
+    #[test]
+    fn gram_eigen_matches_scale() {
+        let m = DMat4::from_quat(DQuat::from_rotation_y(0.7))
+            * DMat4::from_scale(DVec3::new(3.0, 0.2, 1.5));
+        let [a, b, c] = gram_eigenvalues(&DMat3::from_mat4(m));
+        assert!(rel(a, 9.0) < 1e-13 && rel(b, 2.25) < 1e-13 && rel(c, 0.04) < 1e-12);
+    }
+}
