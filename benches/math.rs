@@ -1,1 +1,100 @@
-fn main() {}
+//! lux-math benchmarks (issue 2 targets): sizeFactor per light kind (≤ 200 ns for the
+//! ellipsoid, ≤ 20 ns for the rest) and the blackbody colour (≤ 20 ns).
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use glam::{DMat4, DQuat, DVec3};
+use lux::math::{
+    LightShape, Profile, hdembree_blackbody_rgb, size_factor, spec_blackbody_rgb,
+    usdlux_blackbody_rgb,
+};
+use std::hint::black_box;
+
+fn transform() -> DMat4 {
+    // Rotation, non-uniform scale and a shear: the general case.
+    let shear = DMat4::from_cols_array(&[
+        1.0, 0.0, 0.0, 0.0, 0.3, 1.0, 0.0, 0.0, 0.1, -0.2, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+    ]);
+    DMat4::from_rotation_translation(
+        DQuat::from_euler(glam::EulerRot::XYZ, 0.3, 1.1, -0.4),
+        DVec3::new(1.0, 2.0, 3.0),
+    ) * DMat4::from_scale(DVec3::new(2.0, 0.7, 1.3))
+        * shear
+}
+
+fn size_factors(c: &mut Criterion) {
+    let m = transform();
+    let mut g = c.benchmark_group("size_factor");
+    let shapes = [
+        (
+            "sphere_ellipsoid_exact",
+            LightShape::Sphere { radius: 0.5 },
+            Profile::Spec,
+        ),
+        (
+            "sphere_thomsen",
+            LightShape::Sphere { radius: 0.5 },
+            Profile::HdEmbree,
+        ),
+        (
+            "cylinder_exact",
+            LightShape::Cylinder {
+                radius: 0.5,
+                length: 1.0,
+            },
+            Profile::Spec,
+        ),
+        (
+            "cylinder_ramanujan",
+            LightShape::Cylinder {
+                radius: 0.5,
+                length: 1.0,
+            },
+            Profile::HdEmbree,
+        ),
+        (
+            "disk_exact",
+            LightShape::Disk { radius: 0.5 },
+            Profile::Spec,
+        ),
+        (
+            "rect",
+            LightShape::Rect {
+                width: 1.0,
+                height: 2.0,
+            },
+            Profile::Spec,
+        ),
+        (
+            "distant",
+            LightShape::Distant { angle_deg: 0.53 },
+            Profile::Spec,
+        ),
+        ("dome", LightShape::Dome, Profile::Spec),
+    ];
+    for (name, shape, profile) in shapes {
+        g.bench_function(name, |b| {
+            b.iter(|| size_factor(black_box(&shape), black_box(&m), profile))
+        });
+    }
+    let uniform = DMat4::from_scale(DVec3::splat(2.0));
+    let sphere = LightShape::Sphere { radius: 0.5 };
+    g.bench_function("sphere_uniform_scale", |b| {
+        b.iter(|| size_factor(black_box(&sphere), black_box(&uniform), Profile::Spec))
+    });
+    g.finish();
+}
+
+fn blackbody(c: &mut Criterion) {
+    let mut g = c.benchmark_group("blackbody");
+    g.bench_function("usdlux", |b| {
+        b.iter(|| usdlux_blackbody_rgb(black_box(3700.0)))
+    });
+    g.bench_function("spec", |b| b.iter(|| spec_blackbody_rgb(black_box(3700.0))));
+    g.bench_function("hdembree", |b| {
+        b.iter(|| hdembree_blackbody_rgb(black_box(3700.0)))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, size_factors, blackbody);
+criterion_main!(benches);

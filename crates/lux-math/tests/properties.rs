@@ -1,0 +1,145 @@
+//! Property tests of the size factors and the base emission.
+
+use core::f64::consts::{FRAC_PI_2, PI};
+use glam::{DMat4, DQuat, DVec3};
+use lux_math::*;
+use proptest::prelude::*;
+
+fn shapes() -> impl Strategy<Value = LightShape> {
+    prop_oneof![
+        (0.01f64..10.0, 0.01f64..10.0)
+            .prop_map(|(width, height)| LightShape::Rect { width, height }),
+        (0.01f64..10.0).prop_map(|radius| LightShape::Disk { radius }),
+        (0.01f64..10.0).prop_map(|radius| LightShape::Sphere { radius }),
+        (0.01f64..10.0, 0.01f64..10.0)
+            .prop_map(|(radius, length)| LightShape::Cylinder { radius, length }),
+        prop::collection::vec(prop::array::uniform9(-5.0f64..5.0), 1..6).prop_map(|v| {
+            LightShape::Mesh {
+                triangles: v
+                    .into_iter()
+                    .map(|a| {
+                        [
+                            DVec3::new(a[0], a[1], a[2]),
+                            DVec3::new(a[3], a[4], a[5]),
+                            DVec3::new(a[6], a[7], a[8]),
+                        ]
+                    })
+                    .collect(),
+            }
+        }),
+    ]
+}
+
+fn affine() -> impl Strategy<Value = DMat4> {
+    prop::array::uniform12(-3.0f64..3.0).prop_map(|a| {
+        DMat4::from_cols_array(&[
+            a[0], a[1], a[2], 0.0, a[3], a[4], a[5], 0.0, a[6], a[7], a[8], 0.0, a[9], a[10],
+            a[11], 1.0,
+        ])
+    })
+}
+
+fn rigid() -> impl Strategy<Value = DMat4> {
+    (
+        prop::array::uniform3(-3.0f64..3.0),
+        prop::array::uniform3(-10.0f64..10.0),
+    )
+        .prop_map(|(e, t)| {
+            DMat4::from_rotation_translation(
+                DQuat::from_euler(glam::EulerRot::ZYX, e[0], e[1], e[2]),
+                DVec3::from(t),
+            )
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    #[test]
+    fn area_scales_with_square_of_uniform_scale(shape in shapes(), m in affine(), s in 0.05f64..20.0) {
+        for profile in Profile::ALL {
+            let a0 = size_factor(&shape, &m, profile);
+            let a1 = size_factor(&shape, &(DMat4::from_scale(DVec3::splat(s)) * m), profile);
+            prop_assert!((a1 - s * s * a0).abs() <= 1e-9 * (a1.abs() + s * s * a0.abs()) + 1e-300,
+                "{profile:?} {shape:?}: {a0} {a1}");
+        }
+    }
+
+    #[test]
+    fn area_invariant_under_rigid_motion(shape in shapes(), m in affine(), r in rigid()) {
+        for profile in Profile::ALL {
+            let a0 = size_factor(&shape, &m, profile);
+            let a1 = size_factor(&shape, &(r * m), profile);
+            prop_assert!((a1 - a0).abs() <= 1e-9 * a0.abs().max(1e-12), "{profile:?}: {a0} {a1}");
+        }
+    }
+
+    #[test]
+    fn area_finite_nonnegative(shape in shapes(), a in prop::array::uniform12(-1e6f64..1e6)) {
+        let m = DMat4::from_cols_array(&[a[0], a[1], a[2], 0.0, a[3], a[4], a[5], 0.0, a[6], a[7], a[8], 0.0, a[9], a[10], a[11], 1.0]);
+        for profile in Profile::ALL {
+            let v = size_factor(&shape, &m, profile);
+            prop_assert!(v.is_finite() && v >= 0.0);
+        }
+    }
+
+    #[test]
+    fn exact_area_is_at_most_reference_bound(r in 0.1f64..5.0, m in affine()) {
+        // Exact ellipsoid area vs the reference's Thomsen: within 1.1 %.
+        let e = size_factor(&LightShape::Sphere { radius: r }, &m, Profile::Spec);
+        let t = size_factor(&LightShape::Sphere { radius: r }, &m, Profile::HdEmbree);
+        prop_assume!(e > 1e-9);
+        prop_assert!(((t - e) / e).abs() < 0.011, "{e} {t}");
+    }
+
+    #[test]
+    fn normalize_conserves_power(shape in shapes(), m in affine(), s in 0.1f64..10.0, intensity in 0.0f64..100.0) {
+        // With normalize on, L·sizeFactor (the emitted power per unit projected solid angle) does
+        // not depend on the light's size or scale.
+        let p = LightParams { intensity, normalize: true, ..LightParams::default() };
+        let m2 = DMat4::from_scale(DVec3::new(s, 1.0 / s.sqrt(), s * 0.5)) * m;
+        for profile in Profile::ALL {
+            let a0 = size_factor(&shape, &m, profile);
+            let a1 = size_factor(&shape, &m2, profile);
+            prop_assume!(a0 > 1e-9 && a1 > 1e-9);
+            let l0 = emitted_radiance(&p, &shape, &m, profile) * a0;
+            let l1 = emitted_radiance(&p, &shape, &m2, profile) * a1;
+            prop_assert!((l0 - l1).abs().max_element() <= 1e-9 * intensity.max(1e-12));
+            prop_assert!((l0.x - intensity).abs() <= 1e-9 * intensity.max(1e-12));
+        }
+    }
+
+    #[test]
+    fn distant_monotone_and_continuous(a in 0.0f64..179.999, b in 0.0f64..179.999) {
+        let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+        prop_assume!(lo > 0.0);
+        for profile in Profile::ALL {
+            prop_assert!(distant_size_factor(lo, profile) <= distant_size_factor(hi, profile));
+        }
+    }
+
+    #[test]
+    fn emission_is_finite(i in prop::num::f64::ANY, e in prop::num::f64::ANY, c in prop::array::uniform3(prop::num::f64::ANY),
+                          t in prop::num::f64::ANY, sf in prop::num::f64::ANY, norm in any::<bool>(), ct in any::<bool>()) {
+        let p = LightParams { intensity: i, exposure: e, color: DVec3::from(c), enable_color_temperature: ct, color_temperature: t, normalize: norm };
+        for kind in LightKind::ALL {
+            for profile in Profile::ALL {
+                let l = emission(&p, kind, sf, profile);
+                prop_assert!(l.is_finite() && l.min_element() >= 0.0, "{l:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn distant_continuous_at_half_pi() {
+    let eps = 1e-9;
+    let below = distant_size_factor(180.0 - eps, Profile::Spec);
+    let above = distant_size_factor(180.0 + eps, Profile::Spec);
+    assert!((below - PI).abs() < 1e-9 && (above - PI).abs() < 1e-9);
+    // θmax = π/2 exactly is the first branch.
+    assert_eq!(
+        distant_size_factor(FRAC_PI_2.to_degrees() * 2.0, Profile::Spec),
+        PI
+    );
+}
