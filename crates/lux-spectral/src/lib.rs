@@ -1,1 +1,32 @@
-//! Physical light units (lm, W, lux) and the UsdLux spectral API: illuminants, SPDs to RGB.
+//! # lux-spectral
+//!
+//! Physical light units (lm, W, lux, W/m²) and the LTESpectralAPI for UsdLux lights:
+//! sampled spectra, the CIE 1931 2° observer and standard illuminants, Planck's law,
+//! spectrum → XYZ → linear Rec.709 / ACEScg, and the conversions of the
+//! PhysicalLightIlluminantAPI and Photometric/Radiometric {Area, Dome, Distant} LightAPIs to the
+//! luminance (nits) and RGB a renderer emits.
+
+mod any_spectrum;
+mod cie;
+mod colorspace;
+mod error;
+mod illuminant;
+mod interpolation;
+mod photometry;
+mod planck;
+mod spectrum;
+mod tables;
+mod wavelength;
+pub mod xyz;
+
+pub use any_spectrum::Spectrum;
+pub use cie::{CMF_MAX_NM, CMF_MIN_NM, cmf, cmf_table};
+pub use colorspace::ColorSpace;
+pub use error::{MAX_SAMPLES, SpectralError, SpectrumError};
+pub use illuminant::Illuminant;
+pub use interpolation::Interpolation;
+pub use photometry::{K_M, uv_1960, xy_chromaticity};
+pub use planck::{BOLTZMANN_K, Blackbody, C1L, C2, PLANCK_H, SPEED_OF_LIGHT, planck_radiance};
+pub use spectrum::SampledSpectrum;
+pub use wavelength::WavelengthUnit;
+pub use xyz::spectrum_to_xyz;
