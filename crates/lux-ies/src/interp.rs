@@ -70,20 +70,33 @@ pub(crate) fn find_bisect(a: &[f64], x: f64) -> usize {
 }
 
 /// Cubic Hermite interpolation on `[xs[1], xs[2]]` with Catmull-Rom tangents generalised to
-/// uneven spacing, `m_k = (p_{k+1} − p_{k−1}) / (x_{k+1} − x_{k−1})`; where a neighbour is missing
-/// (`xs[0] == xs[1]` or `xs[3] == xs[2]`) the one-sided difference of the interval is used.
+/// uneven spacing, `m_k = (p_{k+1} − p_{k−1}) / (x_{k+1} − x_{k−1})`. Where a neighbour is missing
+/// (`xs[0] == xs[1]` or `xs[3] == xs[2]`, at the ends of a non-periodic axis) the tangent is the
+/// three-point one-sided difference (derivative of the parabola through the three available
+/// points), which keeps the end intervals second-order accurate; with only two points it is the
+/// secant (linear interpolation).
 #[inline(always)]
 pub(crate) fn hermite(x: f64, xs: [f64; 4], ps: [f64; 4]) -> f64 {
     let d = xs[2] - xs[1];
     let t = (x - xs[1]) / d;
     let secant = (ps[2] - ps[1]) / d;
-    let m1 = if xs[0] < xs[1] {
+    let has_left = xs[0] < xs[1];
+    let has_right = xs[3] > xs[2];
+    let m1 = if has_left {
         (ps[2] - ps[0]) / (xs[2] - xs[0])
+    } else if has_right {
+        let d2 = xs[3] - xs[2];
+        let s2 = (ps[3] - ps[2]) / d2;
+        secant + (secant - s2) * d / (d + d2)
     } else {
         secant
     };
-    let m2 = if xs[3] > xs[2] {
+    let m2 = if has_right {
         (ps[3] - ps[1]) / (xs[3] - xs[1])
+    } else if has_left {
+        let d0 = xs[1] - xs[0];
+        let s0 = (ps[1] - ps[0]) / d0;
+        secant + (secant - s0) * d / (d + d0)
     } else {
         secant
     };
