@@ -9,11 +9,17 @@
 mod any_spectrum;
 mod cie;
 mod colorspace;
+mod emission;
 mod error;
 mod illuminant;
 mod interpolation;
+mod ior;
 mod photometry;
+mod physical;
 mod planck;
+mod sellmeier;
+mod shaping_integral;
+mod spectral_api;
 mod spectrum;
 mod tables;
 mod wavelength;
@@ -22,11 +28,23 @@ pub mod xyz;
 pub use any_spectrum::Spectrum;
 pub use cie::{CMF_MAX_NM, CMF_MIN_NM, cmf, cmf_table};
 pub use colorspace::ColorSpace;
+pub use emission::{
+    Emission, LightGeometry, area_light_flux, area_light_luminance, distant_light_luminance,
+    distant_projected_solid_angle, dome_light_luminance, emitted,
+};
 pub use error::{MAX_SAMPLES, SpectralError, SpectrumError};
 pub use illuminant::Illuminant;
 pub use interpolation::Interpolation;
+pub use ior::{Ior, IorInterpolation, SCALAR_IOR_WAVELENGTH_NM};
 pub use photometry::{K_M, uv_1960, xy_chromaticity};
+pub use physical::{
+    IlluminantKind, PhysicalLightInputs, PhysicalQuantity, ResolvedIlluminant, illuminant_spectrum,
+    resolve_illuminant,
+};
 pub use planck::{BOLTZMANN_K, Blackbody, C1L, C2, PLANCK_H, SPEED_OF_LIGHT, planck_radiance};
+pub use sellmeier::Sellmeier;
+pub use shaping_integral::{EmitterShape, ShapingIntegral};
+pub use spectral_api::{IorAttribute, SpectralAttribute, SpectralInputs};
 pub use spectrum::SampledSpectrum;
 pub use wavelength::WavelengthUnit;
 pub use xyz::spectrum_to_xyz;

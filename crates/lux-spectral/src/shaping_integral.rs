@@ -1,0 +1,110 @@
+//! The shaping integral G of an area light: flux per unit area and unit luminance.
+
+use glam::DVec3;
+
+use crate::error::SpectralError;
+
+/// The emitting surface of an area light, in the light's local frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum EmitterShape {
+    /// RectLight / DiskLight: one-sided, normal −Z.
+    Flat,
+    /// SphereLight: every point emits over its outward hemisphere.
+    Sphere,
+    /// CylinderLight: lateral surface around the local X axis, no caps.
+    Cylinder,
+}
+
+/// G = (1/A) ∫_A ∫_{H(n(x))} f(ω) (ω·n(x)) dω dA: the shaping-weighted projected solid angle per
+/// unit area, so that the flux of an area light of luminance L (nits) and world area A is
+/// **Φ = L · A · G** (lm; W with radiance). f is the ShapingAPI factor (focus, cone, IES; 1 when
+/// unshaped), a function of the emission direction only.
+///
+/// Exchanging the integrals, G = (1/A) ∫_{S²} f(ω) A⊥(ω) dω with A⊥ the projected area of the
+/// emitting surface seen from ω, which gives for each shape (local frame, emission around −Z):
+/// - flat (rect, disk): G = ∫_{ω·(−Z) > 0} f(ω) cos θ dω  — π when unshaped;
+/// - sphere: A⊥ = πr² for every ω, so G = ¼ ∫_{S²} f(ω) dω  — π when unshaped;
+/// - cylinder (axis X, no caps): A⊥ = 2 r ℓ √(1 − ω_x²), so G = (1/π) ∫_{S²} f(ω) √(1 − ω_x²) dω
+///   — π when unshaped.
+///
+/// lux-shaping (or the renderer) computes the integral; this type only validates and converts.
+/// For sphere and cylinder the forms assume a similarity transform (no non-uniform scale).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShapingIntegral(f64);
+
+impl ShapingIntegral {
+    /// An unshaped emitter of any shape: G = π.
+    pub const UNSHAPED: ShapingIntegral = ShapingIntegral(std::f64::consts::PI);
+
+    /// G directly; must be finite and > 0 (a light that emits nothing cannot reach a power).
+    pub fn new(g: f64) -> Result<Self, SpectralError> {
+        if g.is_finite() && g > 0.0 {
+            Ok(ShapingIntegral(g))
+        } else {
+            Err(SpectralError::InvalidValue {
+                attribute: "shaping integral".to_owned(),
+                value: g,
+                expected: "a finite value > 0 (π when unshaped)",
+            })
+        }
+    }
+
+    /// Flat emitter: from ∫ f(ω) cos θ dω over the emitting hemisphere (θ from −Z).
+    pub fn flat(cosine_weighted_hemisphere: f64) -> Result<Self, SpectralError> {
+        Self::new(cosine_weighted_hemisphere)
+    }
+
+    /// Sphere: from ∫_{S²} f(ω) dω.
+    pub fn sphere(spherical_integral: f64) -> Result<Self, SpectralError> {
+        Self::new(spherical_integral / 4.0)
+    }
+
+    /// Cylinder (axis X): from ∫_{S²} f(ω) √(1 − ω_x²) dω.
+    pub fn cylinder(axis_sine_weighted_integral: f64) -> Result<Self, SpectralError> {
+        Self::new(axis_sine_weighted_integral / std::f64::consts::PI)
+    }
+
+    /// G by deterministic midpoint quadrature over the sphere of directions (n × 2n cells
+    /// uniform in cos θ and φ, n clamped to [4, 4096]) of a shaping factor `f(ω)` given in the
+    /// light's local frame. For when no closed form is at hand.
+    pub fn integrate(
+        shape: EmitterShape,
+        f: impl Fn(DVec3) -> f64,
+        n: usize,
+    ) -> Result<Self, SpectralError> {
+        let n = n.clamp(4, 4096);
+        let (nu, nphi) = (n, 2 * n);
+        let dw = (2.0 / nu as f64) * (2.0 * std::f64::consts::PI / nphi as f64);
+        let mut sum = 0.0;
+        for i in 0..nu {
+            let z = -1.0 + (i as f64 + 0.5) * 2.0 / nu as f64;
+            let s = (1.0 - z * z).max(0.0).sqrt();
+            for j in 0..nphi {
+                let phi = (j as f64 + 0.5) * 2.0 * std::f64::consts::PI / nphi as f64;
+                let w = DVec3::new(s * phi.cos(), s * phi.sin(), z);
+                let weight = match shape {
+                    EmitterShape::Flat => (-w.z).max(0.0),
+                    EmitterShape::Sphere => 0.25,
+                    EmitterShape::Cylinder => {
+                        (1.0 - w.x * w.x).max(0.0).sqrt() / std::f64::consts::PI
+                    }
+                };
+                if weight > 0.0 {
+                    sum += f(w) * weight;
+                }
+            }
+        }
+        Self::new(sum * dw)
+    }
+
+    /// The value of G, sr.
+    pub fn value(self) -> f64 {
+        self.0
+    }
+}
+
+impl Default for ShapingIntegral {
+    fn default() -> Self {
+        Self::UNSHAPED
+    }
+}
