@@ -1,0 +1,231 @@
+//! DomeLight (UsdLux `DomeLight` with `inputs:texture:file` in latlong layout): importance
+//! sampling of the texture, its MIS-compensated variant, or a uniform sphere without texture.
+
+use crate::distribution::Distribution2D;
+use crate::error::{MAX_ENTRIES, SampleError};
+use crate::transform::LightTransform;
+use crate::warp::sample_uniform_sphere;
+use crate::{LightSample, Reference};
+use core::f64::consts::{FRAC_1_PI, PI};
+use glam::DVec3;
+
+/// A latlong luminance map, row-major, row 0 at the top (+Y), per spec §2 / OpenEXR latlong:
+/// the centre column looks along +Z, u = 0.25 along +X, longitude runs from +π at u = 0 to −π at
+/// u = 1. The renderer passes a scalar importance per texel (e.g. Rec.709 luminance of RGB).
+#[derive(Clone, Debug)]
+pub struct LatLongMap {
+    width: usize,
+    height: usize,
+    texels: Vec<f32>,
+}
+
+impl LatLongMap {
+    /// Validates `texels.len() = width·height`, both ≥ 1, at most [`MAX_ENTRIES`] texels, every
+    /// value finite and ≥ 0.
+    pub fn new(width: usize, height: usize, texels: Vec<f32>) -> Result<Self, SampleError> {
+        let n = width
+            .checked_mul(height)
+            .filter(|&n| n > 0 && n <= MAX_ENTRIES);
+        if n != Some(texels.len()) {
+            return Err(SampleError::BadSize {
+                field: "texels",
+                expected: format!("width·height = {width}·{height} (≥ 1, ≤ {MAX_ENTRIES})"),
+                got: texels.len(),
+            });
+        }
+        for (index, &v) in texels.iter().enumerate() {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(SampleError::BadWeight {
+                    field: "texels",
+                    index,
+                    value: v as f64,
+                });
+            }
+        }
+        Ok(Self {
+            width,
+            height,
+            texels,
+        })
+    }
+
+    /// Width in texels.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Height in texels.
+    pub fn height(&self) -> usize {
+        self.height
+    }
+
+    /// Nearest texel at (u, v) ∈ \[0,1\]² (hdEmbree looks textures up nearest-texel).
+    #[inline]
+    pub fn texel(&self, uv: [f64; 2]) -> f32 {
+        let x = ((uv[0] * self.width as f64) as usize).min(self.width - 1);
+        let y = ((uv[1] * self.height as f64) as usize).min(self.height - 1);
+        self.texels[y * self.width + x]
+    }
+}
+
+/// Latlong (u, v) → unit local direction: θ = πv from +Y, longitude λ = π(1 − 2u),
+/// d = (sin θ sin λ, cos θ, sin θ cos λ).
+#[inline]
+pub fn latlong_direction(uv: [f64; 2]) -> DVec3 {
+    let (st, ct) = (PI * uv[1]).sin_cos();
+    let (sl, cl) = (PI * (1.0 - 2.0 * uv[0])).sin_cos();
+    DVec3::new(st * sl, ct, st * cl)
+}
+
+/// Inverse of [`latlong_direction`] for a unit direction.
+#[inline]
+pub fn latlong_uv(d: DVec3) -> [f64; 2] {
+    let v = d.y.clamp(-1.0, 1.0).acos() * FRAC_1_PI;
+    let lambda = d.x.atan2(d.z);
+    let mut u = 0.5 * (1.0 - lambda * FRAC_1_PI);
+    if u >= 1.0 {
+        u -= 1.0;
+    }
+    [u.clamp(0.0, 1.0), v]
+}
+
+/// How the dome's directions are chosen.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DomeTechnique {
+    /// Proportional to texel value × sin θ (the latlong Jacobian): piecewise-constant 2D.
+    #[default]
+    Texture,
+    /// MIS-compensated (Karlík, Šik, Vévoda, Skřivan, Křivánek 2019): proportional to
+    /// max(0, f − mean f) so that BSDF sampling takes over the flat part; falls back to
+    /// `Texture` for a constant map.
+    MisCompensated,
+}
+
+/// A dome light prepared for sampling.
+#[derive(Clone, Debug)]
+pub struct DomeLight {
+    xf: LightTransform,
+    dist: Option<Distribution2D>,
+}
+
+impl DomeLight {
+    /// A dome without texture (uniform sphere sampling) oriented by `xf`.
+    pub fn uniform(xf: LightTransform) -> Self {
+        Self { xf, dist: None }
+    }
+
+    /// A textured dome. The table is the texel values times sin θ at the row centre, so that
+    /// the 2D density converts to solid angle as p(ω) = p(u,v)/(2π² sin θ).
+    pub fn new(
+        map: &LatLongMap,
+        xf: LightTransform,
+        technique: DomeTechnique,
+    ) -> Result<Self, SampleError> {
+        let (w, h) = (map.width, map.height);
+        let mut f: Vec<f64> = map.texels.iter().map(|&t| t as f64).collect();
+        if technique == DomeTechnique::MisCompensated {
+            // Mean over the sphere (texel solid angle ∝ sin θ).
+            let mut num = 0.0;
+            let mut den = 0.0;
+            for (y, row) in f.chunks_exact(w).enumerate() {
+                let s = (PI * (y as f64 + 0.5) / h as f64).sin();
+                num += s * row.iter().sum::<f64>();
+                den += s * w as f64;
+            }
+            let mean = num / den;
+            if f.iter().any(|&v| v > mean * (1.0 + 1e-12)) {
+                for v in f.iter_mut() {
+                    *v = (*v - mean).max(0.0);
+                }
+            }
+        }
+        for (y, row) in f.chunks_exact_mut(w).enumerate() {
+            let s = (PI * (y as f64 + 0.5) / h as f64).sin();
+            for v in row {
+                *v *= s;
+            }
+        }
+        let dist = Distribution2D::new(&f, w, h)?;
+        if dist.integral() == 0.0 {
+            return Ok(Self::uniform(xf));
+        }
+        Ok(Self {
+            xf,
+            dist: Some(dist),
+        })
+    }
+
+    /// Samples a direction (world); the reference position does not matter.
+    #[inline]
+    pub fn sample(&self, _r: &Reference, u: [f64; 2]) -> Option<LightSample> {
+        let (dl, pdf_local) = match &self.dist {
+            None => (sample_uniform_sphere(u), 0.25 * FRAC_1_PI),
+            Some(d) => {
+                let (uv, p) = d.sample(u);
+                let st = (PI * uv[1]).sin();
+                if !(p > 0.0 && st > 0.0) {
+                    return None;
+                }
+                (latlong_direction(uv), p / (2.0 * PI * PI * st))
+            }
+        };
+        let wi = self.xf.vector(dl).normalize();
+        let pdf = pdf_local * self.xf.pdf_to_world(dl);
+        Some(LightSample {
+            point: wi,
+            normal: -wi,
+            wi,
+            distance: f64::INFINITY,
+            pdf,
+            delta: false,
+        })
+    }
+
+    /// Solid-angle density of direction `wi` (world).
+    #[inline]
+    pub fn pdf(&self, _r: &Reference, wi: DVec3) -> f64 {
+        let Some((dl, jac)) = crate::transform::local_direction(&self.xf, wi) else {
+            return 0.0;
+        };
+        let p = match &self.dist {
+            None => 0.25 * FRAC_1_PI,
+            Some(d) => {
+                let uv = latlong_uv(dl);
+                let st = (PI * uv[1]).sin();
+                if st <= 0.0 {
+                    return 0.0;
+                }
+                d.pdf(uv) / (2.0 * PI * PI * st)
+            }
+        };
+        p * jac
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn latlong_convention() {
+        // Spec §2: top row +Y, centre column +Z, u = 0.25 is +X.
+        assert!((latlong_direction([0.5, 0.0]) - DVec3::Y).length() < 1e-12);
+        assert!((latlong_direction([0.5, 0.5]) - DVec3::Z).length() < 1e-12);
+        assert!((latlong_direction([0.25, 0.5]) - DVec3::X).length() < 1e-12);
+        assert!((latlong_direction([0.75, 0.5]) + DVec3::X).length() < 1e-12);
+        let uv = latlong_uv(DVec3::new(0.3, -0.5, -0.8).normalize());
+        let back = latlong_direction(uv);
+        assert!((back - DVec3::new(0.3, -0.5, -0.8).normalize()).length() < 1e-12);
+    }
+
+    #[test]
+    fn rejects_bad_maps() {
+        assert!(LatLongMap::new(2, 2, vec![1.0; 3]).is_err());
+        assert!(LatLongMap::new(0, 2, vec![]).is_err());
+        assert!(LatLongMap::new(usize::MAX, 2, vec![]).is_err());
+        assert!(matches!(
+            LatLongMap::new(2, 1, vec![1.0, -2.0]),
+            Err(SampleError::BadWeight { index: 1, .. })
+        ));
+    }
+}

@@ -1,0 +1,56 @@
+//! The closed set of UsdLux light kinds as one enum, dispatching `sample` and `pdf`.
+
+use crate::{
+    CylinderLight, DiskLight, DistantLight, DomeLight, LightSample, MeshLight, RectLight,
+    Reference, SphereLight,
+};
+use glam::DVec3;
+
+/// Any sampleable UsdLux light (enum over the closed set rather than trait objects).
+#[derive(Clone, Debug)]
+pub enum Light {
+    /// `RectLight`.
+    Rect(RectLight),
+    /// `DiskLight`.
+    Disk(DiskLight),
+    /// `SphereLight`.
+    Sphere(SphereLight),
+    /// `CylinderLight`.
+    Cylinder(CylinderLight),
+    /// A gprim with `MeshLightAPI`.
+    Mesh(MeshLight),
+    /// `DistantLight`.
+    Distant(DistantLight),
+    /// `DomeLight`.
+    Dome(DomeLight),
+}
+
+impl Light {
+    /// Samples the light from `r` with `u ∈ [0,1)²`.
+    #[inline]
+    pub fn sample(&self, r: &Reference, u: [f64; 2]) -> Option<LightSample> {
+        match self {
+            Self::Rect(l) => l.sample(r, u),
+            Self::Disk(l) => l.sample(r, u),
+            Self::Sphere(l) => l.sample(r, u),
+            Self::Cylinder(l) => l.sample(r, u),
+            Self::Mesh(l) => l.sample(r, u),
+            Self::Distant(l) => l.sample(r, u),
+            Self::Dome(l) => l.sample(r, u),
+        }
+    }
+
+    /// Solid-angle density with which `sample` produces the unit direction `wi` from `r`.
+    #[inline]
+    pub fn pdf(&self, r: &Reference, wi: DVec3) -> f64 {
+        match self {
+            Self::Rect(l) => l.pdf(r, wi),
+            Self::Disk(l) => l.pdf(r, wi),
+            Self::Sphere(l) => l.pdf(r, wi),
+            Self::Cylinder(l) => l.pdf(r, wi),
+            Self::Mesh(l) => l.pdf(r, wi),
+            Self::Distant(l) => l.pdf(r, wi),
+            Self::Dome(l) => l.pdf(r, wi),
+        }
+    }
+}

@@ -1,0 +1,275 @@
+//! Solid-angle sampling of spherical polygons: the spherical rectangle (Ureña, Fajardo, King
+//! 2013, "An area-preserving parametrization for spherical rectangles") and the spherical
+//! triangle (Arvo 1995, "Stratified sampling of spherical triangles").
+
+use core::f64::consts::TAU;
+use glam::DVec3;
+
+/// A rectangle seen from a point, prepared for uniform solid-angle sampling (Ureña et al. 2013,
+/// §3–4). The rectangle is `corner + s·ex + t·ey`, s, t ∈ \[0,1\], with `ex ⟂ ey`.
+#[derive(Clone, Copy, Debug)]
+pub struct SphericalRectangle {
+    o: DVec3,
+    x: DVec3,
+    y: DVec3,
+    z: DVec3,
+    z0: f64,
+    x0: f64,
+    y0: f64,
+    x1: f64,
+    y1: f64,
+    b0: f64,
+    b1: f64,
+    k: f64,
+    solid_angle: f64,
+}
+
+impl SphericalRectangle {
+    /// Sets up the spherical rectangle of `corner + s·ex + t·ey` seen from `o`.
+    ///
+    /// Local frame (paper §3): x̂ = ex/|ex|, ŷ = ey/|ey|, ẑ = x̂ × ŷ flipped so that the
+    /// rectangle lies at z0 < 0. The four great-circle planes through `o` and the edges have
+    /// normals n0..n3; the interior angles are γᵢ = acos(−nᵢ·nᵢ₊₁) and the solid angle is
+    /// S = Σγᵢ − 2π.
+    #[inline]
+    pub fn new(o: DVec3, corner: DVec3, ex: DVec3, ey: DVec3) -> Self {
+        let exl = ex.length();
+        let eyl = ey.length();
+        let x = ex / exl;
+        let y = ey / eyl;
+        let mut z = x.cross(y);
+        let d = corner - o;
+        let mut z0 = d.dot(z);
+        if z0 > 0.0 {
+            z = -z;
+            z0 = -z0;
+        }
+        let x0 = d.dot(x);
+        let y0 = d.dot(y);
+        let x1 = x0 + exl;
+        let y1 = y0 + eyl;
+        // z components of the unit plane normals n0 = (0, z0, −y0)/., n1 = (−z0, 0, x1)/.,
+        // n2 = (0, −z0, y1)/., n3 = (z0, 0, −x0)/.
+        let n0z = -y0 / (z0 * z0 + y0 * y0).sqrt();
+        let n1z = x1 / (z0 * z0 + x1 * x1).sqrt();
+        let n2z = y1 / (z0 * z0 + y1 * y1).sqrt();
+        let n3z = -x0 / (z0 * z0 + x0 * x0).sqrt();
+        let g0 = (-n0z * n1z).clamp(-1.0, 1.0).acos();
+        let g1 = (-n1z * n2z).clamp(-1.0, 1.0).acos();
+        let g2 = (-n2z * n3z).clamp(-1.0, 1.0).acos();
+        let g3 = (-n3z * n0z).clamp(-1.0, 1.0).acos();
+        let k = TAU - g2 - g3;
+        let solid_angle = g0 + g1 - k;
+        Self {
+            o,
+            x,
+            y,
+            z,
+            z0,
+            x0,
+            y0,
+            x1,
+            y1,
+            b0: n0z,
+            b1: n2z,
+            k,
+            solid_angle,
+        }
+    }
+
+    /// Solid angle S subtended by the rectangle (steradians).
+    #[inline]
+    pub fn solid_angle(&self) -> f64 {
+        self.solid_angle
+    }
+
+    /// The point of the rectangle for `u ∈ [0,1]²`; directions from `o` to it are uniform in
+    /// solid angle (density 1/S). `u[0]` sweeps the sub-rectangle area along x̂ (paper eq. 11–13),
+    /// `u[1]` is uniform in h = y/√(d² + y²) along the chosen vertical line (eq. 15–17).
+    #[inline]
+    pub fn sample(&self, u: [f64; 2]) -> DVec3 {
+        let au = u[0] * self.solid_angle + self.k;
+        let (sau, cau) = au.sin_cos();
+        let fu = (cau * self.b0 - self.b1) / sau;
+        let cu = (fu.signum() / (fu * fu + self.b0 * self.b0).sqrt()).clamp(-1.0, 1.0);
+        let xu = (-(cu * self.z0) / (1.0 - cu * cu).max(1e-300).sqrt()).clamp(self.x0, self.x1);
+        let d2 = xu * xu + self.z0 * self.z0;
+        let h0 = self.y0 / (d2 + self.y0 * self.y0).sqrt();
+        let h1 = self.y1 / (d2 + self.y1 * self.y1).sqrt();
+        let hv = h0 + u[1] * (h1 - h0);
+        let hv2 = hv * hv;
+        let yv = if hv2 < 1.0 - 1e-12 {
+            hv * d2.sqrt() / (1.0 - hv2).sqrt()
+        } else {
+            self.y1
+        };
+        let yv = yv.clamp(self.y0, self.y1);
+        self.o + xu * self.x + yv * self.y + self.z0 * self.z
+    }
+
+    /// Inverse of [`Self::sample`] for a point `q` on the rectangle: u₀ = S(x0..x)/S with the
+    /// solid angle of the sub-rectangle, u₁ = (h(y) − h0)/(h1 − h0).
+    #[inline]
+    pub fn invert(&self, q: DVec3) -> [f64; 2] {
+        let d = q - self.o;
+        let xu = d.dot(self.x).clamp(self.x0, self.x1);
+        let yv = d.dot(self.y).clamp(self.y0, self.y1);
+        let z0 = self.z0;
+        let n1z = xu / (z0 * z0 + xu * xu).sqrt();
+        let g0 = (-self.b0 * n1z).clamp(-1.0, 1.0).acos();
+        let g1 = (-n1z * self.b1).clamp(-1.0, 1.0).acos();
+        let u0 = ((g0 + g1 - self.k) / self.solid_angle).clamp(0.0, 1.0);
+        let d2 = xu * xu + z0 * z0;
+        let h0 = self.y0 / (d2 + self.y0 * self.y0).sqrt();
+        let h1 = self.y1 / (d2 + self.y1 * self.y1).sqrt();
+        let h = yv / (d2 + yv * yv).sqrt();
+        let u1 = if h1 > h0 {
+            ((h - h0) / (h1 - h0)).clamp(0.0, 1.0)
+        } else {
+            0.5
+        };
+        [u0, u1]
+    }
+
+    /// Unit directions from `o` to the four corners, ordered `[(x0,y0), (x1,y0), (x0,y1), (x1,y1)]`
+    /// (the order of [`crate::warp::sample_bilinear`]'s weights).
+    #[inline]
+    pub fn corner_directions(&self) -> [DVec3; 4] {
+        let c = |xx: f64, yy: f64| (xx * self.x + yy * self.y + self.z0 * self.z).normalize();
+        [
+            c(self.x0, self.y0),
+            c(self.x1, self.y0),
+            c(self.x0, self.y1),
+            c(self.x1, self.y1),
+        ]
+    }
+}
+
+/// Solid angle of the spherical triangle with unit vertices a, b, c (Van Oosterom & Strackee
+/// 1983): Ω = 2·atan2(|a·(b×c)|, 1 + a·b + b·c + c·a).
+#[inline]
+pub fn spherical_triangle_area(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    let num = a.dot(b.cross(c)).abs();
+    let den = 1.0 + a.dot(b) + b.dot(c) + c.dot(a);
+    2.0 * num.atan2(den)
+}
+
+/// Uniform direction inside the spherical triangle with unit vertices a, b, c (Arvo 1995):
+/// u₀ picks the sub-triangle area Â = u₀·Ω, which fixes a point ĉ on arc ac; u₁ then picks
+/// cos θ uniformly on the arc from b to ĉ. Returns `(direction, 1/Ω)`, or `None` for a
+/// degenerate triangle.
+#[inline]
+pub fn sample_spherical_triangle(
+    a: DVec3,
+    b: DVec3,
+    c: DVec3,
+    u: [f64; 2],
+) -> Option<(DVec3, f64)> {
+    let area = spherical_triangle_area(a, b, c);
+    if !(area > 0.0) {
+        return None;
+    }
+    // Interior angles from the great-circle plane normals.
+    let nab = a.cross(b).normalize_or_zero();
+    let nbc = b.cross(c).normalize_or_zero();
+    let nca = c.cross(a).normalize_or_zero();
+    if nab == DVec3::ZERO || nbc == DVec3::ZERO || nca == DVec3::ZERO {
+        return None;
+    }
+    let alpha = angle_between(nab, -nca);
+    let beta = angle_between(nbc, -nab);
+    let gamma = angle_between(nca, -nbc);
+    let area_angles = alpha + beta + gamma - core::f64::consts::PI;
+    let ap = u[0] * area_angles;
+    let (s, t) = (ap - alpha).sin_cos();
+    let cos_alpha = alpha.cos();
+    let sin_alpha = alpha.sin();
+    let cos_c = a.dot(b);
+    let uu = t - cos_alpha;
+    let vv = s + sin_alpha * cos_c;
+    let den = (vv * s + uu * t) * sin_alpha;
+    let q = if den != 0.0 {
+        (((vv * t - uu * s) * cos_alpha - vv) / den).clamp(-1.0, 1.0)
+    } else {
+        1.0
+    };
+    let c_perp = (c - c.dot(a) * a).normalize_or_zero();
+    let c_hat = q * a + (1.0 - q * q).max(0.0).sqrt() * c_perp;
+    let z = 1.0 - u[1] * (1.0 - c_hat.dot(b));
+    let ch_perp = (c_hat - c_hat.dot(b) * b).normalize_or_zero();
+    let w = z * b + (1.0 - z * z).max(0.0).sqrt() * ch_perp;
+    Some((w.normalize(), 1.0 / area))
+}
+
+/// Angle between unit vectors, accurate near 0 and π (2·asin of half the chord).
+#[inline]
+fn angle_between(a: DVec3, b: DVec3) -> f64 {
+    if a.dot(b) < 0.0 {
+        core::f64::consts::PI - 2.0 * ((a + b).length() * 0.5).min(1.0).asin()
+    } else {
+        2.0 * ((b - a).length() * 0.5).min(1.0).asin()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A unit square at distance 1 on the axis subtends 4·asin(1/3)... exactly
+    /// Ω = 4·atan(ab / (2d·√(4d² + a² + b²))) with a = b = 1, d = 1: 4·atan(1/6).
+    #[test]
+    fn rectangle_solid_angle_closed_form() {
+        let r =
+            SphericalRectangle::new(DVec3::ZERO, DVec3::new(-0.5, -0.5, 1.0), DVec3::X, DVec3::Y);
+        let exact = 4.0 * (1.0 / (2.0 * 6.0f64.sqrt())).atan();
+        assert!(
+            (r.solid_angle() - exact).abs() < 1e-13,
+            "{} {}",
+            r.solid_angle(),
+            exact
+        );
+        // Split into two triangles, the solid angle is additive.
+        let v = [
+            DVec3::new(-0.5, -0.5, 1.0).normalize(),
+            DVec3::new(0.5, -0.5, 1.0).normalize(),
+            DVec3::new(0.5, 0.5, 1.0).normalize(),
+            DVec3::new(-0.5, 0.5, 1.0).normalize(),
+        ];
+        let t =
+            spherical_triangle_area(v[0], v[1], v[2]) + spherical_triangle_area(v[0], v[2], v[3]);
+        assert!((t - exact).abs() < 1e-13);
+    }
+
+    proptest! {
+        #[test]
+        fn rectangle_sample_lies_on_rectangle_and_inverts(
+            u0 in 0.001..0.999f64, u1 in 0.001..0.999f64,
+            ox in -2.0..2.0f64, oy in -2.0..2.0f64, oz in 0.05..2.0f64,
+        ) {
+            let corner = DVec3::new(-0.6, -0.4, 0.0);
+            let r = SphericalRectangle::new(DVec3::new(ox, oy, -oz), corner, DVec3::X * 1.2, DVec3::Y * 0.8);
+            let q = r.sample([u0, u1]);
+            prop_assert!(q.z.abs() < 1e-9);
+            prop_assert!(q.x >= -0.6 - 1e-9 && q.x <= 0.6 + 1e-9 && q.y >= -0.4 - 1e-9 && q.y <= 0.4 + 1e-9);
+            let back = r.invert(q);
+            prop_assert!((back[0] - u0).abs() < 1e-6 && (back[1] - u1).abs() < 1e-6, "{:?} vs {} {}", back, u0, u1);
+        }
+
+        #[test]
+        fn triangle_sample_is_inside(u0 in 0.0..1.0f64, u1 in 0.0..1.0f64) {
+            let a = DVec3::new(0.2, 0.1, 1.0).normalize();
+            let b = DVec3::new(1.0, 0.3, 0.8).normalize();
+            let c = DVec3::new(-0.4, 1.2, 0.6).normalize();
+            let (w, pdf) = sample_spherical_triangle(a, b, c, [u0, u1]).unwrap();
+            prop_assert!((pdf * spherical_triangle_area(a, b, c) - 1.0).abs() < 1e-12);
+            // Inside: same side of all three great circles as the opposite vertex.
+            let n = a.cross(b);
+            prop_assert!(w.dot(n) * c.dot(n) >= -1e-9);
+            let n = b.cross(c);
+            prop_assert!(w.dot(n) * a.dot(n) >= -1e-9);
+            let n = c.cross(a);
+            prop_assert!(w.dot(n) * b.dot(n) >= -1e-9);
+        }
+    }
+}
