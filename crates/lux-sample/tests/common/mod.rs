@@ -549,6 +549,10 @@ pub struct RatioCase {
 pub fn ratio_cases() -> Vec<RatioCase> {
     let up = |h: f64| xf(DMat4::from_translation(DVec3::new(0.0, 0.0, h)));
     let rect = |h: f64, t| Light::Rect(RectLight::new(1.0, 1.0, up(h), t).unwrap());
+    let rect_off = |t| {
+        let m = xf(DMat4::from_translation(DVec3::new(0.6, 0.0, 0.25)));
+        Light::Rect(RectLight::new(1.0, 1.0, m, t).unwrap())
+    };
     let cyl = |t| Light::Cylinder(CylinderLight::new(0.5, 1.0, up(1.0), t).unwrap());
     vec![
         RatioCase {
@@ -576,6 +580,22 @@ pub fn ratio_cases() -> Vec<RatioCase> {
                 (
                     "spherical rectangle + cosine warp",
                     rect(1.0, RectTechnique::SphericalRectangleCosine),
+                ),
+            ],
+        },
+        RatioCase {
+            // Extra (not in the issue): receiver off-centre, where the corner cosines differ and
+            // the bilinear cosine warp has something to fit.
+            name: "rect 1x1 at 0.25, off 0.6",
+            area: rect_off(RectTechnique::Area),
+            better: vec![
+                (
+                    "spherical rectangle",
+                    rect_off(RectTechnique::SphericalRectangle),
+                ),
+                (
+                    "spherical rectangle + cosine warp",
+                    rect_off(RectTechnique::SphericalRectangleCosine),
                 ),
             ],
         },
