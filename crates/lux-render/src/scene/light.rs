@@ -1,0 +1,392 @@
+//! UsdLux lights: `LightAPI` inputs with the schema defaults filled in, geometry, `ShapingAPI`,
+//! `ShadowAPI`, physical-unit attributes, all at the load frame.
+
+use super::error::{LoadError, WarningKind};
+use super::reader::{AssetRef, Reader};
+use super::value;
+use glam::{DMat4, DVec3};
+use lux_math::{LightKind, LightParams, LightShape};
+use openusd::usd::Prim;
+use std::collections::BTreeMap;
+
+/// `ShapingAPI` inputs (UsdLux 26.11 `ShapingAPI`), present on a [`Light`] only when the API is
+/// applied. `Default` gives the schema defaults: focus 0, focusTint black, cone angle 90°,
+/// softness 0, no IES file, angleScale 0, ies:normalize false.
+///
+/// (Stand-in for `lux_shaping::ShapingParams` until that crate lands; same fields.)
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShapingInputs {
+    /// `inputs:shaping:focus`: exponent of `|emissionDir · lightAxis|` (ignored when ≤ 0).
+    pub focus: f64,
+    /// `inputs:shaping:focusTint`: colour lerped towards off-axis.
+    pub focus_tint: DVec3,
+    /// `inputs:shaping:cone:angle` in degrees (half-angle from the axis).
+    pub cone_angle_deg: f64,
+    /// `inputs:shaping:cone:softness` (raw; the emission code clamps it to [0, 1]).
+    pub cone_softness: f64,
+    /// `inputs:shaping:ies:file`, resolved against its authoring layer.
+    pub ies_file: Option<AssetRef>,
+    /// `inputs:shaping:ies:angleScale`.
+    pub ies_angle_scale: f64,
+    /// `inputs:shaping:ies:normalize`.
+    pub ies_normalize: bool,
+}
+
+impl Default for ShapingInputs {
+    fn default() -> ShapingInputs {
+        ShapingInputs {
+            focus: 0.0,
+            focus_tint: DVec3::ZERO,
+            cone_angle_deg: 90.0,
+            cone_softness: 0.0,
+            ies_file: None,
+            ies_angle_scale: 0.0,
+            ies_normalize: false,
+        }
+    }
+}
+
+/// `ShadowAPI` inputs. `Default` = schema defaults: enabled, black, distance −1, falloff −1,
+/// falloffGamma 1. `applied` says whether the API was applied (the values are defaults if not).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShadowInputs {
+    /// Whether `ShadowAPI` is in the prim's `apiSchemas`.
+    pub applied: bool,
+    /// `inputs:shadow:enable`.
+    pub enable: bool,
+    /// `inputs:shadow:color`.
+    pub color: DVec3,
+    /// `inputs:shadow:distance` (−1 = unlimited).
+    pub distance: f64,
+    /// `inputs:shadow:falloff` (−1 = none).
+    pub falloff: f64,
+    /// `inputs:shadow:falloffGamma`.
+    pub falloff_gamma: f64,
+}
+
+impl Default for ShadowInputs {
+    fn default() -> ShadowInputs {
+        ShadowInputs {
+            applied: false,
+            enable: true,
+            color: DVec3::ZERO,
+            distance: -1.0,
+            falloff: -1.0,
+            falloff_gamma: 1.0,
+        }
+    }
+}
+
+/// `DomeLight_1.poleAxis` (and `DomeLight`, which is always `Scene`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PoleAxis {
+    /// `"scene"`: the stage's up axis.
+    Scene,
+    /// `"Y"`.
+    Y,
+    /// `"Z"`: the latlong frame rotated +90° about X.
+    Z,
+}
+
+/// A raw physical-unit / spectral attribute value, kept for later conversion by lux-spectral.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RawValue {
+    /// A bool.
+    Bool(bool),
+    /// A number.
+    Number(f64),
+    /// A numeric array or tuple (vectors flattened; e.g. `float2[]` as x0, y0, x1, y1…).
+    Numbers(Vec<f64>),
+    /// A token or string.
+    Text(String),
+    /// An asset path.
+    Asset(AssetRef),
+}
+
+/// A light of the scene, in plain data: everything a renderer needs, nothing from `openusd`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Light {
+    /// The prim path.
+    pub path: String,
+    /// The prim type as authored (`"DomeLight_1"`, `"Mesh"` for a `MeshLightAPI` mesh…).
+    pub type_name: String,
+    /// The light family.
+    pub kind: LightKind,
+    /// Geometric inputs in light space (`inputs:width`, `inputs:radius`, …; local-space
+    /// triangles for mesh lights), schema defaults when unauthored.
+    pub shape: LightShape,
+    /// Light-to-world transform (glam column form; see `lux_math::usd_matrix`).
+    pub light_to_world: DMat4,
+    /// `LightAPI` emission inputs with schema defaults (intensity 1, distant 50000, …).
+    pub params: LightParams,
+    /// `inputs:diffuse` (default 1).
+    pub diffuse: f64,
+    /// `inputs:specular` (default 1).
+    pub specular: f64,
+    /// `ShapingAPI` inputs, only when the API is applied.
+    pub shaping: Option<ShapingInputs>,
+    /// `ShadowAPI` inputs.
+    pub shadow: ShadowInputs,
+    /// The custom `inputs:visibility:camera` (default false): whether a camera ray sees the
+    /// light's surface (RectLight in the reference).
+    pub visible_to_camera: bool,
+    /// `inputs:texture:file` (RectLight, DomeLight).
+    pub texture: Option<AssetRef>,
+    /// `inputs:texture:format` (DomeLight; default `"automatic"`).
+    pub texture_format: String,
+    /// `poleAxis` (DomeLight_1; `Scene` otherwise).
+    pub pole_axis: PoleAxis,
+    /// `treatAsPoint` (SphereLight).
+    pub treat_as_point: bool,
+    /// `treatAsLine` (CylinderLight).
+    pub treat_as_line: bool,
+    /// `portals` targets (DomeLight).
+    pub portals: Vec<String>,
+    /// `light:materialSyncMode` (MeshLightAPI default `"materialGlowTintsLight"`, else
+    /// `"noMaterialResponse"`).
+    pub material_sync_mode: String,
+    /// The prim's applied API schemas as composed.
+    pub api_schemas: Vec<String>,
+    /// Raw `physical:*`, `photometric:*`, `radiometric:*`, `wavelength:*` attributes (with or
+    /// without the `inputs:` prefix), keyed by attribute name.
+    pub physical: BTreeMap<String, RawValue>,
+}
+
+impl Light {
+    /// World-space position: the image of the local origin.
+    pub fn position(&self) -> DVec3 {
+        self.light_to_world.transform_point3(DVec3::ZERO)
+    }
+
+    /// World-space emission axis: the image of local −Z, normalised (zero if degenerate).
+    pub fn axis(&self) -> DVec3 {
+        self.light_to_world
+            .transform_vector3(DVec3::NEG_Z)
+            .normalize_or_zero()
+    }
+}
+
+/// The light kind of a concrete light prim type, `None` for anything else.
+pub fn kind_of_type(type_name: &str) -> Option<LightKind> {
+    Some(match type_name {
+        "DistantLight" => LightKind::Distant,
+        "DiskLight" => LightKind::Disk,
+        "RectLight" => LightKind::Rect,
+        "SphereLight" => LightKind::Sphere,
+        "CylinderLight" => LightKind::Cylinder,
+        "DomeLight" | "DomeLight_1" => LightKind::Dome,
+        "PortalLight" => LightKind::Portal,
+        _ => return None,
+    })
+}
+
+/// Light prim types lux recognises but does not render.
+pub fn is_unsupported_light_type(type_name: &str) -> bool {
+    matches!(type_name, "PluginLight" | "GeometryLight")
+}
+
+/// Reads a light prim. `mesh_triangles` supplies local-space triangles for `MeshLightAPI` gprims.
+pub fn read_light(
+    r: &mut Reader<'_>,
+    prim: &Prim,
+    type_name: &str,
+    kind: LightKind,
+    light_to_world: DMat4,
+    api_schemas: &[String],
+    mesh_triangles: Option<Vec<[DVec3; 3]>>,
+) -> Result<Light, LoadError> {
+    let d = LightParams::defaults_for(kind);
+    let params = LightParams {
+        intensity: r.f64_or(prim, "inputs:intensity", d.intensity)?,
+        exposure: r.f64_or(prim, "inputs:exposure", d.exposure)?,
+        color: r.vec3_or(prim, "inputs:color", d.color)?,
+        enable_color_temperature: r.bool_or(
+            prim,
+            "inputs:enableColorTemperature",
+            d.enable_color_temperature,
+        )?,
+        color_temperature: r.f64_or(prim, "inputs:colorTemperature", d.color_temperature)?,
+        normalize: r.bool_or(prim, "inputs:normalize", d.normalize)?,
+    };
+    let shape = match LightShape::default_for(kind) {
+        LightShape::Distant { angle_deg } => LightShape::Distant {
+            angle_deg: r.f64_or(prim, "inputs:angle", angle_deg)?,
+        },
+        LightShape::Dome => LightShape::Dome,
+        LightShape::Portal { width, height } => LightShape::Portal {
+            width: r.size_or(prim, "inputs:width", width)?,
+            height: r.size_or(prim, "inputs:height", height)?,
+        },
+        LightShape::Rect { width, height } => LightShape::Rect {
+            width: r.size_or(prim, "inputs:width", width)?,
+            height: r.size_or(prim, "inputs:height", height)?,
+        },
+        LightShape::Disk { radius } => LightShape::Disk {
+            radius: r.size_or(prim, "inputs:radius", radius)?,
+        },
+        LightShape::Sphere { radius } => LightShape::Sphere {
+            radius: r.size_or(prim, "inputs:radius", radius)?,
+        },
+        LightShape::Cylinder { radius, length } => LightShape::Cylinder {
+            radius: r.size_or(prim, "inputs:radius", radius)?,
+            length: r.size_or(prim, "inputs:length", length)?,
+        },
+        LightShape::Mesh { .. } => LightShape::Mesh {
+            triangles: mesh_triangles.unwrap_or_default(),
+        },
+    };
+    let has_api = |n: &str| api_schemas.iter().any(|a| a == n);
+    let shaping = if has_api("ShapingAPI") {
+        let sd = ShapingInputs::default();
+        let ies_file = r.asset(prim, "inputs:shaping:ies:file")?;
+        if let Some(a) = &ies_file
+            && a.resolved.is_none()
+        {
+            r.warn(
+                prim,
+                WarningKind::UnresolvedAsset,
+                format!("IES file @{}@ does not resolve to a file", a.authored),
+            );
+        }
+        Some(ShapingInputs {
+            focus: r.f64_or(prim, "inputs:shaping:focus", sd.focus)?,
+            focus_tint: r.vec3_or(prim, "inputs:shaping:focusTint", sd.focus_tint)?,
+            cone_angle_deg: r.f64_or(prim, "inputs:shaping:cone:angle", sd.cone_angle_deg)?,
+            cone_softness: r.f64_or(prim, "inputs:shaping:cone:softness", sd.cone_softness)?,
+            ies_file,
+            ies_angle_scale: r.f64_or(prim, "inputs:shaping:ies:angleScale", sd.ies_angle_scale)?,
+            ies_normalize: r.bool_or(prim, "inputs:shaping:ies:normalize", sd.ies_normalize)?,
+        })
+    } else {
+        None
+    };
+    let shadow = if has_api("ShadowAPI") {
+        let s = ShadowInputs::default();
+        ShadowInputs {
+            applied: true,
+            enable: r.bool_or(prim, "inputs:shadow:enable", s.enable)?,
+            color: r.vec3_or(prim, "inputs:shadow:color", s.color)?,
+            distance: r.f64_or(prim, "inputs:shadow:distance", s.distance)?,
+            falloff: r.f64_or(prim, "inputs:shadow:falloff", s.falloff)?,
+            falloff_gamma: r.f64_or(prim, "inputs:shadow:falloffGamma", s.falloff_gamma)?,
+        }
+    } else {
+        ShadowInputs::default()
+    };
+    let mut physical = BTreeMap::new();
+    let names = prim.property_names().map_err(|e| r.usd_error(prim, e))?;
+    let mut shaping_authored = false;
+    for name in names {
+        let name = name.as_str();
+        let bare = name.strip_prefix("inputs:").unwrap_or(name);
+        if name.starts_with("inputs:shaping:") {
+            shaping_authored = true;
+        }
+        let ns = ["physical:", "photometric:", "radiometric:", "wavelength:"];
+        if !ns.iter().any(|n| bare.starts_with(n)) {
+            continue;
+        }
+        if let Some(v) = r.raw(prim, name)? {
+            let raw = if let Some(b) = value::as_bool(&v) {
+                RawValue::Bool(b)
+            } else if let Some(x) = value::as_f64(&v) {
+                RawValue::Number(x)
+            } else if let Some(t) = value::as_text(&v) {
+                RawValue::Text(t)
+            } else if let Some((authored, resolved)) = value::as_asset(&v) {
+                RawValue::Asset(AssetRef {
+                    authored,
+                    resolved: resolved.map(Into::into),
+                })
+            } else if let Some(a) = value::as_f64_array(&v) {
+                RawValue::Numbers(a)
+            } else if let Some(a) = value::as_vec2_array(&v) {
+                RawValue::Numbers(a.iter().flat_map(|p| [p.x, p.y]).collect())
+            } else if let Some(a) = value::as_vec3_array(&v) {
+                RawValue::Numbers(a.iter().flat_map(|p| [p.x, p.y, p.z]).collect())
+            } else {
+                r.warn(
+                    prim,
+                    WarningKind::Unsupported,
+                    format!("{name}: value type {} not recorded", value::type_label(&v)),
+                );
+                continue;
+            };
+            physical.insert(name.to_owned(), raw);
+        }
+    }
+    if shaping.is_none() && shaping_authored {
+        r.warn(
+            prim,
+            WarningKind::ShapingNotApplied,
+            "inputs:shaping:* authored but ShapingAPI is not applied: ignored",
+        );
+    }
+    let texture = if matches!(kind, LightKind::Rect | LightKind::Dome) {
+        let t = r.asset(prim, "inputs:texture:file")?;
+        if let Some(a) = &t
+            && a.resolved.is_none()
+        {
+            r.warn(
+                prim,
+                WarningKind::UnresolvedAsset,
+                format!("texture @{}@ does not resolve to a file", a.authored),
+            );
+        }
+        t
+    } else {
+        None
+    };
+    let pole_axis = if type_name == "DomeLight_1" {
+        match r.text(prim, "poleAxis")?.as_deref() {
+            None | Some("scene") => PoleAxis::Scene,
+            Some("Y") => PoleAxis::Y,
+            Some("Z") => PoleAxis::Z,
+            Some(other) => {
+                r.warn(
+                    prim,
+                    WarningKind::InvalidValue,
+                    format!("poleAxis {other:?} is not scene/Y/Z; using scene"),
+                );
+                PoleAxis::Scene
+            }
+        }
+    } else {
+        PoleAxis::Scene
+    };
+    let default_sync = if kind == LightKind::Mesh {
+        "materialGlowTintsLight"
+    } else {
+        "noMaterialResponse"
+    };
+    Ok(Light {
+        path: prim.path().to_string(),
+        type_name: type_name.to_owned(),
+        kind,
+        shape,
+        light_to_world,
+        params,
+        diffuse: r.f64_or(prim, "inputs:diffuse", 1.0)?,
+        specular: r.f64_or(prim, "inputs:specular", 1.0)?,
+        shaping,
+        shadow,
+        visible_to_camera: r.bool_or(prim, "inputs:visibility:camera", false)?,
+        texture,
+        texture_format: r
+            .text(prim, "inputs:texture:format")?
+            .unwrap_or_else(|| "automatic".to_owned()),
+        pole_axis,
+        treat_as_point: r.bool_or(prim, "treatAsPoint", false)?,
+        treat_as_line: r.bool_or(prim, "treatAsLine", false)?,
+        portals: if kind == LightKind::Dome {
+            r.targets(prim, "portals")?
+        } else {
+            Vec::new()
+        },
+        material_sync_mode: r
+            .text(prim, "light:materialSyncMode")?
+            .unwrap_or_else(|| default_sync.to_owned()),
+        api_schemas: api_schemas.to_vec(),
+        physical,
+    })
+}

@@ -1,0 +1,404 @@
+//! The stage walk: composition via `openusd`, then one pass over the composed prims that
+//! accumulates transforms, visibility, purpose and material bindings.
+
+use super::camera::{read_camera, read_render_settings};
+use super::error::{LoadError, Warning, WarningKind};
+use super::light::{is_unsupported_light_type, kind_of_type, read_light};
+use super::material::read_material;
+use super::mesh::{
+    Mesh, Topology, expand_primvar, mesh_topology, mirror_corners, normals_to_world, to_world,
+};
+use super::reader::Reader;
+use super::resolver::LuxResolver;
+use super::tessellate::{self, Axis};
+use super::xform::local_transform;
+use super::{Scene, UpAxis};
+use glam::DMat4;
+use lux_math::LightKind;
+use openusd::usd::{Prim, Stage};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Deepest namespace nesting walked (guards the recursion against absurd inputs).
+const MAX_DEPTH: usize = 256;
+
+/// Inherited state of the walk.
+#[derive(Clone)]
+struct Inherited {
+    world: DMat4,
+    visible: bool,
+    purpose: String,
+    binding: Option<String>,
+}
+
+struct Walk<'s> {
+    r: Reader<'s>,
+    scene: Scene,
+    material_index: HashMap<String, usize>,
+}
+
+/// Loads the USD stage at `path` (`.usda`, `.usdc` or `.usdz`) and evaluates it at time code
+/// `frame` into a plain [`Scene`].
+///
+/// Composition (sublayers, references, payloads, inherits, variants, `over`s) is `openusd`'s;
+/// any arc that fails to compose (missing file, missing prim, malformed layer, cycle) is a
+/// [`LoadError::Composition`]. Everything that is merely ignored or unsupported becomes a
+/// [`Warning`] in `Scene::warnings`.
+pub fn load_stage(path: impl AsRef<Path>, frame: f64) -> Result<Scene, LoadError> {
+    let path = path.as_ref();
+    if !frame.is_finite() {
+        return Err(LoadError::InvalidFrame { frame });
+    }
+    if !path.is_file() {
+        return Err(LoadError::NotFound {
+            file: path.to_path_buf(),
+        });
+    }
+    let path_str = path.to_string_lossy().into_owned();
+    let stage = Stage::builder()
+        .resolver(LuxResolver::new())
+        .open(&path_str)
+        .map_err(|e| LoadError::Malformed {
+            file: path.to_path_buf(),
+            message: format!("{e:#}"),
+        })?;
+    let up_axis = match stage
+        .stage_metadata("upAxis")
+        .ok()
+        .flatten()
+        .and_then(|v| super::value::as_text(&v))
+        .as_deref()
+    {
+        Some("Z") => UpAxis::Z,
+        _ => UpAxis::Y,
+    };
+    let meters_per_unit = stage
+        .stage_metadata("metersPerUnit")
+        .ok()
+        .flatten()
+        .and_then(|v| super::value::as_f64(&v))
+        .filter(|m| m.is_finite() && *m > 0.0)
+        .unwrap_or(0.01);
+    let mut walk = Walk {
+        r: Reader {
+            stage: &stage,
+            file: path.to_path_buf(),
+            time: frame,
+            warnings: Vec::new(),
+        },
+        scene: Scene {
+            source: path.to_path_buf(),
+            frame,
+            up_axis,
+            meters_per_unit,
+            time_code_range: stage
+                .has_authored_time_code_range()
+                .then(|| [stage.start_time_code(), stage.end_time_code()]),
+            meshes: Vec::new(),
+            lights: Vec::new(),
+            materials: Vec::new(),
+            cameras: Vec::new(),
+            render_settings: Vec::new(),
+            warnings: Vec::new(),
+            prim_count: 0,
+        },
+        material_index: HashMap::new(),
+    };
+    let root = Inherited {
+        world: DMat4::IDENTITY,
+        visible: true,
+        purpose: "default".into(),
+        binding: None,
+    };
+    let roots = stage.root_prims().map_err(|e| LoadError::Usd {
+        file: path.to_path_buf(),
+        prim: "/".into(),
+        message: format!("{e:#}"),
+    })?;
+    for name in roots {
+        let prim = stage.prim(format!("/{name}").as_str());
+        walk.visit(&prim, &root, 0)?;
+    }
+    composition_errors(&stage, path)?;
+    let mut scene = walk.scene;
+    scene.warnings = walk.r.warnings;
+    Ok(scene)
+}
+
+/// Turns the composition errors `openusd` collected into a `LoadError` (the first fatal one).
+fn composition_errors(stage: &Stage, file: &Path) -> Result<(), LoadError> {
+    use openusd::pcp::Error as E;
+    for e in stage.composition_errors() {
+        let prim = match &e {
+            E::UnresolvedLayer { site_path, .. }
+            | E::MalformedLayer { site_path, .. }
+            | E::InvalidPrimPath { site_path, .. }
+            | E::UnresolvedPrimPath { site_path, .. } => site_path.to_string(),
+            E::ArcCycle(chain) => chain.composing.to_string(),
+            _ => "/".to_owned(),
+        };
+        return Err(LoadError::Composition {
+            file: file.to_path_buf(),
+            prim,
+            message: e.to_string(),
+        });
+    }
+    Ok(())
+}
+
+impl Walk<'_> {
+    fn usd<T, E: std::fmt::Display>(&self, prim: &Prim, r: Result<T, E>) -> Result<T, LoadError> {
+        r.map_err(|e| self.r.usd_error(prim, e))
+    }
+
+    fn visit(&mut self, prim: &Prim, parent: &Inherited, depth: usize) -> Result<(), LoadError> {
+        if depth > MAX_DEPTH {
+            return Err(LoadError::TooLarge {
+                file: self.r.file.clone(),
+                prim: prim.path().to_string(),
+                what: "namespace depth",
+                count: depth,
+                limit: MAX_DEPTH,
+            });
+        }
+        let active = self.usd(prim, prim.is_active())?;
+        let defined = self.usd(prim, prim.is_defined())?;
+        let abstract_ = self.usd(prim, prim.is_abstract())?;
+        if !active || !defined || abstract_ {
+            return Ok(());
+        }
+        self.scene.prim_count += 1;
+        let type_name = self
+            .usd(prim, prim.type_name())?
+            .map(|t| t.as_str().to_owned())
+            .unwrap_or_default();
+        if matches!(
+            type_name.as_str(),
+            "Material" | "Shader" | "NodeGraph" | "GeomSubset"
+        ) {
+            return Ok(());
+        }
+        let api: Vec<String> = self
+            .usd(prim, prim.api_schemas())?
+            .iter()
+            .map(|t| t.as_str().to_owned())
+            .collect();
+        let (local, reset) = local_transform(&mut self.r, prim)?;
+        let world = if reset { local } else { parent.world * local };
+        let visible =
+            parent.visible && self.r.text(prim, "visibility")?.as_deref() != Some("invisible");
+        let purpose = if parent.purpose != "default" {
+            parent.purpose.clone()
+        } else {
+            self.r
+                .text(prim, "purpose")?
+                .unwrap_or_else(|| "default".to_owned())
+        };
+        let binding = {
+            let full = self.r.targets(prim, "material:binding:full")?;
+            let all = self.r.targets(prim, "material:binding")?;
+            full.into_iter()
+                .chain(all)
+                .next()
+                .or_else(|| parent.binding.clone())
+        };
+        let here = Inherited {
+            world,
+            visible,
+            purpose,
+            binding,
+        };
+        let drawn = here.visible && matches!(here.purpose.as_str(), "default" | "render");
+        if drawn {
+            self.prim_of_type(prim, &type_name, &api, &here)?;
+        }
+        for child in self.usd(prim, prim.children())? {
+            self.visit(&child, &here, depth + 1)?;
+        }
+        Ok(())
+    }
+
+    fn prim_of_type(
+        &mut self,
+        prim: &Prim,
+        type_name: &str,
+        api: &[String],
+        here: &Inherited,
+    ) -> Result<(), LoadError> {
+        if let Some(kind) = kind_of_type(type_name) {
+            let light = read_light(&mut self.r, prim, type_name, kind, here.world, api, None)?;
+            self.scene.lights.push(light);
+            return Ok(());
+        }
+        if is_unsupported_light_type(type_name) {
+            self.r.warn(
+                prim,
+                WarningKind::UnsupportedLight,
+                format!("{type_name} is not supported; skipped"),
+            );
+            return Ok(());
+        }
+        match type_name {
+            "Camera" => {
+                let cam = read_camera(&mut self.r, prim, here.world)?;
+                self.scene.cameras.push(cam);
+            }
+            "RenderSettings" => {
+                let s = read_render_settings(&mut self.r, prim)?;
+                self.scene.render_settings.push(s);
+            }
+            "Mesh" | "Sphere" | "Cube" | "Cylinder" | "Cone" | "Capsule" | "Plane" => {
+                self.gprim(prim, type_name, api, here)?;
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    fn implicit(&mut self, prim: &Prim, type_name: &str) -> Result<Topology, LoadError> {
+        let r = &mut self.r;
+        let axis = Axis::parse(r.text(prim, "axis")?.as_deref());
+        Ok(match type_name {
+            "Sphere" => tessellate::sphere(r.size_or(prim, "radius", 1.0)?),
+            "Cube" => tessellate::cube(r.size_or(prim, "size", 2.0)?),
+            "Cylinder" => tessellate::cylinder(
+                r.size_or(prim, "radius", 1.0)?,
+                r.size_or(prim, "height", 2.0)?,
+                axis,
+            ),
+            "Cone" => tessellate::cone(
+                r.size_or(prim, "radius", 1.0)?,
+                r.size_or(prim, "height", 2.0)?,
+                axis,
+            ),
+            "Capsule" => tessellate::capsule(
+                r.size_or(prim, "radius", 0.5)?,
+                r.size_or(prim, "height", 1.0)?,
+                axis,
+            ),
+            _ => tessellate::plane(
+                r.size_or(prim, "width", 2.0)?,
+                r.size_or(prim, "length", 2.0)?,
+                axis,
+            ),
+        })
+    }
+
+    fn gprim(
+        &mut self,
+        prim: &Prim,
+        type_name: &str,
+        api: &[String],
+        here: &Inherited,
+    ) -> Result<(), LoadError> {
+        let topo = if type_name == "Mesh" {
+            match mesh_topology(&mut self.r, prim)? {
+                Some(t) => t,
+                None => return Ok(()),
+            }
+        } else {
+            self.implicit(prim, type_name)?
+        };
+        let (positions, triangles, mirror) = to_world(&topo, &here.world);
+        let mut normals = None;
+        if type_name == "Mesh" {
+            for (name, default_interp) in [("primvars:normals", "constant"), ("normals", "vertex")]
+            {
+                if let Some(n) = self.r.vec3_array(
+                    prim,
+                    if name == "normals" {
+                        "normals"
+                    } else {
+                        "primvars:normals"
+                    },
+                )? {
+                    normals = expand_primvar(&mut self.r, prim, name, n, default_interp, &topo)?
+                        .map(|c| normals_to_world(c, &here.world, mirror));
+                    break;
+                }
+            }
+        }
+        let colors = match self.r.vec3_array(prim, "primvars:displayColor")? {
+            Some(c) => expand_primvar(
+                &mut self.r,
+                prim,
+                "primvars:displayColor",
+                c,
+                "constant",
+                &topo,
+            )?
+            .map(|c| mirror_corners(c, mirror)),
+            None => None,
+        };
+        let material = match &here.binding {
+            Some(path) => Some(self.material(path)?),
+            None => None,
+        };
+        let mut uvs = None;
+        if let Some(m) = material
+            && let super::material::Diffuse::Texture(t) = &self.scene.materials[m].diffuse
+        {
+            let name = format!("primvars:{}", t.st_primvar);
+            if let Some(v) = self.r.raw(prim, &name)?
+                && let Some(st) = super::value::as_vec2_array(&v)
+            {
+                uvs = expand_primvar(&mut self.r, prim, &name, st, "constant", &topo)?
+                    .map(|c| mirror_corners(c, mirror));
+            }
+        }
+        let double_sided = self.r.bool_or(prim, "doubleSided", false)?;
+        let mut light = None;
+        if api.iter().any(|a| a == "MeshLightAPI") {
+            let tris = topo
+                .triangles
+                .iter()
+                .map(|t| t.map(|k| topo.points[k as usize]))
+                .collect();
+            let l = read_light(
+                &mut self.r,
+                prim,
+                type_name,
+                LightKind::Mesh,
+                here.world,
+                api,
+                Some(tris),
+            )?;
+            light = Some(self.scene.lights.len());
+            self.scene.lights.push(l);
+        } else if api.iter().any(|a| a == "VolumeLightAPI") {
+            self.r.warn(
+                prim,
+                WarningKind::UnsupportedLight,
+                "VolumeLightAPI is not supported",
+            );
+        }
+        self.scene.meshes.push(Mesh {
+            path: prim.path().to_string(),
+            positions,
+            triangles,
+            normals,
+            colors,
+            uvs,
+            double_sided,
+            material,
+            light,
+        });
+        Ok(())
+    }
+
+    fn material(&mut self, path: &str) -> Result<usize, LoadError> {
+        if let Some(i) = self.material_index.get(path) {
+            return Ok(*i);
+        }
+        let m = read_material(&mut self.r, path)?;
+        let i = self.scene.materials.len();
+        self.scene.materials.push(m);
+        self.material_index.insert(path.to_owned(), i);
+        Ok(i)
+    }
+}
+
+#[allow(dead_code)]
+fn _warning_is_plain(w: Warning) -> Warning {
+    w
+}

@@ -1,0 +1,176 @@
+//! `material:binding` → `UsdPreviewSurface.inputs:diffuseColor`, as a value or a `UsdUVTexture`.
+
+use super::error::{LoadError, WarningKind};
+use super::reader::{AssetRef, Reader};
+use glam::{DVec3, DVec4};
+use openusd::usd::Prim;
+
+/// The UsdPreviewSurface default `diffuseColor`.
+pub const DEFAULT_DIFFUSE: DVec3 = DVec3::splat(0.18);
+/// Longest chain of connections followed before giving up (cycles, deep node graphs).
+const MAX_CONNECTION_DEPTH: usize = 16;
+
+/// A `UsdUVTexture` feeding `diffuseColor`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TextureInput {
+    /// The texture shader's prim path.
+    pub shader: String,
+    /// `inputs:file`.
+    pub file: Option<AssetRef>,
+    /// The primvar read by the `UsdPrimvarReader_float2` on `inputs:st` (default `"st"`).
+    pub st_primvar: String,
+    /// `inputs:scale` (default (1, 1, 1, 1)).
+    pub scale: DVec4,
+    /// `inputs:bias` (default 0).
+    pub bias: DVec4,
+    /// `inputs:fallback` (default (0, 0, 0, 1)).
+    pub fallback: DVec4,
+    /// `inputs:wrapS` (default `"useMetadata"`).
+    pub wrap_s: String,
+    /// `inputs:wrapT` (default `"useMetadata"`).
+    pub wrap_t: String,
+    /// `inputs:sourceColorSpace` (default `"auto"`).
+    pub source_color_space: String,
+    /// The output connected (`rgb`, `r`, …).
+    pub output: String,
+}
+
+/// Where a material's diffuse colour comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Diffuse {
+    /// A constant colour.
+    Color(DVec3),
+    /// A texture lookup.
+    Texture(TextureInput),
+}
+
+/// A bound material, reduced to what the reference renderer shades with.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// The Material prim path.
+    pub path: String,
+    /// The UsdPreviewSurface diffuse colour (default 0.18 grey; also when the surface shader is
+    /// not a UsdPreviewSurface, with a warning).
+    pub diffuse: Diffuse,
+    /// Other authored UsdPreviewSurface inputs (recorded by name, not used).
+    pub other_inputs: Vec<String>,
+}
+
+/// Follows the connection of `attr` on `prim` through NodeGraph/Material interface inputs;
+/// returns the final (prim path, attribute name) that holds a value or is a shader output.
+fn follow(r: &Reader<'_>, prim_path: &str, attr: &str) -> Result<(String, String), LoadError> {
+    let mut cur = (prim_path.to_owned(), attr.to_owned());
+    for _ in 0..MAX_CONNECTION_DEPTH {
+        let prim = r.stage.prim(cur.0.as_str());
+        let Some(src) = r.connections(&prim, &cur.1)?.into_iter().next() else {
+            return Ok(cur);
+        };
+        let Some((p, a)) = src.split_once('.') else {
+            return Ok(cur);
+        };
+        cur = (p.to_owned(), a.to_owned());
+        if cur.1.starts_with("outputs:") {
+            return Ok(cur);
+        }
+    }
+    Ok(cur)
+}
+
+fn shader_id(r: &Reader<'_>, prim: &Prim) -> Result<Option<String>, LoadError> {
+    r.text(prim, "info:id")
+}
+
+/// Reads the Material at `path`.
+pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadError> {
+    let mat = r.stage.prim(path);
+    let mut out = Material {
+        path: path.to_owned(),
+        diffuse: Diffuse::Color(DEFAULT_DIFFUSE),
+        other_inputs: Vec::new(),
+    };
+    let (shader_path, _) = follow(r, path, "outputs:surface")?;
+    if shader_path == path {
+        r.warn(
+            &mat,
+            WarningKind::Ignored,
+            "material has no connected outputs:surface; default grey",
+        );
+        return Ok(out);
+    }
+    let shader = r.stage.prim(shader_path.as_str());
+    if shader_id(r, &shader)?.as_deref() != Some("UsdPreviewSurface") {
+        r.warn(
+            &mat,
+            WarningKind::Unsupported,
+            "surface shader is not UsdPreviewSurface; default grey",
+        );
+        return Ok(out);
+    }
+    for name in shader
+        .property_names()
+        .map_err(|e| r.usd_error(&shader, e))?
+    {
+        let n = name.as_str();
+        if n.starts_with("inputs:") && n != "inputs:diffuseColor" {
+            out.other_inputs.push(n.to_owned());
+        }
+    }
+    let (src_prim, src_attr) = follow(r, &shader_path, "inputs:diffuseColor")?;
+    let src = r.stage.prim(src_prim.as_str());
+    if let Some(output) = src_attr.strip_prefix("outputs:") {
+        if shader_id(r, &src)?.as_deref() != Some("UsdUVTexture") {
+            r.warn(
+                &mat,
+                WarningKind::Unsupported,
+                format!(
+                    "diffuseColor connected to {src_prim} which is not a UsdUVTexture; default grey"
+                ),
+            );
+            return Ok(out);
+        }
+        let (reader_prim, _) = follow(r, &src_prim, "inputs:st")?;
+        let mut st_primvar = "st".to_owned();
+        if reader_prim != src_prim {
+            let rp = r.stage.prim(reader_prim.as_str());
+            let (vp, va) = follow(r, &reader_prim, "inputs:varname")?;
+            let vprim = r.stage.prim(vp.as_str());
+            if let Some(v) = r.text(&vprim, &va)? {
+                st_primvar = v;
+            }
+            let _ = rp;
+        }
+        let file = r.asset(&src, "inputs:file")?;
+        if let Some(a) = &file
+            && a.resolved.is_none()
+        {
+            r.warn(
+                &src,
+                WarningKind::UnresolvedAsset,
+                format!("texture @{}@ does not resolve to a file", a.authored),
+            );
+        }
+        out.diffuse = Diffuse::Texture(TextureInput {
+            shader: src_prim.clone(),
+            file,
+            st_primvar,
+            scale: r.vec4(&src, "inputs:scale")?.unwrap_or(DVec4::ONE),
+            bias: r.vec4(&src, "inputs:bias")?.unwrap_or(DVec4::ZERO),
+            fallback: r
+                .vec4(&src, "inputs:fallback")?
+                .unwrap_or(DVec4::new(0.0, 0.0, 0.0, 1.0)),
+            wrap_s: r
+                .text(&src, "inputs:wrapS")?
+                .unwrap_or_else(|| "useMetadata".into()),
+            wrap_t: r
+                .text(&src, "inputs:wrapT")?
+                .unwrap_or_else(|| "useMetadata".into()),
+            source_color_space: r
+                .text(&src, "inputs:sourceColorSpace")?
+                .unwrap_or_else(|| "auto".into()),
+            output: output.to_owned(),
+        });
+    } else if let Some(c) = r.vec3(&src, &src_attr)? {
+        out.diffuse = Diffuse::Color(if c.is_finite() { c } else { DEFAULT_DIFFUSE });
+    }
+    Ok(out)
+}

@@ -1,0 +1,218 @@
+//! `UsdGeomMesh` triangulation and primvar expansion into world-space triangle meshes.
+
+use super::error::{LoadError, WarningKind};
+use super::reader::{MAX_ARRAY_LEN, Reader};
+use glam::{DMat3, DMat4, DVec2, DVec3};
+use openusd::usd::Prim;
+
+/// A renderable triangle mesh in world space.
+///
+/// Triangles are wound so that `(b − a) × (c − a)` points to the USD **front** side (the
+/// `orientation` and a mirroring transform are already accounted for).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mesh {
+    /// The gprim's prim path.
+    pub path: String,
+    /// World-space vertex positions.
+    pub positions: Vec<DVec3>,
+    /// Vertex indices of each triangle.
+    pub triangles: Vec<[u32; 3]>,
+    /// Unit world-space shading normals per triangle corner (`normals` /
+    /// `primvars:normals`), when authored.
+    pub normals: Option<Vec<[DVec3; 3]>>,
+    /// `primvars:displayColor` per triangle corner, when authored.
+    pub colors: Option<Vec<[DVec3; 3]>>,
+    /// Texture coordinates per triangle corner from the primvar the bound material reads.
+    pub uvs: Option<Vec<[DVec2; 3]>>,
+    /// `doubleSided` (default false).
+    pub double_sided: bool,
+    /// Index into `Scene::materials` of the bound material.
+    pub material: Option<usize>,
+    /// Index into `Scene::lights` when the gprim has `MeshLightAPI`.
+    pub light: Option<usize>,
+}
+
+/// The triangulated topology of a gprim in its local space, before transforming.
+pub struct Topology {
+    /// Local points.
+    pub points: Vec<DVec3>,
+    /// Triangles (indices into `points`), wound right-handed (front side by the right-hand rule).
+    pub triangles: Vec<[u32; 3]>,
+    /// Per triangle: the authored face it came from and its three face-vertex indices.
+    pub corners: Vec<(usize, [usize; 3])>,
+    /// Number of faces.
+    pub face_count: usize,
+}
+
+/// Reads and fan-triangulates a `Mesh` prim (`points`, `faceVertexCounts`, `faceVertexIndices`,
+/// `holeIndices`, `orientation`). Faces with fewer than 3 vertices or out-of-range indices are
+/// skipped with a warning; a count/index length mismatch skips the whole mesh (`None`).
+pub fn mesh_topology(r: &mut Reader<'_>, prim: &Prim) -> Result<Option<Topology>, LoadError> {
+    let points = r.vec3_array(prim, "points")?.unwrap_or_default();
+    let counts = r.int_array(prim, "faceVertexCounts")?.unwrap_or_default();
+    let indices = r.int_array(prim, "faceVertexIndices")?.unwrap_or_default();
+    let holes = r.int_array(prim, "holeIndices")?.unwrap_or_default();
+    let left = r.text(prim, "orientation")?.as_deref() == Some("leftHanded");
+    let total: i64 = counts.iter().map(|c| (*c).max(0)).sum();
+    if total != indices.len() as i64 || counts.iter().any(|c| *c < 0) {
+        r.warn(
+            prim,
+            WarningKind::InvalidGeometry,
+            format!(
+                "faceVertexCounts sum to {total} but faceVertexIndices has {} entries; mesh skipped",
+                indices.len()
+            ),
+        );
+        return Ok(None);
+    }
+    let tri_count: usize = counts.iter().map(|c| (*c as usize).saturating_sub(2)).sum();
+    if tri_count > MAX_ARRAY_LEN {
+        return Err(LoadError::TooLarge {
+            file: r.file.clone(),
+            prim: prim.path().to_string(),
+            what: "triangulation",
+            count: tri_count,
+            limit: MAX_ARRAY_LEN,
+        });
+    }
+    let mut triangles = Vec::with_capacity(tri_count);
+    let mut corners = Vec::with_capacity(tri_count);
+    let mut bad_faces = 0usize;
+    let mut start = 0usize;
+    for (face, &n) in counts.iter().enumerate() {
+        let n = n as usize;
+        let fv = start..start + n;
+        start += n;
+        if holes.contains(&(face as i64)) {
+            continue;
+        }
+        if n < 3
+            || indices[fv.clone()]
+                .iter()
+                .any(|&i| i < 0 || i as usize >= points.len())
+        {
+            bad_faces += 1;
+            continue;
+        }
+        let first = fv.start;
+        for k in 1..n - 1 {
+            let (b, c) = if left {
+                (first + k + 1, first + k)
+            } else {
+                (first + k, first + k + 1)
+            };
+            triangles.push([indices[first] as u32, indices[b] as u32, indices[c] as u32]);
+            corners.push((face, [first, b, c]));
+        }
+    }
+    if bad_faces > 0 {
+        r.warn(
+            prim,
+            WarningKind::InvalidGeometry,
+            format!("{bad_faces} faces with < 3 vertices or out-of-range indices skipped"),
+        );
+    }
+    Ok(Some(Topology {
+        points,
+        triangles,
+        corners,
+        face_count: counts.len(),
+    }))
+}
+
+/// Expands a primvar to per-triangle-corner values following its `interpolation` (constant,
+/// uniform, vertex/varying, faceVarying) and optional `:indices`. `None` (with a warning) when
+/// the primvar is inconsistent with the topology.
+pub fn expand_primvar<T: Copy>(
+    r: &mut Reader<'_>,
+    prim: &Prim,
+    name: &str,
+    values: Vec<T>,
+    default_interp: &str,
+    topo: &Topology,
+) -> Result<Option<Vec<[T; 3]>>, LoadError> {
+    let interp = r
+        .attr_metadata_text(prim, name, "interpolation")
+        .unwrap_or_else(|| default_interp.to_owned());
+    let idx_name = format!("{name}:indices");
+    let indices = match r.raw(prim, &idx_name)? {
+        Some(v) => super::value::as_int_array(&v),
+        None => None,
+    };
+    let lookup = |i: usize| -> Option<T> {
+        let j = match &indices {
+            Some(ix) => usize::try_from(*ix.get(i)?).ok()?,
+            None => i,
+        };
+        values.get(j).copied()
+    };
+    let mut out = Vec::with_capacity(topo.triangles.len());
+    for (t, (face, fv)) in topo.triangles.iter().zip(&topo.corners) {
+        let mut c = [None; 3];
+        for k in 0..3 {
+            c[k] = match interp.as_str() {
+                "constant" => lookup(0),
+                "uniform" => lookup(*face),
+                "vertex" | "varying" => lookup(t[k] as usize),
+                "faceVarying" => lookup(fv[k]),
+                other => {
+                    r.warn(
+                        prim,
+                        WarningKind::Unsupported,
+                        format!("{name}: interpolation {other:?} not supported; ignored"),
+                    );
+                    return Ok(None);
+                }
+            };
+        }
+        match c {
+            [Some(a), Some(b), Some(d)] => out.push([a, b, d]),
+            _ => {
+                r.warn(
+                    prim,
+                    WarningKind::InvalidGeometry,
+                    format!("{name}: too few values for {interp} interpolation; ignored"),
+                );
+                return Ok(None);
+            }
+        }
+    }
+    let _ = topo.face_count;
+    Ok(Some(out))
+}
+
+/// Transforms a local topology to world space, flipping the winding when the transform mirrors.
+pub fn to_world(topo: &Topology, world: &DMat4) -> (Vec<DVec3>, Vec<[u32; 3]>, bool) {
+    let positions = topo
+        .points
+        .iter()
+        .map(|p| world.transform_point3(*p))
+        .collect();
+    let mirror = DMat3::from_mat4(*world).determinant() < 0.0;
+    let tris = topo
+        .triangles
+        .iter()
+        .map(|t| if mirror { [t[0], t[2], t[1]] } else { *t })
+        .collect();
+    (positions, tris, mirror)
+}
+
+/// Transforms per-corner normals to world space (inverse transpose), normalised; corners are
+/// reordered like the triangles when `mirror`.
+pub fn normals_to_world(n: Vec<[DVec3; 3]>, world: &DMat4, mirror: bool) -> Vec<[DVec3; 3]> {
+    let m = DMat3::from_mat4(*world).inverse().transpose();
+    n.into_iter()
+        .map(|c| {
+            let w = c.map(|v| (m * v).normalize_or_zero());
+            if mirror { [w[0], w[2], w[1]] } else { w }
+        })
+        .collect()
+}
+
+/// Reorders per-corner values like mirrored triangles.
+pub fn mirror_corners<T: Copy>(v: Vec<[T; 3]>, mirror: bool) -> Vec<[T; 3]> {
+    if !mirror {
+        return v;
+    }
+    v.into_iter().map(|c| [c[0], c[2], c[1]]).collect()
+}

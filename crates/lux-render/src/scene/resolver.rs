@@ -1,0 +1,81 @@
+//! The asset resolver the loader hands to `openusd`: the crate's `DefaultResolver` plus the
+//! `.usda` text fix of [`super::usda_fix`] applied when a layer is opened.
+
+use openusd::ar::{self, Asset, DefaultResolver, ResolvedPath, Resolver};
+use std::io;
+
+/// `DefaultResolver` (filesystem paths relative to the authoring layer, `.usdz` packages) that
+/// rewrites scalar asset time samples in `.usda` layers before `openusd` parses them.
+#[derive(Default)]
+pub struct LuxResolver {
+    inner: DefaultResolver,
+}
+
+impl LuxResolver {
+    /// A resolver with no search paths.
+    pub fn new() -> LuxResolver {
+        LuxResolver {
+            inner: DefaultResolver::new(),
+        }
+    }
+}
+
+/// Whether a resolved path names a text layer, including a `.usda` inside a package
+/// (`pkg.usdz[inner.usda]`).
+fn is_text_layer(path: &str) -> bool {
+    let p = path.trim_end_matches(']');
+    p.rsplit('.')
+        .next()
+        .is_some_and(|ext| ext.eq_ignore_ascii_case("usda"))
+}
+
+impl Resolver for LuxResolver {
+    fn create_identifier(&self, asset_path: &str, anchor: Option<&ResolvedPath>) -> String {
+        self.inner.create_identifier(asset_path, anchor)
+    }
+
+    fn resolve(&self, asset_path: &str) -> Option<ResolvedPath> {
+        self.inner.resolve(asset_path)
+    }
+
+    fn resolve_for_new_asset(&self, asset_path: &str) -> Option<ResolvedPath> {
+        self.inner.resolve_for_new_asset(asset_path)
+    }
+
+    fn open_asset(&self, resolved_path: &ResolvedPath) -> io::Result<Box<dyn Asset>> {
+        let mut asset = self.inner.open_asset(resolved_path)?;
+        let name = resolved_path.to_string_lossy();
+        if !is_text_layer(&name) {
+            return Ok(asset);
+        }
+        let bytes = asset.read_all()?;
+        let fixed = std::str::from_utf8(&bytes)
+            .ok()
+            .and_then(super::usda_fix::rewrite_asset_time_samples);
+        Ok(Box::new(io::Cursor::new(match fixed {
+            Some(text) => text.into_bytes(),
+            None => bytes,
+        })))
+    }
+
+    fn get_extension<'a>(&self, asset_path: &'a str) -> &'a str {
+        self.inner.get_extension(asset_path)
+    }
+
+    fn get_asset_info(&self, asset_path: &str, resolved_path: &ResolvedPath) -> ar::AssetInfo {
+        self.inner.get_asset_info(asset_path, resolved_path)
+    }
+
+    fn get_modification_timestamp(
+        &self,
+        asset_path: &str,
+        resolved_path: &ResolvedPath,
+    ) -> Option<std::time::SystemTime> {
+        self.inner
+            .get_modification_timestamp(asset_path, resolved_path)
+    }
+
+    fn identity(&self) -> String {
+        format!("lux:{}", self.inner.identity())
+    }
+}
