@@ -122,6 +122,21 @@ pub fn load_stage(path: impl AsRef<Path>, frame: f64) -> Result<Scene, LoadError
     composition_errors(&stage, path)?;
     let mut scene = walk.scene;
     scene.warnings = walk.r.warnings;
+    for s in &scene.render_settings {
+        let targets =
+            std::iter::once(&s.base.camera).chain(s.products.iter().map(|p| &p.base.camera));
+        for cam in targets.flatten() {
+            if !scene.cameras.iter().any(|c| &c.path == cam) {
+                scene.warnings.push(Warning {
+                    prim: s.path.clone(),
+                    kind: WarningKind::InvalidValue,
+                    message: format!(
+                        "camera <{cam}> is not a drawn Camera; using the first camera"
+                    ),
+                });
+            }
+        }
+    }
     Ok(scene)
 }
 
@@ -396,9 +411,4 @@ impl Walk<'_> {
         self.material_index.insert(path.to_owned(), i);
         Ok(i)
     }
-}
-
-#[allow(dead_code)]
-fn _warning_is_plain(w: Warning) -> Warning {
-    w
 }

@@ -77,7 +77,8 @@ impl Scene {
     }
 
     /// The camera a render uses: the first RenderSettings' (or its first product's) camera,
-    /// else the first camera of the stage.
+    /// else (also when that camera does not exist; the loader warns) the first camera of the
+    /// stage.
     pub fn render_camera(&self) -> Option<&Camera> {
         let wanted = self.render_settings.first().and_then(|s| {
             s.products
@@ -86,7 +87,11 @@ impl Scene {
                 .or_else(|| s.base.camera.clone())
         });
         match wanted {
-            Some(p) => self.cameras.iter().find(|c| c.path == p),
+            Some(p) => self
+                .cameras
+                .iter()
+                .find(|c| c.path == p)
+                .or(self.cameras.first()),
             None => self.cameras.first(),
         }
     }

@@ -172,14 +172,37 @@ impl<'s> Reader<'s> {
     }
 
     /// An asset path with its resolution; `None` when unauthored or empty (`@@`).
+    ///
+    /// `openusd` 0.6 does not resolve asset paths held in time samples (nor in the arrays the
+    /// `.usda` fix produces); those are resolved here against the directory of the strongest
+    /// layer that authors the attribute (its property stack), when that layer is a plain file.
     pub fn asset(&self, prim: &Prim, name: &str) -> Result<Option<AssetRef>, LoadError> {
-        Ok(self
+        let Some((authored, resolved)) = self
             .typed(prim, name, "an asset path", value::as_asset)?
             .filter(|(a, _)| !a.is_empty())
-            .map(|(authored, resolved)| AssetRef {
-                authored,
-                resolved: resolved.map(PathBuf::from),
-            }))
+        else {
+            return Ok(None);
+        };
+        let resolved = match resolved {
+            Some(r) => Some(PathBuf::from(r)),
+            None => self.resolve_fallback(prim, name, &authored),
+        };
+        Ok(Some(AssetRef { authored, resolved }))
+    }
+
+    fn resolve_fallback(&self, prim: &Prim, name: &str, authored: &str) -> Option<PathBuf> {
+        let candidate = std::path::Path::new(authored);
+        if candidate.is_absolute() {
+            return candidate.is_file().then(|| candidate.to_path_buf());
+        }
+        let stack = prim.attribute(name).property_stack().ok()?;
+        let (layer, _) = stack.first()?;
+        if layer.contains('[') {
+            return None; // inside a package: left unresolved
+        }
+        let dir = std::path::Path::new(layer).parent()?;
+        let p = dir.join(candidate);
+        p.is_file().then(|| p.canonicalize().unwrap_or(p))
     }
 
     fn capped<T>(&self, prim: &Prim, name: &'static str, v: Vec<T>) -> Result<Vec<T>, LoadError> {

@@ -56,8 +56,10 @@ pub fn rewrite_asset_time_samples(text: &str) -> Option<String> {
         let Some(close) = find_block_end(bytes, brace) else {
             continue;
         };
-        // Copy everything up to the brace, then the rewritten block.
-        out.push_str(&text[copied..=brace]);
+        // Copy up to the type token, declare it `asset[]`, then the rewritten block.
+        out.push_str(&text[copied..start + 5]);
+        out.push_str("[]");
+        out.push_str(&text[start + 5..=brace]);
         out.push_str(&wrap_asset_literals(&text[brace + 1..close]));
         copied = close;
         search = close;
@@ -143,9 +145,11 @@ mod tests {
 
     #[test]
     fn wraps_scalar_asset_samples_only() {
-        let src = "def X \"a\" {\n    asset inputs:f.timeSamples = {\n        1: @../a.ies@,\n        2: @@@b@c.ies@@@,\n        3: None,\n    }\n    asset inputs:g = @keep.ies@\n    string s.timeSamples = { 1: \"@x@\" }\n}\n";
+        let src = "#usda 1.0\ndef X \"a\" {\n    asset inputs:f.timeSamples = {\n        1: @../a.ies@,\n        2: @@@b@c.ies@@@,\n        3: None,\n    }\n    asset inputs:g = @keep.ies@\n    string s.timeSamples = { 1: \"@x@\" }\n}\n";
         let out = rewrite_asset_time_samples(src).expect("changed");
+        assert!(out.contains("asset[] inputs:f.timeSamples"));
         assert!(out.contains("1: [@../a.ies@],"));
+        assert!(openusd::usda::parse(&out).is_ok());
         assert!(out.contains("2: [@@@b@c.ies@@@],"));
         assert!(out.contains("3: None,"));
         assert!(out.contains("asset inputs:g = @keep.ies@"));
@@ -163,5 +167,20 @@ mod tests {
             rewrite_asset_time_samples("asset a.timeSamples = { 1: @x@"),
             None
         );
+    }
+}
+
+#[cfg(test)]
+mod file_tests {
+    #[test]
+    fn luxtest_cylinder_rewrites() {
+        let p = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/data/luxtest/usd/cylinder.usda"
+        );
+        let text = std::fs::read_to_string(p).unwrap();
+        let out = super::rewrite_asset_time_samples(&text).expect("rewritten");
+        let i = out.find("ies:file.timeSamples").unwrap();
+        assert!(out[i..i + 80].contains("1: [@@],"), "{}", &out[i..i + 80]);
     }
 }

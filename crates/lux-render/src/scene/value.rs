@@ -20,11 +20,13 @@ pub fn as_f64(v: &Value) -> Option<f64> {
     })
 }
 
-/// A boolean (`bool`, or an int 0/1 as some exporters write).
+/// A boolean (`bool`, or an integer 0/1: `openusd` 0.6 parses `bool` time samples written as
+/// `1: 0` type-blind, as `Int64`).
 pub fn as_bool(v: &Value) -> Option<bool> {
     match v {
         Value::Bool(b) => Some(*b),
         Value::Int(i) => Some(*i != 0),
+        Value::Int64(i) => Some(*i != 0),
         _ => None,
     }
 }
