@@ -5,6 +5,12 @@
 //! spectrum → XYZ → linear Rec.709 / ACEScg, and the conversions of the
 //! PhysicalLightIlluminantAPI and Photometric/Radiometric {Area, Dome, Distant} LightAPIs to the
 //! luminance (nits) and RGB a renderer emits.
+//!
+//! See the crate README for an overview and an example; every item names the schema attribute
+//! or formula it implements.
+
+#![doc = include_str!("../README.md")]
+#![warn(missing_docs)]
 
 mod any_spectrum;
 mod cie;

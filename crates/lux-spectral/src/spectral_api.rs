@@ -153,7 +153,7 @@ impl SpectralInputs {
             return Ok(None);
         };
         let xyz = crate::xyz::spectrum_to_xyz(&s);
-        if !(xyz.y > 0.0) {
+        if xyz.y.is_nan() || xyz.y <= 0.0 {
             return Err(SpectralError::ZeroLuminance {
                 attribute: "wavelength:emission".to_owned(),
             });

@@ -212,7 +212,7 @@ impl SampledSpectrum {
     pub fn restricted(&self, lo: f64, hi: f64) -> Option<SampledSpectrum> {
         let (a, b) = self.bounds();
         let (lo, hi) = (lo.max(a), hi.min(b));
-        if !(lo < hi) {
+        if lo.partial_cmp(&hi) != Some(core::cmp::Ordering::Less) {
             return None;
         }
         let mut w = vec![lo];

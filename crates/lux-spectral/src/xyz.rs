@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 
-use crate::cie::{CMF_MAX_NM, CMF_MIN_NM, cmf_in_cell};
+use crate::cie::{CMF_MAX_NM, CMF_MIN_NM, cmf_in_cell, cmf_moments_at};
 use crate::interpolation::Interpolation;
 use crate::photometry::K_M;
 use crate::planck::Blackbody;
@@ -28,17 +28,62 @@ where
 /// S is spectral radiance in W·sr⁻¹·m⁻²·nm⁻¹.
 ///
 /// The integral is exact for the model "S interpolated by its own mode, CMFs linearly
-/// interpolated between their 1 nm samples": the walk visits every breakpoint of both
-/// functions, so narrow emission lines between table wavelengths are integrated correctly.
-/// Per piece: linear × linear uses (b−a)/6·(2s₀c₀ + s₀c₁ + s₁c₀ + 2s₁c₁); held uses
-/// s·(b−a)(c₀+c₁)/2; cubic × linear (degree 4) uses 3-point Gauss–Legendre. Allocation-free.
+/// interpolated between their 1 nm samples", so narrow emission lines between table wavelengths
+/// are integrated correctly. Linear and held spectra use compile-time prefix moments of the
+/// CMFs, M0(λ) = ∫c and M1(λ) = ∫(λ'−360)c: on a sample interval [a, b] where
+/// S = s_a + m(λ − a), ∫ S c = s_a ΔM0 + m (ΔM1 − (a − 360) ΔM0) — O(1) per sample. Cubic spectra
+/// walk every breakpoint of both functions with 3-point Gauss–Legendre per piece (exact for
+/// cubic × linear). Allocation-free.
 pub fn spectrum_to_xyz(s: &SampledSpectrum) -> DVec3 {
+    match s.interpolation() {
+        Interpolation::Linear | Interpolation::Held => spectrum_to_xyz_moments(s),
+        Interpolation::Cubic => spectrum_to_xyz_walk(s),
+    }
+}
+
+fn spectrum_to_xyz_moments(s: &SampledSpectrum) -> DVec3 {
+    let w = s.wavelengths();
+    let v = s.values();
+    let held = s.interpolation() == Interpolation::Held;
+    let mut sum = DVec3::ZERO;
+    let mut prev_b = f64::NAN;
+    let (mut m0b, mut m1b) = (DVec3::ZERO, DVec3::ZERO);
+    for i in 0..w.len() - 1 {
+        let (x0, x1) = (w[i], w[i + 1]);
+        if x1 <= CMF_MIN_NM {
+            continue;
+        }
+        if x0 >= CMF_MAX_NM {
+            break;
+        }
+        let a = x0.max(CMF_MIN_NM);
+        let b = x1.min(CMF_MAX_NM);
+        let (m0a, m1a) = if a == prev_b {
+            (m0b, m1b)
+        } else {
+            cmf_moments_at(a)
+        };
+        (m0b, m1b) = cmf_moments_at(b);
+        prev_b = b;
+        let d0 = m0b - m0a;
+        if held {
+            sum += v[i] * d0;
+        } else {
+            let slope = (v[i + 1] - v[i]) / (x1 - x0);
+            let sa = v[i] + slope * (a - x0);
+            sum += sa * d0 + slope * ((m1b - m1a) - (a - CMF_MIN_NM) * d0);
+        }
+    }
+    sum * K_M
+}
+
+fn spectrum_to_xyz_walk(s: &SampledSpectrum) -> DVec3 {
     let w = s.wavelengths();
     let v = s.values();
     let (lo, hi) = s.bounds();
     let lo = lo.max(CMF_MIN_NM);
     let hi = hi.min(CMF_MAX_NM);
-    if !(lo < hi) {
+    if lo.partial_cmp(&hi) != Some(core::cmp::Ordering::Less) {
         return DVec3::ZERO;
     }
     let Some(mut seg) = s.segment_index(lo) else {
@@ -107,7 +152,7 @@ pub fn integrate_smooth_against_cmf(f: impl Fn(f64) -> f64, lo: f64, hi: f64) ->
 fn integrate_cells(lo: f64, hi: f64, f: impl Fn(usize, f64) -> DVec3) -> DVec3 {
     let lo = lo.max(CMF_MIN_NM);
     let hi = hi.min(CMF_MAX_NM);
-    if !(lo < hi) {
+    if lo.partial_cmp(&hi) != Some(core::cmp::Ordering::Less) {
         return DVec3::ZERO;
     }
     let last_cell = (CMF_MAX_NM - CMF_MIN_NM) as usize - 1;
@@ -127,7 +172,7 @@ fn integrate_cells(lo: f64, hi: f64, f: impl Fn(usize, f64) -> DVec3) -> DVec3 {
 /// 10⁶ pieces; wider bands use proportionally wider pieces).
 pub fn integrate_smooth(f: impl Fn(f64) -> f64, bounds: (f64, f64)) -> f64 {
     let (lo, hi) = bounds;
-    if !(lo < hi) || !(hi - lo).is_finite() {
+    if lo.partial_cmp(&hi) != Some(core::cmp::Ordering::Less) || !(hi - lo).is_finite() {
         return 0.0;
     }
     let n = ((hi - lo).ceil() as usize).clamp(1, 1_000_000);

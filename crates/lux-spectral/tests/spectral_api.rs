@@ -21,14 +21,19 @@ fn emission(values: Vec<[f32; 2]>, preset: Option<Illuminant>) -> SpectralInputs
 #[test]
 fn sellmeier_bk7() {
     // Schott N-BK7: n_d (587.56 nm) = 1.5168, n_F (486.13) = 1.5224, n_C (656.27) = 1.5143.
-    let pairs = [
-        [1.039_612_1_f32, 6.000_698_7e-3],
-        [0.231_792_34, 2.001_791_4e-2],
-        [1.010_469_4, 103.560_65],
+    // Schott N-BK7 Sellmeier coefficients (C in µm²), stored as USD float2 (f32).
+    let published: [(f64, f64); 3] = [
+        (1.03961212, 6.00069867e-3),
+        (0.231792344, 2.00179144e-2),
+        (1.01046945, 1.03560653e2),
     ];
+    let pairs: Vec<[f32; 2]> = published
+        .iter()
+        .map(|&(b, c)| [b as f32, c as f32])
+        .collect();
     let inputs = SpectralInputs {
         ior: Some(IorAttribute {
-            values: pairs.to_vec(),
+            values: pairs,
             interpolation: IorInterpolation::Sellmeier,
             ..Default::default()
         }),
