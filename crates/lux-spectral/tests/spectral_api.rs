@@ -361,3 +361,43 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn restricted_and_cubic_integral() {
+    let s = SampledSpectrum::new(
+        vec![400.0, 500.0, 600.0],
+        vec![0.0, 10.0, 0.0],
+        Interpolation::Linear,
+    )
+    .unwrap();
+    let r = s.restricted(450.0, 550.0).unwrap();
+    assert_eq!(r.wavelengths(), &[450.0, 500.0, 550.0]);
+    assert_eq!(r.values(), &[5.0, 10.0, 5.0]);
+    assert_eq!(r.integral(), 750.0);
+    assert!(s.restricted(700.0, 800.0).is_none());
+    // Cubic integral is exact: compare with a fine midpoint sum of the Hermite curve.
+    let c = SampledSpectrum::new(
+        vec![400.0, 430.0, 500.0, 520.0],
+        vec![1.0, 4.0, 2.0, 7.0],
+        Interpolation::Cubic,
+    )
+    .unwrap();
+    let n = 120_000;
+    let h = 120.0 / n as f64;
+    let fine: f64 = (0..n)
+        .map(|i| c.eval(400.0 + (i as f64 + 0.5) * h) * h)
+        .sum();
+    assert!(rel(c.integral(), fine) < 1e-8, "{} vs {fine}", c.integral());
+}
+
+#[test]
+fn acescg_has_no_chromatic_adaptation() {
+    // D65 is white in Rec.709 but bluish in ACEScg (white = ACES ≈ D60); luminance stays 1.
+    let d65 = emission(vec![], Some(Illuminant::D65));
+    let rgb = d65
+        .emission_rgb_per_nit(ColorSpace::AcesCg)
+        .unwrap()
+        .unwrap();
+    assert!(rgb.z > 1.05 && rgb.x < 0.99, "{rgb}");
+    assert!((ColorSpace::AcesCg.luminance(rgb) - 1.0).abs() < 1e-12);
+}
