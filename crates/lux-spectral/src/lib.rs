@@ -15,6 +15,7 @@
 mod any_spectrum;
 mod cie;
 mod colorspace;
+mod dome;
 mod emission;
 mod error;
 mod illuminant;
@@ -34,6 +35,7 @@ pub mod xyz;
 pub use any_spectrum::Spectrum;
 pub use cie::{CMF_MAX_NM, CMF_MIN_NM, cmf, cmf_table};
 pub use colorspace::ColorSpace;
+pub use dome::{MAX_LATLONG_TEXELS, latlong_cosine_weighted_mean};
 pub use emission::{
     Emission, LightGeometry, area_light_flux, area_light_luminance, distant_light_luminance,
     distant_projected_solid_angle, dome_light_luminance, emitted,

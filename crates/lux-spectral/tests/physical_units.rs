@@ -308,3 +308,42 @@ fn bad_physical_inputs_give_typed_errors() {
     );
     assert!(IlluminantKind::parse("Blackbody").is_err());
 }
+
+#[test]
+fn latlong_cosine_weighted_mean_of_sky_textures() {
+    let (w, h) = (256, 128);
+    // Uniform texture: m = 1 (midpoint-in-direction error is O(1/h²)).
+    let ones = vec![1.0f32; w * h];
+    let m = latlong_cosine_weighted_mean(w, h, &ones, DVec3::Y).unwrap();
+    assert!((m - 1.0).abs() < 1e-4, "{m}");
+    // Same with the pole axis rotated to +Z.
+    let m = latlong_cosine_weighted_mean(w, h, &ones, DVec3::Z).unwrap();
+    assert!((m - 1.0).abs() < 1e-3, "{m}");
+    // Gradient Y = 1 + 0.5·cos θ about +Y (row-dependent): m = 4/3 (see the dome test).
+    let mut grad = vec![0.0f32; w * h];
+    for r in 0..h {
+        let th = std::f64::consts::PI * (r as f64 + 0.5) / h as f64;
+        for c in 0..w {
+            grad[r * w + c] = (1.0 + 0.5 * th.cos()) as f32;
+        }
+    }
+    let m = latlong_cosine_weighted_mean(w, h, &grad, DVec3::Y).unwrap();
+    assert!((m - 4.0 / 3.0).abs() < 1e-4, "{m}");
+    // Only the +X half (u in [0, 0.5), φ > 0) lit, up = +X: m = 1; up = −X: m = 0.
+    let mut half = vec![0.0f32; w * h];
+    for r in 0..h {
+        for c in 0..w / 2 {
+            half[r * w + c] = 1.0;
+        }
+    }
+    assert!((latlong_cosine_weighted_mean(w, h, &half, DVec3::X).unwrap() - 1.0).abs() < 1e-3);
+    assert_eq!(
+        latlong_cosine_weighted_mean(w, h, &half, -DVec3::X).unwrap(),
+        0.0
+    );
+    // Bad input.
+    assert!(latlong_cosine_weighted_mean(0, 4, &[], DVec3::Y).is_err());
+    assert!(latlong_cosine_weighted_mean(2, 2, &[1.0; 3], DVec3::Y).is_err());
+    assert!(latlong_cosine_weighted_mean(2, 1, &[1.0, f32::NAN], DVec3::Y).is_err());
+    assert!(latlong_cosine_weighted_mean(2, 1, &[1.0, 1.0], DVec3::ZERO).is_err());
+}
