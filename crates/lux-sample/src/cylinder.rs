@@ -139,6 +139,9 @@ impl CylinderLight {
         let Some((wl, jac)) = local_direction(&self.xf, wi) else {
             return 0.0;
         };
+        if !pl.is_finite() {
+            return 0.0;
+        }
         let Some(t) = self.front_hit(pl, wl) else {
             return 0.0;
         };

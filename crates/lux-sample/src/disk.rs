@@ -137,6 +137,9 @@ impl DiskLight {
         let Some((wl, jac)) = local_direction(&self.xf, wi) else {
             return 0.0;
         };
+        if !pl.is_finite() {
+            return 0.0;
+        }
         if !(pl.z < 0.0 && wl.z > 0.0) {
             return 0.0;
         }

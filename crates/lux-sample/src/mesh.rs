@@ -213,6 +213,9 @@ impl MeshLight {
             return 0.0;
         };
         let p = r.p;
+        if !p.is_finite() {
+            return 0.0;
+        }
         if !self.facing(t, p) {
             return 0.0;
         }

@@ -106,6 +106,9 @@ impl SphereLight {
         let Some((wl, jac)) = local_direction(&self.xf, wi) else {
             return 0.0;
         };
+        if !pl.is_finite() {
+            return 0.0;
+        }
         let rad = self.radius;
         let d2 = pl.length_squared();
         let Some((t0, t1)) = hit(pl, wl, rad) else {
