@@ -91,8 +91,14 @@ mod tests {
     #[test]
     fn version_lines() {
         assert_eq!(Edition::detect("IESNA91"), Some(Edition::Lm63_1991));
-        assert_eq!(Edition::detect("IESNA:LM-63-1995\r"), Some(Edition::Lm63_1995));
-        assert_eq!(Edition::detect("IESNA: LM-63-2002 "), Some(Edition::Lm63_2002));
+        assert_eq!(
+            Edition::detect("IESNA:LM-63-1995\r"),
+            Some(Edition::Lm63_1995)
+        );
+        assert_eq!(
+            Edition::detect("IESNA: LM-63-2002 "),
+            Some(Edition::Lm63_2002)
+        );
         assert_eq!(Edition::detect("IESNA95"), Some(Edition::Lm63_1995));
         assert_eq!(Edition::detect("IES:LM-63-2019"), Some(Edition::Lm63_2019));
         assert_eq!(Edition::detect("Some luminaire"), None);

@@ -88,7 +88,9 @@ pub enum IesError {
         value: f64,
     },
     /// An angle set outside the ranges LM-63 allows for the photometric type and symmetry.
-    #[error("{at}: illegal {field} angle range {first}..{last} for photometric type {ptype}: expected {expected}")]
+    #[error(
+        "{at}: illegal {field} angle range {first}..{last} for photometric type {ptype}: expected {expected}"
+    )]
     IllegalAngleRange {
         /// The first angle of the set.
         at: Position,

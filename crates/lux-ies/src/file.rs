@@ -197,7 +197,10 @@ impl IesFile {
             ("length", self.length),
             ("height", self.height),
             ("ballast factor", self.ballast_factor),
-            ("ballast-lamp factor / file generation type", self.third_factor),
+            (
+                "ballast-lamp factor / file generation type",
+                self.third_factor,
+            ),
             ("input watts", self.input_watts),
         ] {
             if !v.is_finite() {
@@ -231,6 +234,12 @@ impl IesFile {
             });
         }
         let none = |_| at;
-        crate::parse::check_angles(self.photometric_type, &self.vertical_angles, &none, &self.horizontal_angles, &none)
+        crate::parse::check_angles(
+            self.photometric_type,
+            &self.vertical_angles,
+            &none,
+            &self.horizontal_angles,
+            &none,
+        )
     }
 }

@@ -90,7 +90,11 @@ mod tests {
         // I = 1 - v/π over [0, π]: ∫ (1 - v/π) sin v dv = 1 (so 2π after φ)
         assert!((a - 1.0).abs() < 1e-14, "{a}");
         // cos weight over [-π/2, π/2]: ∫ cos = 2, ∫ (v + π/2)/π cos v dv = 1
-        let (a, b) = linear_segment_weights(-core::f64::consts::FRAC_PI_2, core::f64::consts::FRAC_PI_2, false);
+        let (a, b) = linear_segment_weights(
+            -core::f64::consts::FRAC_PI_2,
+            core::f64::consts::FRAC_PI_2,
+            false,
+        );
         assert!((a + b - 2.0).abs() < 1e-14);
         assert!((b - 1.0).abs() < 1e-14, "{b}");
     }

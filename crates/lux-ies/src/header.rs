@@ -31,7 +31,9 @@ pub(crate) fn split_keyword(line: &str) -> Option<(&str, &str)> {
 /// Looks a keyword up by name (ASCII case-insensitive); the first occurrence wins.
 pub(crate) fn find<'a>(lines: &'a [HeaderLine], key: &str) -> Option<&'a str> {
     lines.iter().find_map(|l| match l {
-        HeaderLine::Keyword { name, value } if name.eq_ignore_ascii_case(key) => Some(value.as_str()),
+        HeaderLine::Keyword { name, value } if name.eq_ignore_ascii_case(key) => {
+            Some(value.as_str())
+        }
         _ => None,
     })
 }

@@ -19,7 +19,10 @@ impl IntervalTable {
         let n = a.len();
         debug_assert!(n >= 2);
         let range = a[n - 1] - a[0];
-        let min_gap = a.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);
+        let min_gap = a
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .fold(f64::INFINITY, f64::min);
         let bins_f = (range / min_gap).ceil() + 1.0;
         let bins = if bins_f.is_finite() {
             (bins_f as usize).clamp(1, MAX_BINS)

@@ -130,7 +130,10 @@ impl<'a> Lexer<'a> {
                 expected: format!("an integer {}", field()),
             });
         }
-        let decorated = tok.text.bytes().any(|c| !(c.is_ascii_digit() || c == b'-' || c == b'+'));
+        let decorated = tok
+            .text
+            .bytes()
+            .any(|c| !(c.is_ascii_digit() || c == b'-' || c == b'+'));
         Ok((v as i64, tok.at, decorated))
     }
 }
@@ -192,7 +195,9 @@ mod tests {
         assert_eq!(parse_number("-.5"), Some(-0.5));
         assert_eq!(parse_number("3."), Some(3.0));
         assert_eq!(parse_number("+2"), Some(2.0));
-        for bad in ["+", "-", ".", "inf", "NaN", "1e", "1.2.3", "3a", "e5", "infinity", ""] {
+        for bad in [
+            "+", "-", ".", "inf", "NaN", "1e", "1.2.3", "3a", "e5", "infinity", "",
+        ] {
             assert_eq!(parse_number(bad), None, "{bad}");
         }
     }
@@ -203,7 +208,10 @@ mod tests {
         let t: Vec<_> = core::iter::from_fn(|| lx.next_token())
             .map(|t| (t.text, t.at.line, t.at.column))
             .collect();
-        assert_eq!(t, vec![("1", 10, 1), ("2", 10, 4), ("3", 11, 3), ("4", 13, 1)]);
+        assert_eq!(
+            t,
+            vec![("1", 10, 1), ("2", 10, 4), ("3", 11, 3), ("4", 13, 1)]
+        );
     }
 
     #[test]

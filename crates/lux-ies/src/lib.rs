@@ -28,8 +28,8 @@
 mod derived;
 mod edition;
 mod error;
-pub mod flux;
 mod file;
+pub mod flux;
 mod header;
 mod interp;
 mod lexer;

@@ -97,33 +97,64 @@ impl LuminousOpening {
         if w == 0.0 && l == 0.0 && h == 0.0 {
             Point
         } else if w > 0.0 && l > 0.0 && h == 0.0 {
-            Rectangle { width: w, length: l }
+            Rectangle {
+                width: w,
+                length: l,
+            }
         } else if w > 0.0 && l > 0.0 && h > 0.0 {
-            RectangleWithSides { width: w, length: l, height: h }
+            RectangleWithSides {
+                width: w,
+                length: l,
+                height: h,
+            }
         } else if w < 0.0 && l < 0.0 && h == 0.0 {
             if aw == al {
                 Circle { diameter: aw }
             } else {
-                Ellipse { width: aw, length: al }
+                Ellipse {
+                    width: aw,
+                    length: al,
+                }
             }
         } else if w < 0.0 && l < 0.0 && h > 0.0 {
             if aw == al {
-                VerticalCylinder { diameter: aw, height: h }
+                VerticalCylinder {
+                    diameter: aw,
+                    height: h,
+                }
             } else {
-                VerticalEllipticalCylinder { width: aw, length: al, height: h }
+                VerticalEllipticalCylinder {
+                    width: aw,
+                    length: al,
+                    height: h,
+                }
             }
         } else if w < 0.0 && l < 0.0 && h < 0.0 {
             if aw == al && al == ah {
                 Sphere { diameter: aw }
             } else {
-                Ellipsoid { width: aw, length: al, height: ah }
+                Ellipsoid {
+                    width: aw,
+                    length: al,
+                    height: ah,
+                }
             }
         } else if w < 0.0 && l > 0.0 && h < 0.0 {
-            HorizontalCylinderAlongLength { diameter: aw, length: l }
+            HorizontalCylinderAlongLength {
+                diameter: aw,
+                length: l,
+            }
         } else if w > 0.0 && l < 0.0 && h < 0.0 {
-            HorizontalCylinderAlongWidth { width: w, diameter: al }
+            HorizontalCylinderAlongWidth {
+                width: w,
+                diameter: al,
+            }
         } else {
-            Other { width: w, length: l, height: h }
+            Other {
+                width: w,
+                length: l,
+                height: h,
+            }
         }
     }
 }
@@ -137,19 +168,67 @@ mod tests {
     fn annex_sign_table() {
         let f = LuminousOpening::from_dimensions;
         assert_eq!(f(0.0, 0.0, 0.0), Point);
-        assert_eq!(f(1.0, 2.0, 0.0), Rectangle { width: 1.0, length: 2.0 });
-        assert_eq!(f(1.0, 2.0, 3.0), RectangleWithSides { width: 1.0, length: 2.0, height: 3.0 });
+        assert_eq!(
+            f(1.0, 2.0, 0.0),
+            Rectangle {
+                width: 1.0,
+                length: 2.0
+            }
+        );
+        assert_eq!(
+            f(1.0, 2.0, 3.0),
+            RectangleWithSides {
+                width: 1.0,
+                length: 2.0,
+                height: 3.0
+            }
+        );
         assert_eq!(f(-1.0, -1.0, 0.0), Circle { diameter: 1.0 });
-        assert_eq!(f(-1.0, -2.0, 0.0), Ellipse { width: 1.0, length: 2.0 });
-        assert_eq!(f(-1.0, -1.0, 1.0), VerticalCylinder { diameter: 1.0, height: 1.0 });
+        assert_eq!(
+            f(-1.0, -2.0, 0.0),
+            Ellipse {
+                width: 1.0,
+                length: 2.0
+            }
+        );
+        assert_eq!(
+            f(-1.0, -1.0, 1.0),
+            VerticalCylinder {
+                diameter: 1.0,
+                height: 1.0
+            }
+        );
         assert_eq!(
             f(-1.0, -2.0, 1.0),
-            VerticalEllipticalCylinder { width: 1.0, length: 2.0, height: 1.0 }
+            VerticalEllipticalCylinder {
+                width: 1.0,
+                length: 2.0,
+                height: 1.0
+            }
         );
         assert_eq!(f(-1.0, -1.0, -1.0), Sphere { diameter: 1.0 });
-        assert_eq!(f(-1.0, -2.0, -1.0), Ellipsoid { width: 1.0, length: 2.0, height: 1.0 });
-        assert_eq!(f(-1.0, 2.0, -1.0), HorizontalCylinderAlongLength { diameter: 1.0, length: 2.0 });
-        assert_eq!(f(2.0, -1.0, -1.0), HorizontalCylinderAlongWidth { width: 2.0, diameter: 1.0 });
+        assert_eq!(
+            f(-1.0, -2.0, -1.0),
+            Ellipsoid {
+                width: 1.0,
+                length: 2.0,
+                height: 1.0
+            }
+        );
+        assert_eq!(
+            f(-1.0, 2.0, -1.0),
+            HorizontalCylinderAlongLength {
+                diameter: 1.0,
+                length: 2.0
+            }
+        );
+        assert_eq!(
+            f(2.0, -1.0, -1.0),
+            HorizontalCylinderAlongWidth {
+                width: 2.0,
+                diameter: 1.0
+            }
+        );
         assert!(matches!(f(1.0, -1.0, 0.0), Other { .. }));
     }
 }

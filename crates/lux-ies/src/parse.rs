@@ -145,11 +145,12 @@ fn parse(text: &str, options: &ParseOptions<'_>) -> Result<Parsed, IesError> {
             Some(content) => {
                 let mut tl = Lexer::new(&content, 1, 1);
                 let mut inner_w = Vec::new();
-                let data = parse_tilt_block(&mut tl, &mut inner_w).map_err(|e| IesError::TiltFile {
-                    at: tilt_at,
-                    name: name.clone(),
-                    inner: Box::new(e),
-                })?;
+                let data =
+                    parse_tilt_block(&mut tl, &mut inner_w).map_err(|e| IesError::TiltFile {
+                        at: tilt_at,
+                        name: name.clone(),
+                        inner: Box::new(e),
+                    })?;
                 Tilt::File {
                     name,
                     data: Some(data),
@@ -188,7 +189,10 @@ fn parse(text: &str, options: &ParseOptions<'_>) -> Result<Parsed, IesError> {
     }
     let (lumens_per_lamp, at) = real(&mut lx, "lumens per lamp")?;
     if lumens_per_lamp < 0.0 && lumens_per_lamp != -1.0 {
-        warnings.push(Warning::NegativeLumens { at, value: lumens_per_lamp });
+        warnings.push(Warning::NegativeLumens {
+            at,
+            value: lumens_per_lamp,
+        });
     }
     let (candela_multiplier, at) = real(&mut lx, "candela multiplier")?;
     non_negative(candela_multiplier, at, "candela multiplier")?;
@@ -213,12 +217,13 @@ fn parse(text: &str, options: &ParseOptions<'_>) -> Result<Parsed, IesError> {
         });
     }
     let (pt, at) = int(&mut lx, "photometric type", &mut warnings)?;
-    let photometric_type = PhotometricType::from_code(pt).ok_or_else(|| IesError::InvalidValue {
-        at,
-        field: "photometric type",
-        value: pt.to_string(),
-        expected: "1 (type C), 2 (type B) or 3 (type A)".into(),
-    })?;
+    let photometric_type =
+        PhotometricType::from_code(pt).ok_or_else(|| IesError::InvalidValue {
+            at,
+            field: "photometric type",
+            value: pt.to_string(),
+            expected: "1 (type C), 2 (type B) or 3 (type A)".into(),
+        })?;
     let (ut, at) = int(&mut lx, "units type", &mut warnings)?;
     let units = Units::from_code(ut).ok_or_else(|| IesError::InvalidValue {
         at,
@@ -412,14 +417,15 @@ pub(crate) fn check_angles(
             }
         }
     }
-    let err = |field, a: &[f64], at: &dyn Fn(usize) -> Position, expected| IesError::IllegalAngleRange {
-        at: at(0),
-        field,
-        first: a[0],
-        last: a[a.len() - 1],
-        ptype: ptype.letter(),
-        expected,
-    };
+    let err =
+        |field, a: &[f64], at: &dyn Fn(usize) -> Position, expected| IesError::IllegalAngleRange {
+            at: at(0),
+            field,
+            first: a[0],
+            last: a[a.len() - 1],
+            ptype: ptype.letter(),
+            expected,
+        };
     if v.len() < 2 {
         return Err(IesError::Inconsistent {
             at: Position::default(),

@@ -85,19 +85,54 @@ impl PhotometricWeb {
                     Symmetry::Axial
                 } else if ha[0] == 90.0 {
                     // 90..270, mirrored about the 90-270 plane: h -> 180 - h (mod 360)
-                    planes.extend(ha.iter().enumerate().rev().filter(|(_, a)| **a >= 90.0 && **a <= 180.0).map(|(i, a)| (180.0 - a, i)));
-                    planes.extend(ha.iter().enumerate().filter(|(_, a)| **a > 90.0).map(|(i, a)| (*a, i)));
-                    planes.extend(ha.iter().enumerate().rev().filter(|(_, a)| **a >= 180.0 && **a < 270.0).map(|(i, a)| (540.0 - a, i)));
+                    planes.extend(
+                        ha.iter()
+                            .enumerate()
+                            .rev()
+                            .filter(|(_, a)| **a >= 90.0 && **a <= 180.0)
+                            .map(|(i, a)| (180.0 - a, i)),
+                    );
+                    planes.extend(
+                        ha.iter()
+                            .enumerate()
+                            .filter(|(_, a)| **a > 90.0)
+                            .map(|(i, a)| (*a, i)),
+                    );
+                    planes.extend(
+                        ha.iter()
+                            .enumerate()
+                            .rev()
+                            .filter(|(_, a)| **a >= 180.0 && **a < 270.0)
+                            .map(|(i, a)| (540.0 - a, i)),
+                    );
                     Symmetry::Bilateral90To270
                 } else if last == 90.0 {
                     planes.extend(ha.iter().enumerate().map(|(i, a)| (*a, i)));
-                    planes.extend(ha.iter().enumerate().rev().skip(1).map(|(i, a)| (180.0 - a, i)));
+                    planes.extend(
+                        ha.iter()
+                            .enumerate()
+                            .rev()
+                            .skip(1)
+                            .map(|(i, a)| (180.0 - a, i)),
+                    );
                     planes.extend(ha.iter().enumerate().skip(1).map(|(i, a)| (180.0 + a, i)));
-                    planes.extend(ha.iter().enumerate().rev().skip(1).map(|(i, a)| (360.0 - a, i)));
+                    planes.extend(
+                        ha.iter()
+                            .enumerate()
+                            .rev()
+                            .skip(1)
+                            .map(|(i, a)| (360.0 - a, i)),
+                    );
                     Symmetry::Quadrant
                 } else if last == 180.0 {
                     planes.extend(ha.iter().enumerate().map(|(i, a)| (*a, i)));
-                    planes.extend(ha.iter().enumerate().rev().skip(1).map(|(i, a)| (360.0 - a, i)));
+                    planes.extend(
+                        ha.iter()
+                            .enumerate()
+                            .rev()
+                            .skip(1)
+                            .map(|(i, a)| (360.0 - a, i)),
+                    );
                     Symmetry::Bilateral0To180
                 } else {
                     planes.extend(ha.iter().enumerate().map(|(i, a)| (*a, i)));
@@ -113,7 +148,13 @@ impl PhotometricWeb {
                     planes.push((90.0, 0));
                     Symmetry::Axial
                 } else if ha[0] == 0.0 {
-                    planes.extend(ha.iter().enumerate().rev().filter(|(_, a)| **a > 0.0).map(|(i, a)| (-a, i)));
+                    planes.extend(
+                        ha.iter()
+                            .enumerate()
+                            .rev()
+                            .filter(|(_, a)| **a > 0.0)
+                            .map(|(i, a)| (-a, i)),
+                    );
                     planes.extend(ha.iter().enumerate().map(|(i, a)| (*a, i)));
                     Symmetry::LateralMirror
                 } else {
@@ -122,13 +163,24 @@ impl PhotometricWeb {
                 }
             }
         };
-        let v: Vec<f64> = file.vertical_angles.iter().map(|a| a.to_radians()).collect();
+        let v: Vec<f64> = file
+            .vertical_angles
+            .iter()
+            .map(|a| a.to_radians())
+            .collect();
         let h: Vec<f64> = planes.iter().map(|p| p.0.to_radians()).collect();
         let mut values = Vec::with_capacity(planes.len() * nv);
         for &(_, src) in &planes {
             values.extend(col(src).iter().map(|c| c * scale));
         }
-        Ok(Self::from_parts(file.photometric_type, symmetry, profile, v, h, values))
+        Ok(Self::from_parts(
+            file.photometric_type,
+            symmetry,
+            profile,
+            v,
+            h,
+            values,
+        ))
     }
 
     fn from_parts(

@@ -23,7 +23,10 @@ impl IesFile {
     pub fn write(&self, edition: Edition) -> String {
         let mut multiplier = self.candela_multiplier;
         let mut third = self.third_factor;
-        match (self.edition == Edition::Lm63_2019, edition == Edition::Lm63_2019) {
+        match (
+            self.edition == Edition::Lm63_2019,
+            edition == Edition::Lm63_2019,
+        ) {
             (false, true) => {
                 multiplier *= self.third_factor;
                 third = 1.00001;
@@ -78,7 +81,11 @@ impl IesFile {
             self.length,
             self.height
         );
-        let _ = write!(s, "{} {} {}\r\n", self.ballast_factor, third, self.input_watts);
+        let _ = write!(
+            s,
+            "{} {} {}\r\n",
+            self.ballast_factor, third, self.input_watts
+        );
         write_block(&mut s, &self.vertical_angles);
         write_block(&mut s, &self.horizontal_angles);
         let nv = self.vertical_angles.len().max(1);

@@ -9,7 +9,9 @@ use lux_math::Profile;
 use std::path::{Path, PathBuf};
 
 fn data(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(rel)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(rel)
 }
 
 fn read(rel: &str) -> String {
@@ -32,11 +34,21 @@ const MALFORMED: [&str; 3] = [
 
 fn all_files() -> Vec<String> {
     let mut v = Vec::new();
-    for dir in ["appleseed", "lidrs", "luxcore", "luxtest", "mdl-sdk", "radiance"] {
+    for dir in [
+        "appleseed",
+        "lidrs",
+        "luxcore",
+        "luxtest",
+        "mdl-sdk",
+        "radiance",
+    ] {
         for e in std::fs::read_dir(data(dir)).unwrap() {
             let p = e.unwrap().path();
             if p.extension().is_some_and(|x| x == "ies") {
-                v.push(format!("{dir}/{}", p.file_name().unwrap().to_str().unwrap()));
+                v.push(format!(
+                    "{dir}/{}",
+                    p.file_name().unwrap().to_str().unwrap()
+                ));
             }
         }
     }
@@ -53,7 +65,11 @@ fn every_good_file_parses_expands_and_round_trips() {
         let w = PhotometricWeb::new(&file, Profile::Spec).unwrap_or_else(|e| panic!("{f}: {e}"));
         assert!(w.flux_exact().is_finite() && w.flux_exact() >= 0.0, "{f}");
         // write back in the same edition family and read again
-        let target = if file.edition == Edition::Lm63_2019 { Edition::Lm63_2019 } else { Edition::Lm63_2002 };
+        let target = if file.edition == Edition::Lm63_2019 {
+            Edition::Lm63_2019
+        } else {
+            Edition::Lm63_2002
+        };
         let back = IesFile::parse(&file.write(target)).unwrap();
         let mut expect = file.clone();
         expect.edition = target;
@@ -74,7 +90,14 @@ fn malformed_files_fail_with_their_specific_errors() {
     }
     // appleseed 5: type B horizontal angles 1..90.
     match IesFile::parse(&read("appleseed/test_iesparser_5.ies")).unwrap_err() {
-        IesError::IllegalAngleRange { field, first, last, ptype, at, .. } => {
+        IesError::IllegalAngleRange {
+            field,
+            first,
+            last,
+            ptype,
+            at,
+            ..
+        } => {
             assert_eq!((field, first, last, ptype), ("horizontal", 1.0, 90.0, 'B'));
             assert_eq!(at.line, 27);
             assert_eq!(at.column, 1);
@@ -83,7 +106,11 @@ fn malformed_files_fail_with_their_specific_errors() {
     }
     // mdl-sdk: text after TILT=NONE.
     match IesFile::parse(&read("mdl-sdk/test_file_format_error.ies")).unwrap_err() {
-        IesError::NotANumber { at, found, expected } => {
+        IesError::NotANumber {
+            at,
+            found,
+            expected,
+        } => {
             assert_eq!((at.line, at.column), (3, 1));
             assert_eq!(found, "file");
             assert_eq!(expected, "number of lamps");
@@ -137,9 +164,15 @@ fn lidrs_expectations() {
     assert_eq!(f.candela_multiplier, 1.0);
     assert_eq!(f.units, Units::Meters);
     assert_eq!((f.width, f.length, f.height), (0.0, 0.0, 0.0));
-    assert_eq!(f.vertical_angles, [0.0, 5.0, 10.0, 20.0, 30.0, 45.0, 65.0, 90.0]);
+    assert_eq!(
+        f.vertical_angles,
+        [0.0, 5.0, 10.0, 20.0, 30.0, 45.0, 65.0, 90.0]
+    );
     assert_eq!(f.horizontal_angles, [0.0]);
-    assert_eq!(f.candela, [1000.0, 1100.0, 1300.0, 1150.0, 930.0, 650.0, 350.0, 0.0]);
+    assert_eq!(
+        f.candela,
+        [1000.0, 1100.0, 1300.0, 1150.0, 930.0, 650.0, 350.0, 0.0]
+    );
     assert!(f.is_absolute());
 
     let f = load("lidrs/iesna2002_example_typec.ies");
@@ -160,12 +193,19 @@ fn lidrs_expectations() {
     assert_eq!(f.keyword("MAINTCAT"), Some("4"));
     assert_eq!(f.keyword("_NEMATYPE"), Some("4h x 6v"));
     assert_eq!(f.keyword("_PRICE"), Some("Make us an offer"));
-    let Tilt::Include(t) = &f.tilt else { panic!("expected TILT=INCLUDE") };
+    let Tilt::Include(t) = &f.tilt else {
+        panic!("expected TILT=INCLUDE")
+    };
     assert_eq!(t.geometry, LampGeometry::Vertical);
-    assert_eq!(t.angles, (0..13).map(|k| 15.0 * k as f64).collect::<Vec<_>>());
+    assert_eq!(
+        t.angles,
+        (0..13).map(|k| 15.0 * k as f64).collect::<Vec<_>>()
+    );
     assert_eq!(
         t.factors,
-        [1.0, 0.95, 0.94, 0.90, 0.88, 0.87, 0.98, 0.87, 0.88, 0.90, 0.94, 0.95, 1.0]
+        [
+            1.0, 0.95, 0.94, 0.90, 0.88, 0.87, 0.98, 0.87, 0.88, 0.90, 0.94, 0.95, 1.0
+        ]
     );
     assert_eq!(f.tilt.tilt_factor(97.5), 0.5 * (0.98 + 0.87));
     let w = PhotometricWeb::new(&f, Profile::Spec).unwrap();
@@ -173,8 +213,15 @@ fn lidrs_expectations() {
     // 0..90 quadrant data with 3 planes (0, 45, 90) expands to a web of 8 distinct planes + the
     // closing 360° plane.
     assert_eq!(w.horizontal_angles().len(), 9);
-    let deg: Vec<f64> = w.horizontal_angles().iter().map(|a| a.to_degrees().round()).collect();
-    assert_eq!(deg, [0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0, 360.0]);
+    let deg: Vec<f64> = w
+        .horizontal_angles()
+        .iter()
+        .map(|a| a.to_degrees().round())
+        .collect();
+    assert_eq!(
+        deg,
+        [0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0, 360.0]
+    );
 }
 
 /// EXPECTED.md §3: the "lin" column within 0.2 % for the manufacturer files, and the declared
@@ -184,7 +231,11 @@ fn exact_flux_matches_expected_lin_column() {
     let rows = [
         ("appleseed/test_iesparser_1.ies", 5264.68, 5265.0),
         ("appleseed/test_iesparser_3.ies", 7108.50, 7108.8),
-        ("luxtest/04f377f94ce81cd7b5101fffdf571454.ies", 1862.39, 1861.0),
+        (
+            "luxtest/04f377f94ce81cd7b5101fffdf571454.ies",
+            1862.39,
+            1861.0,
+        ),
         ("luxtest/bega_50988.6k3.ies", 1096.48, 1096.0),
         ("luxtest/bega_84693k4.ies", 2047.11, 2044.0),
         ("luxtest/bega_84659K4.ies", 9600.10, 9600.0),
@@ -197,8 +248,14 @@ fn exact_flux_matches_expected_lin_column() {
         let flux = web(f).flux_exact();
         assert!((flux / lin - 1.0).abs() < 0.002, "{f}: {flux} vs lin {lin}");
         // the reference computation agrees much better than 0.2 %: 0.01 % of its 2-decimal value
-        assert!((flux - lin).abs() < 0.02 + 1e-4 * lin, "{f}: {flux} vs lin {lin}");
-        assert!((flux / declared - 1.0).abs() < 0.002, "{f}: {flux} vs declared {declared}");
+        assert!(
+            (flux - lin).abs() < 0.02 + 1e-4 * lin,
+            "{f}: {flux} vs lin {lin}"
+        );
+        assert!(
+            (flux / declared - 1.0).abs() < 0.002,
+            "{f}: {flux} vs declared {declared}"
+        );
     }
     let tau = core::f64::consts::TAU;
     for (f, want) in [
@@ -222,9 +279,15 @@ fn midpoint_flux_is_the_reference_rule() {
     assert_eq!(w.mean_intensity(Profile::Spec), w.flux_exact() / (4.0 * pi));
     assert_eq!(w.mean_intensity(Profile::HdEmbree), pi * pi / (4.0 * pi));
     // Fine grids: midpoint within 0.5 % of exact on the manufacturer files.
-    for f in ["luxtest/bega_omni002_4777lm.ies", "appleseed/test_iesparser_1.ies"] {
+    for f in [
+        "luxtest/bega_omni002_4777lm.ies",
+        "appleseed/test_iesparser_1.ies",
+    ] {
         let w = web(f);
-        assert!((w.flux_midpoint() / w.flux_exact() - 1.0).abs() < 0.005, "{f}");
+        assert!(
+            (w.flux_midpoint() / w.flux_exact() - 1.0).abs() < 0.005,
+            "{f}"
+        );
     }
 }
 
@@ -249,10 +312,17 @@ fn edition_and_quirk_coverage() {
     assert_eq!(load("radiance/examp1.ies").edition, Edition::Lm63_1995);
     let r = IesFile::parse_with(&read("radiance/examp1.ies"), &Default::default()).unwrap();
     assert!(matches!(r.file.header[0], HeaderLine::Text(ref t) if t.starts_with("SCCSid")));
-    assert!(r.warnings.iter().any(|w| matches!(w, lux_ies::Warning::NonKeywordLine { line: 2 })));
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| matches!(w, lux_ies::Warning::NonKeywordLine { line: 2 }))
+    );
     assert_eq!(r.file.lamp_count, 2);
     assert_eq!(r.file.lumens_per_lamp, 2900.0);
-    assert_eq!(load("luxtest/bega_omni002_4777lm.ies").edition, Edition::Lm63_1991);
+    assert_eq!(
+        load("luxtest/bega_omni002_4777lm.ies").edition,
+        Edition::Lm63_1991
+    );
     let m = load("mdl-sdk/example_modules.ies");
     assert_eq!(m.num_vertical(), 16);
     let t = load("mdl-sdk/test.ies");
@@ -270,4 +340,48 @@ fn edition_and_quirk_coverage() {
             .symmetry(),
         Symmetry::Bilateral90To270
     );
+}
+
+/// The fuzz target's checks over the fuzz seeds (the corpus) and systematic truncations and byte
+/// flips of each: parse or a typed error; a parsed file expands, evaluates to finite non-negative
+/// values and round-trips through the writer.
+#[test]
+fn fuzz_seed_regressions() {
+    use lux_ies::Interpolation;
+    let check = |text: &str| {
+        let Ok(file) = IesFile::parse(text) else {
+            return;
+        };
+        if let Ok(w) = PhotometricWeb::new(&file, Profile::HdEmbree) {
+            for k in 0..8 {
+                let t = k as f64 * 0.5 - 0.5;
+                for i in [Interpolation::Bilinear, Interpolation::Bicubic] {
+                    let v = w.intensity_with(t, 1.3 * t, i);
+                    assert!(v.is_finite() && v >= 0.0);
+                }
+            }
+            assert!(w.mean_intensity(Profile::HdEmbree).is_finite());
+        }
+        if file.validate().is_ok() {
+            let target = if file.edition == Edition::Lm63_2019 {
+                Edition::Lm63_2019
+            } else {
+                Edition::Lm63_2002
+            };
+            let mut expect = file.clone();
+            expect.edition = target;
+            assert_eq!(IesFile::parse(&file.write(target)).unwrap(), expect);
+        }
+    };
+    for f in all_files() {
+        let text = read(&f);
+        check(&text);
+        let b = text.as_bytes();
+        for cut in (0..b.len()).step_by(b.len() / 23 + 1) {
+            check(&String::from_utf8_lossy(&b[..cut]));
+            let mut m = b.to_vec();
+            m[cut] = b"-.e9x ,\n"[cut % 8];
+            check(&String::from_utf8_lossy(&m));
+        }
+    }
 }

@@ -11,7 +11,10 @@ use std::f64::consts::{PI, TAU};
 fn base(ptype: PhotometricType, v: Vec<f64>, h: Vec<f64>, candela: Vec<f64>) -> IesFile {
     IesFile {
         edition: Edition::Lm63_2002,
-        header: vec![HeaderLine::Keyword { name: "TEST".into(), value: "unit".into() }],
+        header: vec![HeaderLine::Keyword {
+            name: "TEST".into(),
+            value: "unit".into(),
+        }],
         tilt: Tilt::None,
         lamp_count: 1,
         lumens_per_lamp: -1.0,
@@ -33,12 +36,17 @@ fn base(ptype: PhotometricType, v: Vec<f64>, h: Vec<f64>, candela: Vec<f64>) -> 
 /// A smooth test function of (γ, C) in degrees, even in C (bilateral-symmetric, smooth across the
 /// 0° and 180° planes once mirrored).
 fn f(v: f64, h: f64) -> f64 {
-    100.0 + 50.0 * (v.to_radians()).cos() + 20.0 * (h.to_radians()).cos() + 7.0 * (2.0 * h.to_radians()).cos()
+    100.0
+        + 50.0 * (v.to_radians()).cos()
+        + 20.0 * (h.to_radians()).cos()
+        + 7.0 * (2.0 * h.to_radians()).cos()
 }
 
 fn grid(vs: &[f64], hs: &[f64], g: impl Fn(f64, f64) -> f64) -> Vec<f64> {
     let g = &g;
-    hs.iter().flat_map(|&h| vs.iter().map(move |&v| g(v, h))).collect()
+    hs.iter()
+        .flat_map(|&h| vs.iter().map(move |&v| g(v, h)))
+        .collect()
 }
 
 fn web(file: &IesFile) -> PhotometricWeb {
@@ -63,17 +71,33 @@ fn symmetric_files_equal_their_explicit_full_versions() {
         (vec![0.0], &|v: f64, _h: f64| 10.0 + v * 0.1),
     ];
     for (hs, g) in cases {
-        let sym = web(&base(PhotometricType::C, V.to_vec(), hs.clone(), grid(&V, &hs, g)));
-        let explicit = web(&base(PhotometricType::C, V.to_vec(), full.clone(), grid(&V, &full, g)));
+        let sym = web(&base(
+            PhotometricType::C,
+            V.to_vec(),
+            hs.clone(),
+            grid(&V, &hs, g),
+        ));
+        let explicit = web(&base(
+            PhotometricType::C,
+            V.to_vec(),
+            full.clone(),
+            grid(&V, &full, g),
+        ));
         for i in 0..=36 {
             for j in 0..=72 {
                 let (t, p) = (i as f64 * 5f64.to_radians(), j as f64 * 5f64.to_radians());
                 let (a, e) = (sym.intensity(t, p), explicit.intensity(t, p));
-                assert!((a - e).abs() <= 1e-9 * e.abs().max(1.0), "{hs:?} θ{i} φ{j}: {a} vs {e}");
+                assert!(
+                    (a - e).abs() <= 1e-9 * e.abs().max(1.0),
+                    "{hs:?} θ{i} φ{j}: {a} vs {e}"
+                );
             }
         }
         assert!((sym.flux_exact() - explicit.flux_exact()).abs() < 1e-9 * explicit.flux_exact());
-        assert!((sym.flux_midpoint() - explicit.flux_midpoint()).abs() < 1e-9 * explicit.flux_midpoint());
+        assert!(
+            (sym.flux_midpoint() - explicit.flux_midpoint()).abs()
+                < 1e-9 * explicit.flux_midpoint()
+        );
     }
 }
 
@@ -83,8 +107,18 @@ fn type_b_mirror_equals_explicit_and_integrates_the_hemisphere() {
     let half: Vec<f64> = (0..=6).map(|k| 15.0 * k as f64).collect();
     let full: Vec<f64> = (-6..=6).map(|k| 15.0 * k as f64).collect();
     let g = |v: f64, h: f64| 5.0 + v.to_radians().cos() + h.to_radians().cos();
-    let a = web(&base(PhotometricType::B, vs.clone(), half.clone(), grid(&vs, &half, g)));
-    let b = web(&base(PhotometricType::B, vs.clone(), full.clone(), grid(&vs, &full, g)));
+    let a = web(&base(
+        PhotometricType::B,
+        vs.clone(),
+        half.clone(),
+        grid(&vs, &half, g),
+    ));
+    let b = web(&base(
+        PhotometricType::B,
+        vs.clone(),
+        full.clone(),
+        grid(&vs, &full, g),
+    ));
     for i in 0..40 {
         for j in 0..80 {
             let (t, p) = (i as f64 * 0.08, j as f64 * 0.08);
@@ -92,10 +126,22 @@ fn type_b_mirror_equals_explicit_and_integrates_the_hemisphere() {
         }
     }
     // constant 1 cd over H, V ∈ [-90, 90] is the front hemisphere: flux 2π, exactly.
-    let one = web(&base(PhotometricType::B, vs.clone(), full.clone(), vec![1.0; vs.len() * full.len()]));
+    let one = web(&base(
+        PhotometricType::B,
+        vs.clone(),
+        full.clone(),
+        vec![1.0; vs.len() * full.len()],
+    ));
     assert!((one.flux_exact() - TAU).abs() < 1e-12);
     // H = 0, V = 0 is the light axis (θ = 0); V = 90° is light +Y (type B) or +X (type A).
-    let mut file = base(PhotometricType::B, vs.clone(), full.clone(), grid(&vs, &full, |v, h| 1.0 + v.max(0.0) + 1000.0 * (h == 0.0 && v == 0.0) as u8 as f64));
+    let mut file = base(
+        PhotometricType::B,
+        vs.clone(),
+        full.clone(),
+        grid(&vs, &full, |v, h| {
+            1.0 + v.max(0.0) + 1000.0 * (h == 0.0 && v == 0.0) as u8 as f64
+        }),
+    );
     let w = web(&file);
     assert_eq!(w.intensity(0.0, 0.0), 1001.0);
     let (t, p) = lux_math::light_polar(glam::DVec3::Y).unwrap();
@@ -127,7 +173,12 @@ fn phi_orientation_follows_the_spec() {
 #[test]
 fn edge_rules() {
     let vs = [0.0, 30.0, 50.0];
-    let file = base(PhotometricType::C, vs.to_vec(), vec![0.0], vec![4.0, 3.0, 2.0]);
+    let file = base(
+        PhotometricType::C,
+        vs.to_vec(),
+        vec![0.0],
+        vec![4.0, 3.0, 2.0],
+    );
     let w = web(&file);
     assert_eq!(w.intensity(-1e-9, 0.0), 0.0);
     assert_eq!(w.intensity(f64::NAN, 0.0), 0.0);
@@ -138,7 +189,12 @@ fn edge_rules() {
     assert_eq!(w.intensity(PI, 0.0), 2.0);
     assert_eq!(w.intensity(4.0, 0.0), 2.0);
     // profile starting at 130°: below is 0
-    let file = base(PhotometricType::C, vec![130.0, 180.0], vec![0.0], vec![1.0, 3.0]);
+    let file = base(
+        PhotometricType::C,
+        vec![130.0, 180.0],
+        vec![0.0],
+        vec![1.0, 3.0],
+    );
     let w = web(&file);
     assert_eq!(w.intensity(1.0, 0.0), 0.0);
     assert_eq!(w.intensity(155f64.to_radians(), 2.0), 2.0);
@@ -149,7 +205,12 @@ fn edge_rules() {
 
 #[test]
 fn candela_scale_and_2019_generation_type() {
-    let mut file = base(PhotometricType::C, vec![0.0, 90.0], vec![0.0], vec![10.0, 10.0]);
+    let mut file = base(
+        PhotometricType::C,
+        vec![0.0, 90.0],
+        vec![0.0],
+        vec![10.0, 10.0],
+    );
     file.candela_multiplier = 2.0;
     file.ballast_factor = 0.5;
     file.third_factor = 0.9;
@@ -179,28 +240,62 @@ fn editions_1986_and_2019_and_tilt_files() {
     let t86 = format!("Acme lighting\nsome photometric report\nTILT=NONE\n{body}");
     let f = IesFile::parse(&t86).unwrap();
     assert_eq!(f.edition, Edition::Lm63_1986);
-    assert_eq!(f.header, vec![HeaderLine::Text("Acme lighting".into()), HeaderLine::Text("some photometric report".into())]);
-    assert_eq!(f.luminous_opening(), lux_ies::LuminousOpening::Circle { diameter: 0.5 });
+    assert_eq!(
+        f.header,
+        vec![
+            HeaderLine::Text("Acme lighting".into()),
+            HeaderLine::Text("some photometric report".into())
+        ]
+    );
+    assert_eq!(
+        f.luminous_opening(),
+        lux_ies::LuminousOpening::Circle { diameter: 0.5 }
+    );
     // 2019 with CRLF, commas and no final newline
-    let t19 = format!("IES:LM-63-2019\r\n[TEST] x\r\n[TESTLAB] y\r\nTILT=NONE\r\n{}", body.replace(' ', ",").replace('\n', "\r\n"));
+    let t19 = format!(
+        "IES:LM-63-2019\r\n[TEST] x\r\n[TESTLAB] y\r\nTILT=NONE\r\n{}",
+        body.replace(' ', ",").replace('\n', "\r\n")
+    );
     let p = IesFile::parse_with(&t19, &ParseOptions::default()).unwrap();
     assert_eq!(p.file.edition, Edition::Lm63_2019);
     assert_eq!(p.file.file_generation_type(), Some(1.00001));
-    assert!(p.warnings.iter().any(|w| matches!(w, lux_ies::Warning::MissingKeyword { name, .. } if name == "LUMCAT")));
+    assert!(
+        p.warnings.iter().any(
+            |w| matches!(w, lux_ies::Warning::MissingKeyword { name, .. } if name == "LUMCAT")
+        )
+    );
     // TILT=<file>: unresolved is a warning unless required; resolved through the callback
     let tf = format!("IESNA:LM-63-2002\nTILT=lamp.tlt\n{body}");
     let p = IesFile::parse_with(&tf, &ParseOptions::default()).unwrap();
-    assert_eq!(p.file.tilt, Tilt::File { name: "lamp.tlt".into(), data: None });
-    let strict = ParseOptions { require_tilt_file: true, ..Default::default() };
-    assert!(matches!(IesFile::parse_with(&tf, &strict), Err(IesError::TiltFileMissing { at, .. }) if at.line == 2));
-    let resolver = |name: &str| (name == "lamp.tlt").then(|| "2\n3\n0 90 180\n1 .5 1\n".to_string());
-    let opts = ParseOptions { tilt_resolver: Some(&resolver), require_tilt_file: true };
+    assert_eq!(
+        p.file.tilt,
+        Tilt::File {
+            name: "lamp.tlt".into(),
+            data: None
+        }
+    );
+    let strict = ParseOptions {
+        require_tilt_file: true,
+        ..Default::default()
+    };
+    assert!(
+        matches!(IesFile::parse_with(&tf, &strict), Err(IesError::TiltFileMissing { at, .. }) if at.line == 2)
+    );
+    let resolver =
+        |name: &str| (name == "lamp.tlt").then(|| "2\n3\n0 90 180\n1 .5 1\n".to_string());
+    let opts = ParseOptions {
+        tilt_resolver: Some(&resolver),
+        require_tilt_file: true,
+    };
     let p = IesFile::parse_with(&tf, &opts).unwrap();
     let d = p.file.tilt.data().unwrap();
     assert_eq!(d.geometry, LampGeometry::HorizontalParallel);
     assert_eq!(p.file.tilt.tilt_factor(45.0), 0.75);
     let bad = |_: &str| Some("2\n3\n0 90 x\n".to_string());
-    let opts = ParseOptions { tilt_resolver: Some(&bad), require_tilt_file: false };
+    let opts = ParseOptions {
+        tilt_resolver: Some(&bad),
+        require_tilt_file: false,
+    };
     match IesFile::parse_with(&tf, &opts).unwrap_err() {
         IesError::TiltFile { inner, .. } => assert_eq!((inner.line(), inner.column()), (3, 6)),
         e => panic!("{e}"),
@@ -216,49 +311,141 @@ fn precise_errors() {
     let head = "IESNA:LM-63-2002\nTILT=NONE\n";
     // absurd count: refused before allocating
     let e = err(&format!("{head}1 -1 1 99999999999 1 1 1 0 0 0\n1 1 1\n"));
-    assert!(matches!(e, IesError::AbsurdCount { field: "number of vertical angles", .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            IesError::AbsurdCount {
+                field: "number of vertical angles",
+                ..
+            }
+        ),
+        "{e}"
+    );
     let e = err(&format!("{head}1 -1 1 50000 50000 1 1 0 0 0\n1 1 1\n"));
-    assert!(matches!(e, IesError::AbsurdCount { field: "number of candela values", .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            IesError::AbsurdCount {
+                field: "number of candela values",
+                ..
+            }
+        ),
+        "{e}"
+    );
     // non-monotonic vertical angles, position of the offending angle
-    let e = err(&format!("{head}1 -1 1 3 1 1 1 0 0 0\n1 1 1\n0 50 40\n0\n1 1 1\n"));
-    assert!(matches!(e, IesError::NonMonotonic { field: "vertical", at, .. } if at.line == 5 && at.column == 6), "{e}");
+    let e = err(&format!(
+        "{head}1 -1 1 3 1 1 1 0 0 0\n1 1 1\n0 50 40\n0\n1 1 1\n"
+    ));
+    assert!(
+        matches!(e, IesError::NonMonotonic { field: "vertical", at, .. } if at.line == 5 && at.column == 6),
+        "{e}"
+    );
     // NaN / inf / negative candela
-    let e = err(&format!("{head}1 -1 1 2 1 1 1 0 0 0\n1 1 1\n0 90\n0\n1 NaN\n"));
-    assert!(matches!(e, IesError::NotANumber { ref found, .. } if found == "NaN"), "{e}");
-    let e = err(&format!("{head}1 -1 1 2 1 1 1 0 0 0\n1 1 1\n0 90\n0\n1 1e999\n"));
+    let e = err(&format!(
+        "{head}1 -1 1 2 1 1 1 0 0 0\n1 1 1\n0 90\n0\n1 NaN\n"
+    ));
+    assert!(
+        matches!(e, IesError::NotANumber { ref found, .. } if found == "NaN"),
+        "{e}"
+    );
+    let e = err(&format!(
+        "{head}1 -1 1 2 1 1 1 0 0 0\n1 1 1\n0 90\n0\n1 1e999\n"
+    ));
     assert!(matches!(e, IesError::InvalidValue { .. }), "{e}");
-    let e = err(&format!("{head}1 -1 1 2 1 1 1 0 0 0\n1 1 1\n0 90\n0\n1 -2\n"));
-    assert!(matches!(e, IesError::InvalidValue { field: "candela value", at, .. } if at.line == 7 && at.column == 3), "{e}");
+    let e = err(&format!(
+        "{head}1 -1 1 2 1 1 1 0 0 0\n1 1 1\n0 90\n0\n1 -2\n"
+    ));
+    assert!(
+        matches!(e, IesError::InvalidValue { field: "candela value", at, .. } if at.line == 7 && at.column == 3),
+        "{e}"
+    );
     // illegal type C vertical range
-    let e = err(&format!("{head}1 -1 1 2 1 1 1 0 0 0\n1 1 1\n-10 90\n0\n1 1\n"));
-    assert!(matches!(e, IesError::IllegalAngleRange { field: "vertical", .. }), "{e}");
-    let e = err(&format!("{head}1 -1 1 2 2 1 1 0 0 0\n1 1 1\n0 90\n0 45\n1 1 1 1\n"));
-    assert!(matches!(e, IesError::IllegalAngleRange { field: "horizontal", .. }), "{e}");
+    let e = err(&format!(
+        "{head}1 -1 1 2 1 1 1 0 0 0\n1 1 1\n-10 90\n0\n1 1\n"
+    ));
+    assert!(
+        matches!(
+            e,
+            IesError::IllegalAngleRange {
+                field: "vertical",
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let e = err(&format!(
+        "{head}1 -1 1 2 2 1 1 0 0 0\n1 1 1\n0 90\n0 45\n1 1 1 1\n"
+    ));
+    assert!(
+        matches!(
+            e,
+            IesError::IllegalAngleRange {
+                field: "horizontal",
+                ..
+            }
+        ),
+        "{e}"
+    );
     // unknown photometric type, non-integral count
     let e = err(&format!("{head}1 -1 1 2 1 4 1 0 0 0\n"));
-    assert!(matches!(e, IesError::InvalidValue { field: "photometric type", .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            IesError::InvalidValue {
+                field: "photometric type",
+                ..
+            }
+        ),
+        "{e}"
+    );
     let e = err(&format!("{head}1 -1 1 2.5 1 1 1 0 0 0\n"));
     assert!(matches!(e, IesError::InvalidValue { .. }), "{e}");
     // detached sign, missing TILT, truncation
     let e = err(&format!("{head}1 -1 + 1 2 1 1 1 0 0 0\n"));
-    assert!(matches!(e, IesError::NotANumber { ref found, .. } if found == "+"), "{e}");
-    assert!(matches!(err("IESNA91\n[TEST] a\n"), IesError::MissingTilt { .. }));
+    assert!(
+        matches!(e, IesError::NotANumber { ref found, .. } if found == "+"),
+        "{e}"
+    );
+    assert!(matches!(
+        err("IESNA91\n[TEST] a\n"),
+        IesError::MissingTilt { .. }
+    ));
     let e = err(&format!("{head}1 -1 1 2 1 1 1 0 0 0\n1 1 1\n0 90\n0\n1"));
-    assert!(matches!(e, IesError::Truncated { ref expected, .. } if expected.starts_with("candela value 2 of 2")), "{e}");
+    assert!(
+        matches!(e, IesError::Truncated { ref expected, .. } if expected.starts_with("candela value 2 of 2")),
+        "{e}"
+    );
     assert_eq!(e.to_string().split(':').next(), Some("7"));
     // negative multiplier
     let e = err(&format!("{head}1 -1 -1 2 1 1 1 0 0 0\n"));
-    assert!(matches!(e, IesError::InvalidValue { field: "candela multiplier", .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            IesError::InvalidValue {
+                field: "candela multiplier",
+                ..
+            }
+        ),
+        "{e}"
+    );
 }
 
 #[test]
 fn bilinear_lookup_matches_exact_bisection_evaluation() {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/luxtest/bega_omni001_1238lm.ies")).unwrap();
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/luxtest/bega_omni001_1238lm.ies"
+    ))
+    .unwrap();
     let file = IesFile::parse(&text).unwrap();
     let w = web(&file);
     let (v, h) = (w.vertical_angles(), w.horizontal_angles());
     let nv = v.len();
-    let find = |a: &[f64], x: f64| a.partition_point(|&q| q <= x).saturating_sub(1).min(a.len() - 2);
+    let find = |a: &[f64], x: f64| {
+        a.partition_point(|&q| q <= x)
+            .saturating_sub(1)
+            .min(a.len() - 2)
+    };
     let mut rng = 0x2545F4914F6CDD1Du64;
     let mut next = || {
         rng ^= rng << 13;
@@ -276,7 +463,10 @@ fn bilinear_lookup_matches_exact_bisection_evaluation() {
         let b = (1.0 - tv) * c(j + 1, i) + tv * c(j + 1, i + 1);
         let exact = (1.0 - th) * a + th * b;
         let got = w.intensity(t, p);
-        assert!((got - exact).abs() <= 1e-6 * exact.abs().max(1e-300) || (got - exact).abs() < 1e-9, "{t} {p}: {got} vs {exact}");
+        assert!(
+            (got - exact).abs() <= 1e-6 * exact.abs().max(1e-300) || (got - exact).abs() < 1e-9,
+            "{t} {p}: {got} vs {exact}"
+        );
     }
 }
 
@@ -313,14 +503,23 @@ fn interpolation_is_continuous_and_bicubic_interpolates_the_nodes() {
     // on a uniform 10° x 15° grid, bicubic (O(h^3..4)) approximates a smooth function much
     // better than bilinear (O(h^2)) between nodes
     let vs: Vec<f64> = (0..=18).map(|k| 10.0 * k as f64).collect();
-    let w = web(&base(PhotometricType::C, vs.clone(), hs.clone(), grid(&vs, &hs, f)));
+    let w = web(&base(
+        PhotometricType::C,
+        vs.clone(),
+        hs.clone(),
+        grid(&vs, &hs, f),
+    ));
     let (mut e1, mut e3) = (0.0f64, 0.0f64);
     for i in 0..90 {
         for j in 0..90 {
             let (vv, hh) = (i as f64 * 2.0 + 0.7, j as f64 * 4.0 + 1.3);
             let truth = f(vv, hh);
             e1 = e1.max((w.intensity(vv.to_radians(), hh.to_radians()) - truth).abs());
-            e3 = e3.max((w.intensity_with(vv.to_radians(), hh.to_radians(), Interpolation::Bicubic) - truth).abs());
+            e3 = e3.max(
+                (w.intensity_with(vv.to_radians(), hh.to_radians(), Interpolation::Bicubic)
+                    - truth)
+                    .abs(),
+            );
         }
     }
     assert!(e3 < 0.2 * e1, "bicubic {e3} vs bilinear {e1}");
@@ -331,7 +530,12 @@ fn max_and_beam_field_angles() {
     // Gaussian-like spot, σ = 10°: 50 % at γ = σ·sqrt(2 ln 2) = 11.774°, 10 % at σ·sqrt(2 ln 10) = 21.460°
     let vs: Vec<f64> = (0..=180).map(|k| k as f64 * 0.5).collect();
     let g = |v: f64, _h: f64| 1000.0 * (-(v * v) / (2.0 * 100.0)).exp();
-    let file = base(PhotometricType::C, vs.clone(), vec![0.0], grid(&vs, &[0.0], g));
+    let file = base(
+        PhotometricType::C,
+        vs.clone(),
+        vec![0.0],
+        grid(&vs, &[0.0], g),
+    );
     let w = web(&file);
     assert_eq!(w.max_candela(), 1000.0);
     assert_eq!(w.max_direction(), (0.0, 0.0));
@@ -344,62 +548,110 @@ fn max_and_beam_field_angles() {
     assert!((beam.c90_c270.unwrap() - b).abs() < 0.01);
     assert!((field.c0_c180.unwrap() - fl).abs() < 0.01, "{field:?} {fl}");
     // a uniform sphere never drops: no beam angle
-    let file = base(PhotometricType::C, vec![0.0, 180.0], vec![0.0], vec![1.0, 1.0]);
+    let file = base(
+        PhotometricType::C,
+        vec![0.0, 180.0],
+        vec![0.0],
+        vec![1.0, 1.0],
+    );
     assert_eq!(web(&file).beam_angles().c0_c180, None);
 }
 
 fn arb_file() -> impl Strategy<Value = IesFile> {
-    let ptype = prop_oneof![Just(PhotometricType::C), Just(PhotometricType::B), Just(PhotometricType::A)];
-    (ptype, 2usize..8, 1usize..6, any::<bool>(), any::<bool>(), 0u8..3).prop_flat_map(|(pt, nv, nh, e19, tilt, hmode)| {
-        let (vlo, vhi) = if pt == PhotometricType::C { (0.0, 180.0) } else { (-90.0, 90.0) };
-        let hs: Vec<f64> = if nh == 1 {
-            vec![0.0]
-        } else if pt == PhotometricType::C {
-            let last = [90.0, 180.0, 360.0][hmode as usize];
-            (0..nh).map(|k| last * k as f64 / (nh - 1) as f64).collect()
-        } else {
-            let first = if hmode == 0 { -90.0 } else { 0.0 };
-            (0..nh).map(|k| first + (90.0 - first) * k as f64 / (nh - 1) as f64).collect()
-        };
-        let vs = proptest::collection::vec(0.001f64..1.0, nv).prop_map(move |gaps| {
-            let total: f64 = gaps.iter().sum();
-            let mut acc = 0.0;
-            let mut out = vec![vlo];
-            for g in &gaps[..gaps.len() - 1] {
-                acc += g;
-                out.push(vlo + (vhi - vlo) * acc / total);
-            }
-            out
-        });
-        let cd = proptest::collection::vec(0.0f64..1e5, nv * nh);
-        let kw = proptest::collection::vec(("[A-Z_]{1,8}", "[a-zA-Z0-9 .,:-]{0,20}", "[a-z ]{0,10}"), 0..4);
-        let nums = (-2.0f64..5.0, 0.01f64..10.0, -3.0f64..3.0, 0.1f64..2.0, 0.5f64..1.5, 0.0f64..500.0);
-        (Just(pt), vs, Just(hs), cd, kw, nums, Just(e19), Just(tilt))
-    }).prop_map(|(pt, vs, hs, cd, kw, (lm, mult, w, bf, third, watts), e19, tilt)| {
-        let mut f = base(pt, vs, hs, cd);
-        f.edition = if e19 { Edition::Lm63_2019 } else { Edition::Lm63_2002 };
-        f.header = kw
-            .into_iter()
-            .map(|(name, value, more)| {
-                let value = value.trim().to_string();
-                let more = more.trim().to_string();
-                let value = if more.is_empty() { value } else { format!("{value}\n{more}") };
-                HeaderLine::Keyword { name, value }
-            })
-            .collect();
-        f.header.push(HeaderLine::Text("free text line".into()));
-        f.lumens_per_lamp = lm;
-        f.candela_multiplier = mult;
-        f.width = w;
-        f.length = -w;
-        f.ballast_factor = bf;
-        f.third_factor = third;
-        f.input_watts = watts;
-        if tilt {
-            f.tilt = Tilt::Include(TiltData { geometry: LampGeometry::HorizontalPerpendicular, angles: vec![0.0, 45.5, 90.0], factors: vec![1.0, 0.7, 0.123456789] });
-        }
-        f
-    })
+    let ptype = prop_oneof![
+        Just(PhotometricType::C),
+        Just(PhotometricType::B),
+        Just(PhotometricType::A)
+    ];
+    (
+        ptype,
+        2usize..8,
+        1usize..6,
+        any::<bool>(),
+        any::<bool>(),
+        0u8..3,
+    )
+        .prop_flat_map(|(pt, nv, nh, e19, tilt, hmode)| {
+            let (vlo, vhi) = if pt == PhotometricType::C {
+                (0.0, 180.0)
+            } else {
+                (-90.0, 90.0)
+            };
+            let hs: Vec<f64> = if nh == 1 {
+                vec![0.0]
+            } else if pt == PhotometricType::C {
+                let last = [90.0, 180.0, 360.0][hmode as usize];
+                (0..nh).map(|k| last * k as f64 / (nh - 1) as f64).collect()
+            } else {
+                let first = if hmode == 0 { -90.0 } else { 0.0 };
+                (0..nh)
+                    .map(|k| first + (90.0 - first) * k as f64 / (nh - 1) as f64)
+                    .collect()
+            };
+            let vs = proptest::collection::vec(0.001f64..1.0, nv).prop_map(move |gaps| {
+                let total: f64 = gaps.iter().sum();
+                let mut acc = 0.0;
+                let mut out = vec![vlo];
+                for g in &gaps[..gaps.len() - 1] {
+                    acc += g;
+                    out.push(vlo + (vhi - vlo) * acc / total);
+                }
+                out
+            });
+            let cd = proptest::collection::vec(0.0f64..1e5, nv * nh);
+            let kw = proptest::collection::vec(
+                ("[A-Z_]{1,8}", "[a-zA-Z0-9 .,:-]{0,20}", "[a-z ]{0,10}"),
+                0..4,
+            );
+            let nums = (
+                -2.0f64..5.0,
+                0.01f64..10.0,
+                -3.0f64..3.0,
+                0.1f64..2.0,
+                0.5f64..1.5,
+                0.0f64..500.0,
+            );
+            (Just(pt), vs, Just(hs), cd, kw, nums, Just(e19), Just(tilt))
+        })
+        .prop_map(
+            |(pt, vs, hs, cd, kw, (lm, mult, w, bf, third, watts), e19, tilt)| {
+                let mut f = base(pt, vs, hs, cd);
+                f.edition = if e19 {
+                    Edition::Lm63_2019
+                } else {
+                    Edition::Lm63_2002
+                };
+                f.header = kw
+                    .into_iter()
+                    .map(|(name, value, more)| {
+                        let value = value.trim().to_string();
+                        let more = more.trim().to_string();
+                        let value = if more.is_empty() {
+                            value
+                        } else {
+                            format!("{value}\n{more}")
+                        };
+                        HeaderLine::Keyword { name, value }
+                    })
+                    .collect();
+                f.header.push(HeaderLine::Text("free text line".into()));
+                f.lumens_per_lamp = lm;
+                f.candela_multiplier = mult;
+                f.width = w;
+                f.length = -w;
+                f.ballast_factor = bf;
+                f.third_factor = third;
+                f.input_watts = watts;
+                if tilt {
+                    f.tilt = Tilt::Include(TiltData {
+                        geometry: LampGeometry::HorizontalPerpendicular,
+                        angles: vec![0.0, 45.5, 90.0],
+                        factors: vec![1.0, 0.7, 0.123456789],
+                    });
+                }
+                f
+            },
+        )
 }
 
 proptest! {

@@ -1,0 +1,112 @@
+//! Integration tests of `lux ies info|convert|plot` through the built binary.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn data(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("crates/lux-ies/tests/data")
+        .join(rel)
+}
+
+fn lux(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_lux"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("lux-cli-ies-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name)
+}
+
+#[test]
+fn info_json_reports_the_expected_values() {
+    let f = data("luxtest/bega_omni002_4777lm.ies");
+    let out = lux(&["ies", "info", f.to_str().unwrap(), "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["edition"], 1991);
+    assert_eq!(v["photometric_type"], "C");
+    assert_eq!(v["num_vertical"], 73);
+    assert_eq!(v["num_horizontal"], 37);
+    let flux = v["flux_lm"].as_f64().unwrap();
+    assert!((flux - 4779.19).abs() < 0.02, "{flux}");
+    let mean = v["mean_intensity_cd"].as_f64().unwrap();
+    assert!((mean - flux / (4.0 * std::f64::consts::PI)).abs() < 1e-9);
+    assert!((v["max_cd"].as_f64().unwrap() - 2734.7).abs() < 0.05);
+    // text mode works too
+    let out = lux(&["ies", "info", f.to_str().unwrap()]);
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("LM-63-1991"));
+}
+
+#[test]
+fn malformed_input_fails_with_file_line_column() {
+    let f = data("mdl-sdk/test_file_format_error.ies");
+    let out = lux(&["ies", "info", f.to_str().unwrap()]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains(&format!("{}:3:1:", f.display())), "{err}");
+    let f = data("appleseed/test_iesparser_5.ies");
+    let out = lux(&["ies", "info", f.to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains(":27:1:"));
+}
+
+#[test]
+fn convert_to_2019_and_back() {
+    let f = data("lidrs/iesna2002_example_typec.ies");
+    let o = tmp("c2019.ies");
+    let out = lux(&[
+        "ies",
+        "convert",
+        f.to_str().unwrap(),
+        "-o",
+        o.to_str().unwrap(),
+        "--edition",
+        "2019",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&o).unwrap();
+    assert!(text.starts_with("IES:LM-63-2019"));
+    let a = lux_ies::IesFile::parse(&std::fs::read_to_string(&f).unwrap()).unwrap();
+    let b = lux_ies::IesFile::parse(&text).unwrap();
+    assert_eq!(b.edition, lux_ies::Edition::Lm63_2019);
+    assert_eq!((a.candela, a.header, a.tilt), (b.candela, b.header, b.tilt));
+}
+
+#[test]
+fn plot_writes_a_png_with_both_plane_pairs() {
+    let f = data("luxtest/bega_84659K4.ies");
+    let o = tmp("polar.png");
+    let out = lux(&[
+        "ies",
+        "plot",
+        f.to_str().unwrap(),
+        "-o",
+        o.to_str().unwrap(),
+        "--size",
+        "400",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let img = image::open(&o).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (400, 400));
+    let red = img.pixels().filter(|p| p.0 == [220, 30, 30]).count();
+    let blue = img.pixels().filter(|p| p.0 == [30, 60, 220]).count();
+    assert!(red > 100 && blue > 100, "red {red} blue {blue}");
+}
