@@ -4,6 +4,7 @@
 
 use crate::bounds::LightBounds;
 use crate::error::{MAX_ENTRIES, SampleError};
+use crate::not_positive;
 use crate::sample::Reference;
 
 #[derive(Clone, Debug)]
@@ -138,7 +139,7 @@ impl LightBvh {
         loop {
             let nd = &self.nodes[node];
             if nd.leaf {
-                if node == 0 && !(nd.bounds.importance(r.p, r.n) > 0.0) {
+                if node == 0 && not_positive(nd.bounds.importance(r.p, r.n)) {
                     return None;
                 }
                 return Some((nd.payload as usize, pmf));
@@ -146,7 +147,7 @@ impl LightBvh {
             let (c0, c1) = (node + 1, nd.payload as usize);
             let i0 = self.nodes[c0].bounds.importance(r.p, r.n);
             let i1 = self.nodes[c1].bounds.importance(r.p, r.n);
-            if !(i0 + i1 > 0.0) {
+            if not_positive(i0 + i1) {
                 return None;
             }
             let p0 = i0 / (i0 + i1);
@@ -179,7 +180,7 @@ impl LightBvh {
             let (c0, c1) = (node + 1, nd.payload as usize);
             let i0 = self.nodes[c0].bounds.importance(r.p, r.n);
             let i1 = self.nodes[c1].bounds.importance(r.p, r.n);
-            if !(i0 + i1 > 0.0) {
+            if not_positive(i0 + i1) {
                 return 0.0;
             }
             if trail >> level & 1 == 0 {
@@ -190,7 +191,7 @@ impl LightBvh {
                 node = c1;
             }
         }
-        if depth == 0 && !(self.nodes[0].bounds.importance(r.p, r.n) > 0.0) {
+        if depth == 0 && not_positive(self.nodes[0].bounds.importance(r.p, r.n)) {
             return 0.0;
         }
         pmf

@@ -2,6 +2,7 @@
 //! `inputs:radius`; lateral surface only, no end caps, emitting outward).
 
 use crate::error::{SampleError, positive};
+use crate::not_positive;
 use crate::transform::{LightTransform, finish_sample, local_direction};
 use crate::{LightSample, Reference};
 use core::f64::consts::TAU;
@@ -84,7 +85,7 @@ impl CylinderLight {
         let p2 = DVec2::new(pl.y, pl.z);
         let rho = p2.length();
         let rad = self.radius;
-        if !(rho > rad) {
+        if rho.is_nan() || rho <= rad {
             return None;
         }
         let half = 0.5 * self.length;
@@ -106,7 +107,7 @@ impl CylinderLight {
                 let v = pl - q;
                 let d2 = v.length_squared();
                 let cos = n.dot(v) / d2.sqrt();
-                if !(cos > 0.0) {
+                if not_positive(cos) {
                     return None;
                 }
                 (q, n, d2 / (cos * width * rad * self.length))

@@ -2,6 +2,7 @@
 //! its local −Z side only).
 
 use crate::error::{SampleError, positive};
+use crate::not_positive;
 use crate::transform::{LightTransform, finish_sample, local_direction};
 use crate::warp::sample_concentric_disk;
 use crate::{LightSample, Reference};
@@ -99,7 +100,7 @@ impl DiskLight {
     #[inline]
     pub fn sample(&self, r: &Reference, u: [f64; 2]) -> Option<LightSample> {
         let pl = self.xf.inv_point(r.p);
-        if !(pl.z < 0.0) {
+        if pl.z.is_nan() || pl.z >= 0.0 {
             return None;
         }
         let h = -pl.z;
@@ -117,7 +118,7 @@ impl DiskLight {
                 let dir = DVec2::new(c, s);
                 let (t1, t2) = chord(f, dir, self.radius).unwrap_or((0.0, 0.0));
                 let gap = cos_gap(t1, t2, h);
-                if !(gap > 0.0) {
+                if not_positive(gap) {
                     return None;
                 }
                 let cos1 = h / (t1 * t1 + h * h).sqrt();
@@ -164,7 +165,7 @@ impl DiskLight {
                     return 0.0;
                 };
                 let gap = cos_gap(t1, t2, h);
-                if !(gap > 0.0) {
+                if not_positive(gap) {
                     return 0.0;
                 }
                 1.0 / (width * gap)

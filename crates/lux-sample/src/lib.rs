@@ -15,6 +15,8 @@
 //! local XY and emit from the −Z side only; the cylinder's axis is local X; the dome texture is
 //! latlong with +Y up and +Z at the centre column.
 
+#![warn(missing_docs)]
+
 mod alias;
 mod bounds;
 mod bvh;
@@ -59,3 +61,15 @@ pub(crate) use lux_math::lerp;
 /// triangle) switch to area sampling: below it their trigonometry loses digits to cancellation
 /// (S = Σγ − 2π), while area sampling is already near-uniform in solid angle.
 pub const MIN_SOLID_ANGLE: f64 = 1e-4;
+
+/// True for NaN, zero and negative values: the "no usable positive quantity" test used to turn
+/// degenerate or non-finite geometry into `None`/0 instead of panicking.
+#[inline]
+pub(crate) fn not_positive(x: f64) -> bool {
+    x.is_nan() || x <= 0.0
+}
+
+/// The README's example, compiled and run as a doctest.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

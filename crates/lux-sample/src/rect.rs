@@ -54,8 +54,7 @@ impl RectLight {
         self.technique
     }
 
-    /// The world-space corners, counter-clockwise seen from the emitting (−Z) side... in local
-    /// order (−,−), (+,−), (+,+), (−,+).
+    /// The world-space corners, in local order (−w/2, −h/2), (+, −), (+, +), (−, +).
     pub fn corners(&self) -> [DVec3; 4] {
         let (a, b) = (0.5 * self.width, 0.5 * self.height);
         [
@@ -101,7 +100,7 @@ impl RectLight {
     #[inline]
     pub fn sample(&self, r: &Reference, u: [f64; 2]) -> Option<LightSample> {
         let pl = self.xf.inv_point(r.p);
-        if !(pl.z < 0.0) {
+        if pl.z.is_nan() || pl.z >= 0.0 {
             return None;
         }
         let normal = DVec3::NEG_Z;
@@ -117,7 +116,7 @@ impl RectLight {
             _ => {
                 let sr = self.spherical(pl);
                 let s = sr.solid_angle();
-                if !(s >= MIN_SOLID_ANGLE) {
+                if s.is_nan() || s < MIN_SOLID_ANGLE {
                     area_sample(u)
                 } else if let Some(w) = self.cosine_weights(&sr, self.xf.inv_normal(r.n)) {
                     let uv = sample_bilinear(u, w);
@@ -155,7 +154,7 @@ impl RectLight {
             _ => {
                 let sr = self.spherical(pl);
                 let s = sr.solid_angle();
-                if !(s >= MIN_SOLID_ANGLE) {
+                if s.is_nan() || s < MIN_SOLID_ANGLE {
                     area_pdf
                 } else if let Some(w) = self.cosine_weights(&sr, self.xf.inv_normal(r.n)) {
                     bilinear_pdf(sr.invert(q), w) / s

@@ -166,7 +166,7 @@ pub fn sample_spherical_triangle(
     u: [f64; 2],
 ) -> Option<(DVec3, f64)> {
     let area = spherical_triangle_area(a, b, c);
-    if !(area > 0.0) {
+    if crate::not_positive(area) {
         return None;
     }
     // Interior angles from the great-circle plane normals.

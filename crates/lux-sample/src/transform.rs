@@ -62,7 +62,7 @@ impl LightTransform {
         let linear = DMat3::from_mat4(m);
         let det = linear.determinant();
         let scale = linear.x_axis.length() * linear.y_axis.length() * linear.z_axis.length();
-        if !(det.abs() > 1e-12 * scale) || scale == 0.0 {
+        if det.is_nan() || det.abs() <= 1e-12 * scale || scale == 0.0 {
             return Err(SampleError::BadTransform(
                 "singular linear part (zero scale)",
             ));
@@ -159,50 +159,6 @@ impl LightTransform {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::rng::SplitMix64;
-    use crate::warp::sample_uniform_sphere;
-
-    #[test]
-    fn rejects_bad_matrices() {
-        assert!(LightTransform::new(DMat4::from_scale(DVec3::new(1.0, 0.0, 1.0))).is_err());
-        let mut m = DMat4::IDENTITY;
-        m.x_axis.w = 0.5;
-        assert!(LightTransform::new(m).is_err());
-        m = DMat4::IDENTITY;
-        m.y_axis.y = f64::NAN;
-        assert!(LightTransform::new(m).is_err());
-    }
-
-    /// ∫ (dω/dω') dω' over the sphere is 4π for any invertible L (the map is a bijection of the
-    /// sphere), checked by Monte Carlo with a sheared, scaled matrix.
-    #[test]
-    fn measure_change_integrates_to_sphere() {
-        let m = DMat4::from_cols_array(&[
-            2.0, 0.3, 0.0, 0.0, 0.5, 0.7, 0.0, 0.0, 0.1, -0.4, 1.5, 0.0, 1.0, 2.0, 3.0, 1.0,
-        ]);
-        let t = LightTransform::new(m).unwrap();
-        assert!(!t.is_similarity());
-        let mut r = SplitMix64::new(3);
-        let n = 400_000;
-        let mut s = 0.0;
-        let mut s2 = 0.0;
-        for _ in 0..n {
-            let w = sample_uniform_sphere(r.next_2d());
-            let j = 1.0 / t.pdf_to_world(w);
-            s += j;
-            s2 += j * j;
-        }
-        let mean = s / n as f64;
-        let sigma = ((s2 / n as f64 - mean * mean) / n as f64).sqrt();
-        assert!((mean - 1.0).abs() < 4.0 * sigma, "{mean} ± {sigma}");
-        let p = DVec3::new(0.3, -1.0, 2.0);
-        assert!((t.inv_point(t.point(p)) - p).length() < 1e-12);
-    }
-}
-
 /// Maps a local sample back to world space: world point, normal, direction, distance and the
 /// solid-angle density converted with [`LightTransform::pdf_to_world`].
 #[inline]
@@ -247,4 +203,48 @@ pub(crate) fn local_direction(xf: &LightTransform, wi: DVec3) -> Option<(DVec3, 
     }
     let w = v / len;
     Some((w, xf.pdf_to_world(w)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::SplitMix64;
+    use crate::warp::sample_uniform_sphere;
+
+    #[test]
+    fn rejects_bad_matrices() {
+        assert!(LightTransform::new(DMat4::from_scale(DVec3::new(1.0, 0.0, 1.0))).is_err());
+        let mut m = DMat4::IDENTITY;
+        m.x_axis.w = 0.5;
+        assert!(LightTransform::new(m).is_err());
+        m = DMat4::IDENTITY;
+        m.y_axis.y = f64::NAN;
+        assert!(LightTransform::new(m).is_err());
+    }
+
+    /// ∫ (dω/dω') dω' over the sphere is 4π for any invertible L (the map is a bijection of the
+    /// sphere), checked by Monte Carlo with a sheared, scaled matrix.
+    #[test]
+    fn measure_change_integrates_to_sphere() {
+        let m = DMat4::from_cols_array(&[
+            2.0, 0.3, 0.0, 0.0, 0.5, 0.7, 0.0, 0.0, 0.1, -0.4, 1.5, 0.0, 1.0, 2.0, 3.0, 1.0,
+        ]);
+        let t = LightTransform::new(m).unwrap();
+        assert!(!t.is_similarity());
+        let mut r = SplitMix64::new(3);
+        let n = 400_000;
+        let mut s = 0.0;
+        let mut s2 = 0.0;
+        for _ in 0..n {
+            let w = sample_uniform_sphere(r.next_2d());
+            let j = 1.0 / t.pdf_to_world(w);
+            s += j;
+            s2 += j * j;
+        }
+        let mean = s / n as f64;
+        let sigma = ((s2 / n as f64 - mean * mean) / n as f64).sqrt();
+        assert!((mean - 1.0).abs() < 4.0 * sigma, "{mean} ± {sigma}");
+        let p = DVec3::new(0.3, -1.0, 2.0);
+        assert!((t.inv_point(t.point(p)) - p).length() < 1e-12);
+    }
 }

@@ -242,7 +242,7 @@ fn distant_matches_closed_form() {
     for angle in [0.53, 10.0, 60.0] {
         let m = DMat4::from_rotation_x(0.4);
         let light = DistantLight::new(angle, &xf(m)).unwrap();
-        let half = (0.5 * angle as f64).to_radians();
+        let half = (0.5 * angle).to_radians();
         let exact = PI * half.sin().powi(2) * light.direction().z;
         assert_mc(
             &format!("distant {angle}"),
