@@ -25,6 +25,9 @@
 //! # Ok::<(), lux_ies::IesError>(())
 //! ```
 
+// `!(x >= a)` is used on purpose: it is true for NaN, which must take the "outside" branch.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 mod derived;
 mod edition;
 mod error;

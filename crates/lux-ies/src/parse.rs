@@ -79,11 +79,11 @@ fn parse(text: &str, options: &ParseOptions<'_>) -> Result<Parsed, IesError> {
         line_no += 1;
         offset += raw.len();
         let line = raw.trim_end_matches(['\n', '\r']);
-        if line_no == 1 {
-            if let Some(e) = Edition::detect(line) {
-                edition = Some(e);
-                continue;
-            }
+        if line_no == 1
+            && let Some(e) = Edition::detect(line)
+        {
+            edition = Some(e);
+            continue;
         }
         if let Some(v) = is_tilt_line(line) {
             tilt_value = Some((v, line_no));
@@ -269,13 +269,13 @@ fn parse(text: &str, options: &ParseOptions<'_>) -> Result<Parsed, IesError> {
         &|i| h_pos[i],
     )?;
     let mut candela = Vec::with_capacity(cap(nv * nh, &lx));
-    for h in 0..nh {
+    for (h, &h_angle) in horizontal_angles.iter().enumerate() {
         for v in 0..nv {
             let (c, at) = lx.real(&|| {
                 format!(
                     "candela value {} of {nv} for horizontal angle {} ({} of {nh})",
                     v + 1,
-                    horizontal_angles[h],
+                    h_angle,
                     h + 1
                 )
             })?;
@@ -369,15 +369,15 @@ fn parse_tilt_block(lx: &mut Lexer<'_>, w: &mut Vec<Warning>) -> Result<TiltData
     let mut angles = Vec::with_capacity(cap);
     for i in 0..n {
         let (a, at) = lx.real(&|| format!("tilt angle {} of {n}", i + 1))?;
-        if let Some(&prev) = angles.last() {
-            if a <= prev {
-                return Err(IesError::NonMonotonic {
-                    at,
-                    field: "tilt",
-                    previous: prev,
-                    value: a,
-                });
-            }
+        if let Some(&prev) = angles.last()
+            && a <= prev
+        {
+            return Err(IesError::NonMonotonic {
+                at,
+                field: "tilt",
+                previous: prev,
+                value: a,
+            });
         }
         angles.push(a);
     }
@@ -448,7 +448,7 @@ pub(crate) fn check_angles(
             let ok = if h.len() == 1 {
                 h0 == 0.0
             } else if h0 == 0.0 {
-                h1 == 90.0 || (h1 >= 180.0 && h1 <= 360.0)
+                h1 == 90.0 || (180.0..=360.0).contains(&h1)
             } else {
                 h0 == 90.0 && h1 == 270.0
             };

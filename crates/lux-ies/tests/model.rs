@@ -42,6 +42,9 @@ fn f(v: f64, h: f64) -> f64 {
         + 7.0 * (2.0 * h.to_radians()).cos()
 }
 
+/// A candela function of (vertical, horizontal) degrees.
+type Profile2d = dyn Fn(f64, f64) -> f64;
+
 fn grid(vs: &[f64], hs: &[f64], g: impl Fn(f64, f64) -> f64) -> Vec<f64> {
     let g = &g;
     hs.iter()
@@ -64,7 +67,7 @@ fn symmetric_files_equal_their_explicit_full_versions() {
     // bilateral about 90-270: even under C -> 180 - C
     let b90 = |v: f64, h: f64| 10.0 + v * 0.1 + 3.0 * h.to_radians().sin();
     let full: Vec<f64> = (0..=24).map(|k| 15.0 * k as f64).collect();
-    let cases: [(Vec<f64>, &dyn Fn(f64, f64) -> f64); 4] = [
+    let cases: [(Vec<f64>, &Profile2d); 4] = [
         ((0..=6).map(|k| 15.0 * k as f64).collect(), &q),
         ((0..=12).map(|k| 15.0 * k as f64).collect(), &b),
         ((6..=18).map(|k| 15.0 * k as f64).collect(), &b90),
