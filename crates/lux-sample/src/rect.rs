@@ -67,12 +67,7 @@ impl RectLight {
 
     #[inline]
     fn spherical(&self, pl: DVec3) -> SphericalRectangle {
-        SphericalRectangle::new(
-            pl,
-            DVec3::new(-0.5 * self.width, -0.5 * self.height, 0.0),
-            DVec3::new(self.width, 0.0, 0.0),
-            DVec3::new(0.0, self.height, 0.0),
-        )
+        SphericalRectangle::centred(pl, 0.5 * self.width, 0.5 * self.height)
     }
 
     /// Corner weights of the cosine warp, or `None` if the warp does not apply.

@@ -77,6 +77,44 @@ impl SphericalRectangle {
         }
     }
 
+    /// The axis-aligned rectangle \[−a, a\] × \[−b, b\] in the plane z = 0 seen from `o`
+    /// (the local frame of a RectLight): the same as [`Self::new`] without the frame set-up.
+    #[inline]
+    pub fn centred(o: DVec3, a: f64, b: f64) -> Self {
+        let (z, z0) = if o.z < 0.0 {
+            (DVec3::NEG_Z, o.z)
+        } else {
+            (DVec3::Z, -o.z)
+        };
+        let (x0, y0, x1, y1) = (-a - o.x, -b - o.y, a - o.x, b - o.y);
+        let z02 = z0 * z0;
+        let n0z = -y0 / (z02 + y0 * y0).sqrt();
+        let n1z = x1 / (z02 + x1 * x1).sqrt();
+        let n2z = y1 / (z02 + y1 * y1).sqrt();
+        let n3z = -x0 / (z02 + x0 * x0).sqrt();
+        let g0 = (-n0z * n1z).clamp(-1.0, 1.0).acos();
+        let g1 = (-n1z * n2z).clamp(-1.0, 1.0).acos();
+        let g2 = (-n2z * n3z).clamp(-1.0, 1.0).acos();
+        let g3 = (-n3z * n0z).clamp(-1.0, 1.0).acos();
+        let k = TAU - g2 - g3;
+        let solid_angle = g0 + g1 - k;
+        Self {
+            o,
+            x: DVec3::X,
+            y: DVec3::Y,
+            z,
+            z0,
+            x0,
+            y0,
+            x1,
+            y1,
+            b0: n0z,
+            b1: n2z,
+            k,
+            solid_angle,
+        }
+    }
+
     /// Solid angle S subtended by the rectangle (steradians).
     #[inline]
     pub fn solid_angle(&self) -> f64 {
@@ -242,6 +280,15 @@ mod tests {
     }
 
     proptest! {
+        #[test]
+        fn centred_matches_general(ox in -2.0..2.0f64, oy in -2.0..2.0f64, oz in 0.05..2.0f64, u0 in 0.0..1.0f64, u1 in 0.0..1.0f64) {
+            let o = DVec3::new(ox, oy, -oz);
+            let a = SphericalRectangle::new(o, DVec3::new(-0.6, -0.4, 0.0), DVec3::X * 1.2, DVec3::Y * 0.8);
+            let b = SphericalRectangle::centred(o, 0.6, 0.4);
+            prop_assert!((a.solid_angle() - b.solid_angle()).abs() < 1e-12);
+            prop_assert!((a.sample([u0, u1]) - b.sample([u0, u1])).length() < 1e-9);
+        }
+
         #[test]
         fn rectangle_sample_lies_on_rectangle_and_inverts(
             u0 in 0.001..0.999f64, u1 in 0.001..0.999f64,

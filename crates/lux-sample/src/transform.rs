@@ -25,6 +25,8 @@ use glam::{DMat3, DMat4, DVec3};
 pub struct LightTransform {
     linear: DMat3,
     inverse: DMat3,
+    /// L⁻ᵀ, for normals.
+    inverse_t: DMat3,
     translation: DVec3,
     abs_det: f64,
     /// True when L is a rotation times a uniform scale, so the measure change is 1.
@@ -42,6 +44,7 @@ impl LightTransform {
     pub const IDENTITY: Self = Self {
         linear: DMat3::IDENTITY,
         inverse: DMat3::IDENTITY,
+        inverse_t: DMat3::IDENTITY,
         translation: DVec3::ZERO,
         abs_det: 1.0,
         similarity: true,
@@ -78,6 +81,7 @@ impl LightTransform {
         Ok(Self {
             linear,
             inverse,
+            inverse_t: inverse.transpose(),
             translation: m.w_axis.truncate(),
             abs_det: det.abs(),
             similarity,
@@ -137,7 +141,7 @@ impl LightTransform {
     /// Local normal → unit world normal (transformed by L⁻ᵀ, which keeps the side it points to).
     #[inline]
     pub fn normal(&self, n: DVec3) -> DVec3 {
-        self.inverse.transpose().mul_vec3(n).normalize()
+        (self.inverse_t * n).normalize()
     }
 
     /// World covector → local covector (Lᵀ n): `n·(L w') = (Lᵀ n)·w'`, so signs of cosines
