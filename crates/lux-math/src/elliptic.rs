@@ -122,7 +122,7 @@ pub fn ellipse_perimeter(a: f64, b: f64) -> f64 {
     if a == b {
         return 2.0 * PI * a;
     }
-    if !(b > 0.0) {
+    if b.is_nan() || b <= 0.0 {
         return if a.is_finite() { 4.0 * a } else { f64::NAN };
     }
     let mut an = a;

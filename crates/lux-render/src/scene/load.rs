@@ -143,7 +143,7 @@ pub fn load_stage(path: impl AsRef<Path>, frame: f64) -> Result<Scene, LoadError
 /// Turns the composition errors `openusd` collected into a `LoadError` (the first fatal one).
 fn composition_errors(stage: &Stage, file: &Path) -> Result<(), LoadError> {
     use openusd::pcp::Error as E;
-    for e in stage.composition_errors() {
+    if let Some(e) = stage.composition_errors().into_iter().next() {
         let prim = match &e {
             E::UnresolvedLayer { site_path, .. }
             | E::MalformedLayer { site_path, .. }

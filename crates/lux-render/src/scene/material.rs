@@ -41,7 +41,7 @@ pub enum Diffuse {
     /// A constant colour.
     Color(DVec3),
     /// A texture lookup.
-    Texture(TextureInput),
+    Texture(Box<TextureInput>),
 }
 
 /// A bound material, reduced to what the reference renderer shades with.
@@ -149,7 +149,7 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
                 format!("texture @{}@ does not resolve to a file", a.authored),
             );
         }
-        out.diffuse = Diffuse::Texture(TextureInput {
+        out.diffuse = Diffuse::Texture(Box::new(TextureInput {
             shader: src_prim.clone(),
             file,
             st_primvar,
@@ -168,7 +168,7 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
                 .text(&src, "inputs:sourceColorSpace")?
                 .unwrap_or_else(|| "auto".into()),
             output: output.to_owned(),
-        });
+        }));
     } else if let Some(c) = r.vec3(&src, &src_attr)? {
         out.diffuse = Diffuse::Color(if c.is_finite() { c } else { DEFAULT_DIFFUSE });
     }
