@@ -126,6 +126,11 @@ impl AliasTable {
         }
     }
 
+    /// The (keep probability, alias) pairs, for callers that pack tables into flat arrays.
+    pub(crate) fn cells(&self) -> impl Iterator<Item = (f64, u32)> + '_ {
+        self.bins.iter().map(|b| (b.q, b.alias))
+    }
+
     /// Probability of index `i` (0 when out of range).
     #[inline]
     pub fn pmf(&self, i: usize) -> f64 {

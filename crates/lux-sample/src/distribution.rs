@@ -4,6 +4,7 @@
 //! it (pbrt-v4 §A.4.1–A.4.2). Sampling inverts the tabulated CDF by binary search and is
 //! allocation-free.
 
+use crate::alias::AliasTable;
 use crate::error::{MAX_ENTRIES, SampleError};
 
 /// A piecewise-constant density on \[0,1\] with `n` equal cells: pdf(x) = f\[i\]/(mean f) in cell i.
@@ -142,6 +143,51 @@ impl Distribution1D {
 pub struct Distribution2D {
     conditional: Vec<Distribution1D>,
     marginal: Distribution1D,
+    nu: usize,
+    /// Alias cells of the marginal (one per row) and of every row, flat.
+    row_alias: Vec<AliasCell>,
+    cell_alias: Vec<AliasCell>,
+    /// Density of every cell, flat (f/∫∫f).
+    density: Vec<f64>,
+}
+
+/// One packed alias-table entry: keep probability and alias index.
+#[derive(Clone, Copy, Debug)]
+struct AliasCell {
+    q: f64,
+    alias: u32,
+}
+
+/// Alias lookup in a packed table: (index, u remapped to [0,1)).
+#[inline]
+fn alias_pick(cells: &[AliasCell], u: f64) -> (usize, f64) {
+    let n = cells.len();
+    let x = u * n as f64;
+    let i = (x as usize).min(n - 1);
+    let up = (x - i as f64).clamp(0.0, 1.0);
+    let c = cells[i];
+    const ONE_MINUS_EPS: f64 = 1.0 - f64::EPSILON / 2.0;
+    if up < c.q {
+        (i, (up / c.q).min(ONE_MINUS_EPS))
+    } else {
+        (
+            c.alias as usize,
+            ((up - c.q) / (1.0 - c.q)).clamp(0.0, ONE_MINUS_EPS),
+        )
+    }
+}
+
+fn pack(weights: &[f64]) -> Vec<AliasCell> {
+    match AliasTable::new(weights) {
+        Ok(t) => t.cells().map(|(q, alias)| AliasCell { q, alias }).collect(),
+        // All zero: never selected; any valid table will do.
+        Err(_) => (0..weights.len())
+            .map(|i| AliasCell {
+                q: 1.0,
+                alias: i as u32,
+            })
+            .collect(),
+    }
 }
 
 impl Distribution2D {
@@ -161,9 +207,24 @@ impl Distribution2D {
             .collect::<Result<Vec<_>, _>>()?;
         let marg: Vec<f64> = conditional.iter().map(|c| c.integral()).collect();
         let marginal = Distribution1D::new(&marg)?;
+        let total = marginal.integral();
+        let row_alias = pack(&marg);
+        let mut cell_alias = Vec::with_capacity(func.len());
+        for row in func.chunks_exact(nu) {
+            cell_alias.extend(pack(row));
+        }
+        let density = if total > 0.0 {
+            func.iter().map(|&f| f / total).collect()
+        } else {
+            vec![1.0; func.len()]
+        };
         Ok(Self {
             conditional,
             marginal,
+            nu,
+            row_alias,
+            cell_alias,
+            density,
         })
     }
 
@@ -179,6 +240,23 @@ impl Distribution2D {
         let (v, pv, row) = self.marginal.sample(u[1]);
         let (x, pu, _) = self.conditional[row].sample(u[0]);
         ([x, v], pv * pu)
+    }
+
+    /// Samples (u, v) with alias tables (Walker/Vose) for the marginal and the chosen row: O(1)
+    /// and two to three memory accesses instead of two binary searches, at the price of a
+    /// mapping that is not monotone (no [`Self::invert`]). Same density as [`Self::sample`].
+    #[inline]
+    pub fn sample_alias(&self, u: [f64; 2]) -> ([f64; 2], f64) {
+        let nv = self.row_alias.len();
+        let (row, v_in) = alias_pick(&self.row_alias, u[1]);
+        let start = row * self.nu;
+        let (col, u_in) = alias_pick(&self.cell_alias[start..start + self.nu], u[0]);
+        let p = self.density[start + col];
+        let uv = [
+            (col as f64 + u_in) / self.nu as f64,
+            (row as f64 + v_in) / nv as f64,
+        ];
+        (uv, p)
     }
 
     /// Density at (u, v).
@@ -251,6 +329,15 @@ mod tests {
             prop_assert!(p > 0.0);
             prop_assert!((d.invert(x) - u).abs() < 1e-9);
             prop_assert!((d.pdf(x) - p).abs() < 1e-12);
+        }
+
+        #[test]
+        fn alias_2d_density_matches(u0 in 0.0..1.0f64, u1 in 0.0..1.0f64) {
+            let f: Vec<f64> = (0..12).map(|i| ((i * 7) % 5) as f64 * 0.5).collect();
+            let d = Distribution2D::new(&f, 4, 3).unwrap();
+            let (p, pdf) = d.sample_alias([u0, u1]);
+            prop_assert!(pdf > 0.0);
+            prop_assert!((d.pdf(p) - pdf).abs() < 1e-12 * pdf.max(1.0));
         }
 
         #[test]

@@ -161,7 +161,7 @@ impl DomeLight {
         let (dl, pdf_local) = match &self.dist {
             None => (sample_uniform_sphere(u), 0.25 * FRAC_1_PI),
             Some(d) => {
-                let (uv, p) = d.sample(u);
+                let (uv, p) = d.sample_alias(u);
                 let st = (PI * uv[1]).sin();
                 if !(p > 0.0 && st > 0.0) {
                     return None;
