@@ -1,0 +1,354 @@
+//! Decoding image files into linear RGBA `f32` texels (row 0 = top).
+
+use std::fs::File;
+use std::io::{Seek, SeekFrom};
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::Path;
+
+use exr::prelude::{ReadChannels, ReadLayers, RgbaChannels, Vec2};
+use image::{DynamicImage, ImageFormat, ImageReader, Limits};
+
+use super::{ImageError, MAX_DIMENSION, MAX_PIXELS, check_dimensions, srgb_to_linear_f64};
+
+/// What an OpenEXR texture file must contain.
+const EXPECTED_EXR: &str =
+    "an OpenEXR file with a flat layer holding R, G and B channels (A optional)";
+
+/// Loads `path` by extension; returns `(width, height, texels)`. Non-finite values are left to
+/// the caller.
+pub(crate) fn load_rgba(path: &Path) -> Result<(usize, usize, Vec<[f32; 4]>), ImageError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let (format, expected) = match ext.as_deref() {
+        Some("exr") => return guarded(path, EXPECTED_EXR, || load_exr(path)),
+        Some("png") => (ImageFormat::Png, "a PNG image"),
+        Some("jpg" | "jpeg") => (ImageFormat::Jpeg, "a JPEG image"),
+        Some("hdr") => (ImageFormat::Hdr, "a Radiance HDR (RGBE) image"),
+        _ => {
+            return Err(ImageError::UnsupportedFormat {
+                path: path.to_path_buf(),
+            });
+        }
+    };
+    guarded(path, expected, || load_with_image(path, format, expected))
+}
+
+/// Runs a decoder, turning a panic inside it into [`ImageError::Decode`].
+fn guarded<T>(
+    path: &Path,
+    expected: &'static str,
+    f: impl FnOnce() -> Result<T, ImageError>,
+) -> Result<T, ImageError> {
+    match catch_unwind(AssertUnwindSafe(f)) {
+        Ok(result) => result,
+        Err(payload) => {
+            let what = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".to_string());
+            Err(ImageError::Decode {
+                path: path.to_path_buf(),
+                expected,
+                message: format!("the decoder panicked: {what}"),
+            })
+        }
+    }
+}
+
+fn io_read_error(path: &Path, source: std::io::Error) -> ImageError {
+    ImageError::Io {
+        path: path.to_path_buf(),
+        action: "read",
+        source,
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// OpenEXR
+// ---------------------------------------------------------------------------------------------
+
+/// Pixel storage filled by the `exr` reader's callbacks.
+struct ExrPixels {
+    width: usize,
+    texels: Vec<[f32; 4]>,
+    /// How many pixels the file actually delivered (to detect missing blocks).
+    written: usize,
+}
+
+fn exr_error(path: &Path, error: exr::error::Error) -> ImageError {
+    use exr::error::Error;
+    match error {
+        // A short read means a truncated file: a decoding problem, not an OS one.
+        Error::Io(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => ImageError::Decode {
+            path: path.to_path_buf(),
+            expected: EXPECTED_EXR,
+            message: "unexpected end of file (truncated?)".to_string(),
+        },
+        Error::Io(e) => io_read_error(path, e),
+        other => ImageError::Decode {
+            path: path.to_path_buf(),
+            expected: EXPECTED_EXR,
+            message: other.to_string(),
+        },
+    }
+}
+
+fn load_exr(path: &Path) -> Result<(usize, usize, Vec<[f32; 4]>), ImageError> {
+    let mut file = File::open(path).map_err(|e| io_read_error(path, e))?;
+
+    // Check every layer's size from the header before the reader allocates anything.
+    let meta = exr::meta::MetaData::read_from_unbuffered(&mut file, false)
+        .map_err(|e| exr_error(path, e))?;
+    if meta.headers.is_empty() {
+        return Err(ImageError::Decode {
+            path: path.to_path_buf(),
+            expected: EXPECTED_EXR,
+            message: "the file has no layers".to_string(),
+        });
+    }
+    for header in meta.headers.iter() {
+        check_dimensions(path, header.layer_size.0 as u64, header.layer_size.1 as u64)?;
+    }
+    file.seek(SeekFrom::Start(0))
+        .map_err(|e| io_read_error(path, e))?;
+
+    let image = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgba_channels(
+            |size: Vec2<usize>, _channels: &RgbaChannels| {
+                let (w, h) = (size.width(), size.height());
+                // Already checked against the header; stay defensive anyway.
+                let ok = w <= MAX_DIMENSION && h <= MAX_DIMENSION && w * h <= MAX_PIXELS;
+                ExrPixels {
+                    width: w,
+                    texels: if ok {
+                        vec![[0.0, 0.0, 0.0, 1.0]; w * h]
+                    } else {
+                        Vec::new()
+                    },
+                    written: 0,
+                }
+            },
+            |pixels: &mut ExrPixels, pos: Vec2<usize>, (r, g, b, a): (f32, f32, f32, f32)| {
+                let index = pos.y() * pixels.width + pos.x();
+                if pos.x() < pixels.width
+                    && let Some(texel) = pixels.texels.get_mut(index)
+                {
+                    *texel = [r, g, b, a];
+                    pixels.written += 1;
+                }
+            },
+        )
+        .first_valid_layer()
+        .all_attributes()
+        .from_unbuffered(file)
+        .map_err(|e| exr_error(path, e))?;
+
+    let layer = image.layer_data;
+    let (width, height) = (layer.size.width(), layer.size.height());
+    check_dimensions(path, width as u64, height as u64)?;
+    let pixels = layer.channel_data.pixels;
+    if pixels.texels.len() != width * height || pixels.written != width * height {
+        return Err(ImageError::Decode {
+            path: path.to_path_buf(),
+            expected: EXPECTED_EXR,
+            message: format!(
+                "only {} of the {}×{} pixels are present in the file",
+                pixels.written, width, height
+            ),
+        });
+    }
+    Ok((width, height, pixels.texels))
+}
+
+// ---------------------------------------------------------------------------------------------
+// PNG, JPEG, Radiance HDR (image crate)
+// ---------------------------------------------------------------------------------------------
+
+fn image_error(path: &Path, expected: &'static str, error: image::ImageError) -> ImageError {
+    match error {
+        image::ImageError::IoError(e) if e.kind() != std::io::ErrorKind::UnexpectedEof => {
+            io_read_error(path, e)
+        }
+        image::ImageError::IoError(_) => ImageError::Decode {
+            path: path.to_path_buf(),
+            expected,
+            message: "unexpected end of file (truncated?)".to_string(),
+        },
+        other => ImageError::Decode {
+            path: path.to_path_buf(),
+            expected,
+            message: other.to_string(),
+        },
+    }
+}
+
+/// The width and height in a PNG's IHDR chunk, or `None` if the file does not start with a PNG
+/// signature followed by an IHDR chunk (the decoder then reports the problem).
+fn png_ihdr_dimensions(path: &Path) -> Result<Option<(u32, u32)>, ImageError> {
+    use std::io::Read;
+    const SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', 0x0D, 0x0A, 0x1A, 0x0A];
+    let file = File::open(path).map_err(|e| io_read_error(path, e))?;
+    let mut head = Vec::with_capacity(24);
+    file.take(24)
+        .read_to_end(&mut head)
+        .map_err(|e| io_read_error(path, e))?;
+    if head.len() < 24 || head[..8] != SIGNATURE || &head[12..16] != b"IHDR" {
+        return Ok(None);
+    }
+    let be = |b: &[u8]| u32::from_be_bytes([b[0], b[1], b[2], b[3]]);
+    Ok(Some((be(&head[16..20]), be(&head[20..24]))))
+}
+
+/// Opens `path` for decoding as `format`; with `limits`, the decoder refuses images beyond
+/// the size limits (without them it is only fit for reading the header).
+fn open_reader(
+    path: &Path,
+    format: ImageFormat,
+    limits: bool,
+) -> Result<ImageReader<std::io::BufReader<File>>, ImageError> {
+    let mut reader = ImageReader::open(path).map_err(|e| io_read_error(path, e))?;
+    reader.set_format(format);
+    if !limits {
+        reader.no_limits();
+        return Ok(reader);
+    }
+    let mut limits = Limits::default();
+    limits.max_image_width = Some(MAX_DIMENSION as u32);
+    limits.max_image_height = Some(MAX_DIMENSION as u32);
+    // Room for the largest allowed image at 16 bits × 4 channels, plus decoder overhead.
+    limits.max_alloc = Some(MAX_PIXELS as u64 * 8 + (256 << 20));
+    reader.limits(limits);
+    Ok(reader)
+}
+
+fn load_with_image(
+    path: &Path,
+    format: ImageFormat,
+    expected: &'static str,
+) -> Result<(usize, usize, Vec<[f32; 4]>), ImageError> {
+    // Header first: reject absurd sizes (with our own error) before the decoder allocates the
+    // pixel buffer. PNG's IHDR is read directly, since the decoder refuses (with a less
+    // specific error) sizes it deems too large even for reading the header.
+    if format == ImageFormat::Png
+        && let Some((w, h)) = png_ihdr_dimensions(path)?
+    {
+        check_dimensions(path, u64::from(w), u64::from(h))?;
+    }
+    let (w, h) = open_reader(path, format, false)?
+        .into_dimensions()
+        .map_err(|e| image_error(path, expected, e))?;
+    check_dimensions(path, u64::from(w), u64::from(h))?;
+
+    let image = open_reader(path, format, true)?
+        .decode()
+        .map_err(|e| image_error(path, expected, e))?;
+    let (width, height) = (image.width() as usize, image.height() as usize);
+    check_dimensions(path, width as u64, height as u64)?;
+    let texels = dynamic_to_linear(image, format != ImageFormat::Hdr);
+    Ok((width, height, texels))
+}
+
+/// The linear value of every 8-bit sRGB code.
+fn srgb8_table() -> [f32; 256] {
+    std::array::from_fn(|i| srgb_to_linear_f64(i as f64 / 255.0) as f32)
+}
+
+/// The linear value of every 16-bit sRGB code.
+fn srgb16_table() -> Vec<f32> {
+    (0..=u16::MAX)
+        .map(|i| srgb_to_linear_f64(f64::from(i) / 65535.0) as f32)
+        .collect()
+}
+
+/// Converts a decoded image to linear RGBA, expanding grey to RGB and adding alpha = 1.
+/// Integer colour channels are sRGB-decoded; float images (HDR) are taken as linear. When
+/// `srgb` is false, integer channels are only normalised.
+fn dynamic_to_linear(image: DynamicImage, srgb: bool) -> Vec<[f32; 4]> {
+    let a8 = |a: u8| f32::from(a) / 255.0;
+    let a16 = |a: u16| f32::from(a) / 65535.0;
+    match image {
+        DynamicImage::ImageLuma8(_)
+        | DynamicImage::ImageLumaA8(_)
+        | DynamicImage::ImageRgb8(_)
+        | DynamicImage::ImageRgba8(_) => {
+            let lut: [f32; 256] = if srgb {
+                srgb8_table()
+            } else {
+                std::array::from_fn(|i| i as f32 / 255.0)
+            };
+            let c = |v: u8| lut[usize::from(v)];
+            match image {
+                DynamicImage::ImageLuma8(img) => img
+                    .pixels()
+                    .map(|p| {
+                        let l = c(p.0[0]);
+                        [l, l, l, 1.0]
+                    })
+                    .collect(),
+                DynamicImage::ImageLumaA8(img) => img
+                    .pixels()
+                    .map(|p| {
+                        let l = c(p.0[0]);
+                        [l, l, l, a8(p.0[1])]
+                    })
+                    .collect(),
+                DynamicImage::ImageRgb8(img) => img
+                    .pixels()
+                    .map(|p| [c(p.0[0]), c(p.0[1]), c(p.0[2]), 1.0])
+                    .collect(),
+                other => other
+                    .into_rgba8()
+                    .pixels()
+                    .map(|p| [c(p.0[0]), c(p.0[1]), c(p.0[2]), a8(p.0[3])])
+                    .collect(),
+            }
+        }
+        DynamicImage::ImageLuma16(_)
+        | DynamicImage::ImageLumaA16(_)
+        | DynamicImage::ImageRgb16(_)
+        | DynamicImage::ImageRgba16(_) => {
+            let lut: Vec<f32> = if srgb {
+                srgb16_table()
+            } else {
+                (0..=u16::MAX).map(a16).collect()
+            };
+            let c = |v: u16| lut[usize::from(v)];
+            match image {
+                DynamicImage::ImageLuma16(img) => img
+                    .pixels()
+                    .map(|p| {
+                        let l = c(p.0[0]);
+                        [l, l, l, 1.0]
+                    })
+                    .collect(),
+                DynamicImage::ImageLumaA16(img) => img
+                    .pixels()
+                    .map(|p| {
+                        let l = c(p.0[0]);
+                        [l, l, l, a16(p.0[1])]
+                    })
+                    .collect(),
+                DynamicImage::ImageRgb16(img) => img
+                    .pixels()
+                    .map(|p| [c(p.0[0]), c(p.0[1]), c(p.0[2]), 1.0])
+                    .collect(),
+                other => other
+                    .into_rgba16()
+                    .pixels()
+                    .map(|p| [c(p.0[0]), c(p.0[1]), c(p.0[2]), a16(p.0[3])])
+                    .collect(),
+            }
+        }
+        DynamicImage::ImageRgb32F(img) => img
+            .pixels()
+            .map(|p| [p.0[0], p.0[1], p.0[2], 1.0])
+            .collect(),
+        // RGBA float, and any future variant: as float, linear.
+        other => other.into_rgba32f().pixels().map(|p| p.0).collect(),
+    }
+}
