@@ -1,0 +1,159 @@
+//! `inputs:shaping:ies:angleScale`: the map from the light's polar angle to the IES lookup angle.
+
+use crate::error::ShapingError;
+use crate::params::AngleScaleFormula;
+use core::f64::consts::PI;
+
+/// `applyAngleScale(θ, angleScale)` of `inputs:shaping:ies:angleScale`: the polar angle θies
+/// (radians, from the light's −Z) at which the IES profile is sampled for an emission direction
+/// at polar angle `theta`.
+///
+/// [`AngleScaleFormula::TwoBranch`] (UsdLux 26.11): a positive scale `s` divides the angle with
+/// the origin at θ = 0 (`θ/s`: `s < 1` narrows a downward beam, `s > 1` widens it); a negative
+/// scale divides the distance from θ = π instead (`(θ − π)/(−s) + π`, the same for an upward
+/// beam); zero leaves θ unchanged. [`AngleScaleFormula::Legacy`]: `(θ − π)/(1 + s) + π`, with
+/// `s = 0` the identity.
+///
+/// Plain arithmetic, no validation: a NaN scale gives NaN, and the legacy formula at `s = −1`
+/// divides by zero. [`Shaping::new`](crate::Shaping::new) rejects both.
+///
+/// ```
+/// use lux_shaping::{AngleScaleFormula, apply_angle_scale};
+/// let deg = |d: f64| d.to_radians();
+/// // a 60° downward beam (edge at 30°) narrowed by 0.5: the edge is now seen at θ = 15°
+/// let t = apply_angle_scale(deg(15.0), 0.5, AngleScaleFormula::TwoBranch);
+/// assert!((t - deg(30.0)).abs() < 1e-12);
+/// // an upward beam (edge at 150°) widened by −1.5: the edge is now at θ = 135°
+/// let t = apply_angle_scale(deg(135.0), -1.5, AngleScaleFormula::TwoBranch);
+/// assert!((t - deg(150.0)).abs() < 1e-12);
+/// ```
+pub fn apply_angle_scale(theta: f64, angle_scale: f64, formula: AngleScaleFormula) -> f64 {
+    if angle_scale.is_nan() {
+        return f64::NAN;
+    }
+    match formula {
+        AngleScaleFormula::TwoBranch => {
+            if angle_scale > 0.0 {
+                theta / angle_scale
+            } else if angle_scale < 0.0 {
+                (theta - PI) / -angle_scale + PI
+            } else {
+                theta
+            }
+        }
+        AngleScaleFormula::Legacy => {
+            if angle_scale == 0.0 {
+                theta
+            } else {
+                (theta - PI) / (1.0 + angle_scale) + PI
+            }
+        }
+    }
+}
+
+/// The prepared map θ → θies. Every branch is affine in θ.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum AngleMap {
+    /// θies = θ.
+    Identity,
+    /// θies = θ / s (two-branch, s > 0).
+    Div(f64),
+    /// θies = (θ − π) / d + π (two-branch with d = −s, or legacy with d = 1 + s).
+    Flip(f64),
+}
+
+impl AngleMap {
+    pub(crate) fn new(s: f64, formula: AngleScaleFormula) -> Result<AngleMap, ShapingError> {
+        if !s.is_finite() {
+            return Err(ShapingError::InvalidParameter {
+                attribute: "inputs:shaping:ies:angleScale",
+                value: s.to_string(),
+                expected: "a finite number",
+            });
+        }
+        Ok(match formula {
+            AngleScaleFormula::TwoBranch => {
+                if s == 0.0 || s == 1.0 {
+                    AngleMap::Identity
+                } else if s > 0.0 {
+                    AngleMap::Div(s)
+                } else {
+                    AngleMap::Flip(-s)
+                }
+            }
+            AngleScaleFormula::Legacy => {
+                let d = 1.0 + s;
+                if s == 0.0 {
+                    AngleMap::Identity
+                } else if d == 0.0 {
+                    return Err(ShapingError::InvalidParameter {
+                        attribute: "inputs:shaping:ies:angleScale",
+                        value: s.to_string(),
+                        expected: "a finite number other than -1 (the legacy formula divides by 1 + angleScale)",
+                    });
+                } else {
+                    AngleMap::Flip(d)
+                }
+            }
+        })
+    }
+
+    /// θies for the light's polar angle θ.
+    #[inline(always)]
+    pub(crate) fn apply(self, theta: f64) -> f64 {
+        match self {
+            AngleMap::Identity => theta,
+            AngleMap::Div(s) => theta / s,
+            AngleMap::Flip(d) => (theta - PI) / d + PI,
+        }
+    }
+
+    /// The θ that maps to `t` (affine inverse).
+    pub(crate) fn inverse(self, t: f64) -> f64 {
+        match self {
+            AngleMap::Identity => t,
+            AngleMap::Div(s) => t * s,
+            AngleMap::Flip(d) => (t - PI) * d + PI,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use AngleScaleFormula::{Legacy, TwoBranch};
+
+    #[test]
+    fn two_branch_and_legacy_values() {
+        let d = |x: f64| x.to_radians();
+        assert_eq!(apply_angle_scale(1.0, 0.0, TwoBranch), 1.0);
+        assert_eq!(apply_angle_scale(1.0, 1.0, TwoBranch), 1.0);
+        assert_eq!(apply_angle_scale(1.0, 0.5, TwoBranch), 2.0);
+        assert!((apply_angle_scale(d(165.0), -0.5, TwoBranch) - d(150.0)).abs() < 1e-12);
+        // legacy: (θ − π)/(1 + s) + π; s = 1 halves the distance from π
+        assert!((apply_angle_scale(d(90.0), 1.0, Legacy) - d(135.0)).abs() < 1e-12);
+        assert_eq!(apply_angle_scale(0.7, 0.0, Legacy), 0.7);
+        assert!(apply_angle_scale(0.7, f64::NAN, TwoBranch).is_nan());
+    }
+
+    #[test]
+    fn prepared_map_agrees_and_inverts() {
+        for formula in [TwoBranch, Legacy] {
+            for s in [-3.0, -1.5, -0.5, -1e-3, 0.0, 1e-3, 0.25, 1.0, 2.0] {
+                let m = AngleMap::new(s, formula).unwrap();
+                for k in 0..=20 {
+                    let th = PI * k as f64 / 20.0;
+                    let a = apply_angle_scale(th, s, formula);
+                    let b = m.apply(th);
+                    assert!((a - b).abs() <= 1e-12 * a.abs().max(1.0), "{s} {th}");
+                    assert!((m.inverse(b) - th).abs() < 1e-9, "{s} {th}");
+                }
+            }
+        }
+        assert!(AngleMap::new(-1.0, Legacy).is_err());
+        assert!(AngleMap::new(-1.0, TwoBranch).is_ok());
+        assert!(AngleMap::new(f64::INFINITY, TwoBranch).is_err());
+        assert!(AngleMap::new(f64::NAN, Legacy).is_err());
+        assert_eq!(AngleMap::new(1.0, TwoBranch).unwrap(), AngleMap::Identity);
+    }
+}
