@@ -1,13 +1,20 @@
 //! The `lux` command line: `lux render`, `lux info`, `lux ies …`.
-//! With no arguments it renders the bundled demo scene.
+//! With no arguments it renders the bundled demo scene to `lux-demo.exr` and `lux-demo.png`.
 
 mod cli;
 
 use clap::{Parser, Subcommand};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Debug, Parser)]
-#[command(name = "lux", version, about = "UsdLux lighting, exactly")]
+#[command(
+    name = "lux",
+    version,
+    about = "UsdLux lighting, exactly",
+    long_about = "UsdLux lighting, exactly. Without a subcommand, renders the bundled demo \
+                  scene to lux-demo.exr and lux-demo.png in the current directory."
+)]
 struct Args {
     #[command(subcommand)]
     command: Option<Command>,
@@ -15,16 +22,46 @@ struct Args {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Render a USD stage (direct lighting of every UsdLux light) to EXR and PNG.
+    Render(cli::render::RenderArgs),
+    /// Summarise a USD stage: lights, their size factors and emission per profile, warnings.
+    Info(cli::info::InfoArgs),
     /// IES (LM-63) photometric file tools.
     #[command(subcommand)]
     Ies(cli::ies::IesCommand),
 }
 
+/// The bundled demo scene (all six light kinds, an IES profile, a textured rect, a dome).
+fn demo_scene() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/demo/demo.usda")
+}
+
 fn main() -> ExitCode {
     let args = Args::parse();
     let result = match &args.command {
+        Some(Command::Render(r)) => cli::render::run(r),
+        Some(Command::Info(i)) => cli::info::run(i),
         Some(Command::Ies(cmd)) => cli::ies::run(cmd),
-        None => Ok(()),
+        None => {
+            eprintln!("lux: rendering the demo scene {}", demo_scene().display());
+            cli::render::run(&cli::render::RenderArgs {
+                scene: demo_scene(),
+                frame: 1.0,
+                spp: 32,
+                resolution: None,
+                crop: None,
+                camera: None,
+                profile: None,
+                sampling: cli::render::SamplingArg::Lux,
+                light_selection: cli::render::SelectionArg::Auto,
+                threads: None,
+                seed: 0,
+                output: PathBuf::from("lux-demo.exr"),
+                png: Some(PathBuf::from("lux-demo.png")),
+                exposure: 0.0,
+                quiet: false,
+            })
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -78,7 +78,7 @@ fn load(path: &Path) -> Result<Parsed, String> {
     let resolver = move |name: &str| std::fs::read_to_string(dir.join(name)).ok();
     let opts = ParseOptions {
         tilt_resolver: Some(&resolver),
-        require_tilt_file: false,
+        ..ParseOptions::default()
     };
     IesFile::parse_with(&text, &opts).map_err(|e| format!("{}:{e}", path.display()))
 }

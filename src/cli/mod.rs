@@ -1,3 +1,5 @@
 //! Command-line front end of the `lux` binary.
 
 pub mod ies;
+pub mod info;
+pub mod render;

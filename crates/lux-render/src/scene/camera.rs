@@ -42,6 +42,26 @@ pub struct Camera {
     pub focus_distance: f64,
 }
 
+impl Camera {
+    /// A perspective camera with the UsdGeomCamera defaults (focal length 50, aperture
+    /// 20.955 × 15.2908, clipping 1 to 10⁶) at `camera_to_world`, for scenes built in code.
+    pub fn with_defaults(path: impl Into<String>, camera_to_world: DMat4) -> Camera {
+        Camera {
+            path: path.into(),
+            camera_to_world,
+            projection: Projection::Perspective,
+            focal_length: 50.0,
+            horizontal_aperture: 20.955,
+            vertical_aperture: 15.2908,
+            horizontal_aperture_offset: 0.0,
+            vertical_aperture_offset: 0.0,
+            clipping_range: DVec2::new(1.0, 1.0e6),
+            f_stop: 0.0,
+            focus_distance: 0.0,
+        }
+    }
+}
+
 /// Reads a `Camera` prim.
 pub fn read_camera(r: &mut Reader<'_>, prim: &Prim, world: DMat4) -> Result<Camera, LoadError> {
     let projection = match r.text(prim, "projection")?.as_deref() {
@@ -101,6 +121,9 @@ pub struct RenderSettings {
     pub included_purposes: Vec<String>,
     /// The products named by the `products` relationship, in order.
     pub products: Vec<RenderProduct>,
+    /// The custom `lux:conformanceProfile` attribute (`"spec"` or `"hdembree"`), as authored:
+    /// the stage-level step of the conformance-profile chain (spec README §5).
+    pub conformance_profile: Option<String>,
 }
 
 impl RenderSettings {
@@ -165,10 +188,12 @@ pub fn read_render_settings(r: &mut Reader<'_>, prim: &Prim) -> Result<RenderSet
             base,
         });
     }
+    let conformance_profile = r.text(prim, "lux:conformanceProfile")?;
     Ok(RenderSettings {
         path: prim.path().to_string(),
         base,
         included_purposes,
         products,
+        conformance_profile,
     })
 }

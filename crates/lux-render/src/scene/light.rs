@@ -150,9 +150,52 @@ pub struct Light {
     /// Raw `physical:*`, `photometric:*`, `radiometric:*`, `wavelength:*` attributes (with or
     /// without the `inputs:` prefix), keyed by attribute name.
     pub physical: BTreeMap<String, RawValue>,
+    /// String-valued metadata of those attributes (LTESpectralAPI `unitForWavelength`,
+    /// `emissionInterpolation`, `illuminantPreset`, `iorInterpolation`), keyed by attribute
+    /// name, then metadata key. An attribute may carry metadata without a value (an
+    /// `illuminantPreset` on an empty `wavelength:emission`).
+    pub physical_metadata: BTreeMap<String, BTreeMap<String, String>>,
 }
 
 impl Light {
+    /// A light with every input at its schema default (LightAPI, no ShapingAPI, ShadowAPI
+    /// not applied, invisible to the camera), for scenes built in code rather than loaded.
+    pub fn with_defaults(
+        path: impl Into<String>,
+        shape: LightShape,
+        light_to_world: DMat4,
+    ) -> Light {
+        let kind = shape.kind();
+        Light {
+            path: path.into(),
+            type_name: kind.usd_type_name().to_owned(),
+            kind,
+            shape,
+            light_to_world,
+            params: LightParams::defaults_for(kind),
+            diffuse: 1.0,
+            specular: 1.0,
+            shaping: None,
+            shadow: ShadowInputs::default(),
+            visible_to_camera: false,
+            texture: None,
+            texture_format: "automatic".to_owned(),
+            pole_axis: PoleAxis::Scene,
+            treat_as_point: false,
+            treat_as_line: false,
+            portals: Vec::new(),
+            material_sync_mode: if kind == LightKind::Mesh {
+                "materialGlowTintsLight"
+            } else {
+                "noMaterialResponse"
+            }
+            .to_owned(),
+            api_schemas: Vec::new(),
+            physical: BTreeMap::new(),
+            physical_metadata: BTreeMap::new(),
+        }
+    }
+
     /// World-space position: the image of the local origin.
     pub fn position(&self) -> DVec3 {
         self.light_to_world.transform_point3(DVec3::ZERO)
@@ -165,6 +208,14 @@ impl Light {
             .normalize_or_zero()
     }
 }
+
+/// Attribute metadata keys of the LTESpectralAPI that the loader records.
+pub const SPECTRAL_METADATA: [&str; 4] = [
+    "unitForWavelength",
+    "emissionInterpolation",
+    "illuminantPreset",
+    "iorInterpolation",
+];
 
 /// The light kind of a concrete light prim type, `None` for anything else.
 pub fn kind_of_type(type_name: &str) -> Option<LightKind> {
@@ -274,6 +325,7 @@ pub fn read_light(
         ShadowInputs::default()
     };
     let mut physical = BTreeMap::new();
+    let mut physical_metadata = BTreeMap::new();
     let names = prim.property_names().map_err(|e| r.usd_error(prim, e))?;
     let mut shaping_authored = false;
     for name in names {
@@ -285,6 +337,15 @@ pub fn read_light(
         let ns = ["physical:", "photometric:", "radiometric:", "wavelength:"];
         if !ns.iter().any(|n| bare.starts_with(n)) {
             continue;
+        }
+        let mut metas = BTreeMap::new();
+        for key in SPECTRAL_METADATA {
+            if let Some(v) = r.metadata_text(prim, name, key) {
+                metas.insert(key.to_owned(), v);
+            }
+        }
+        if !metas.is_empty() {
+            physical_metadata.insert(name.to_owned(), metas);
         }
         if let Some(v) = r.raw(prim, name)? {
             let raw = if let Some(b) = value::as_bool(&v) {
@@ -388,5 +449,6 @@ pub fn read_light(
             .unwrap_or_else(|| default_sync.to_owned()),
         api_schemas: api_schemas.to_vec(),
         physical,
+        physical_metadata,
     })
 }

@@ -79,6 +79,11 @@ pub fn load_stage(path: impl AsRef<Path>, frame: f64) -> Result<Scene, LoadError
         .and_then(|v| super::value::as_f64(&v))
         .filter(|m| m.is_finite() && *m > 0.0)
         .unwrap_or(0.01);
+    let unit_for_wavelength = stage
+        .stage_metadata("unitForWavelength")
+        .ok()
+        .flatten()
+        .and_then(|v| super::value::as_text(&v));
     let mut walk = Walk {
         r: Reader {
             stage: &stage,
@@ -91,6 +96,7 @@ pub fn load_stage(path: impl AsRef<Path>, frame: f64) -> Result<Scene, LoadError
             frame,
             up_axis,
             meters_per_unit,
+            unit_for_wavelength,
             time_code_range: stage
                 .has_authored_time_code_range()
                 .then(|| [stage.start_time_code(), stage.end_time_code()]),
@@ -332,6 +338,13 @@ impl Walk<'_> {
                     break;
                 }
             }
+        } else {
+            // Implicit gprims are smooth surfaces: shade them with crease-angle normals.
+            normals = Some(normals_to_world(
+                tessellate::crease_normals(&topo, 60.0),
+                &here.world,
+                mirror,
+            ));
         }
         let colors = match self.r.vec3_array(prim, "primvars:displayColor")? {
             Some(c) => expand_primvar(

@@ -52,6 +52,9 @@ pub struct Scene {
     pub up_axis: UpAxis,
     /// `metersPerUnit` stage metadata (0.01 when unauthored); recorded, not applied.
     pub meters_per_unit: f64,
+    /// `unitForWavelength` stage metadata of the LTESpectralAPI (`"nanometers"` when
+    /// unauthored), as authored.
+    pub unit_for_wavelength: Option<String>,
     /// `[startTimeCode, endTimeCode]` when authored.
     pub time_code_range: Option<[f64; 2]>,
     /// Drawn gprims (visible, purpose default/render) as world-space triangle meshes.
@@ -71,6 +74,25 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// An empty scene (Y up, 1 metre per unit, frame 1), for scenes built in code.
+    pub fn empty(source: impl Into<PathBuf>) -> Scene {
+        Scene {
+            source: source.into(),
+            frame: 1.0,
+            up_axis: UpAxis::Y,
+            meters_per_unit: 1.0,
+            unit_for_wavelength: None,
+            time_code_range: None,
+            meshes: Vec::new(),
+            lights: Vec::new(),
+            materials: Vec::new(),
+            cameras: Vec::new(),
+            render_settings: Vec::new(),
+            warnings: Vec::new(),
+            prim_count: 0,
+        }
+    }
+
     /// The light at a prim path.
     pub fn light(&self, path: &str) -> Option<&Light> {
         self.lights.iter().find(|l| l.path == path)

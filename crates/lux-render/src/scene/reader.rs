@@ -68,6 +68,16 @@ impl<'s> Reader<'s> {
             .map_err(|e| self.usd_error(prim, format_args!("attribute {name}: {e:#}")))
     }
 
+    /// A string/token metadata field `key` of attribute `name`, if authored (any failure to
+    /// read it counts as unauthored).
+    pub fn metadata_text(&self, prim: &Prim, name: &str, key: &str) -> Option<String> {
+        prim.attribute(name)
+            .get_metadata::<Value>(key)
+            .ok()
+            .flatten()
+            .and_then(|v| value::as_text(&v))
+    }
+
     fn typed<T>(
         &self,
         prim: &Prim,

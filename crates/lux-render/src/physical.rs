@@ -1,0 +1,315 @@
+//! A light's base radiance (RGB nits, before shaping and texture) from its USD inputs: the
+//! LightAPI pipeline of lux-math, or — when the physical-light-unit or spectral APIs are
+//! applied — the conversions of lux-spectral. lux-render only gathers the inputs here; every
+//! formula lives in lux-math, lux-shaping and lux-spectral.
+//!
+//! Precedence, per light:
+//! 1. A Photometric/Radiometric {Area, Dome, Distant} LightAPI (`photometric:power` lm,
+//!    `radiometric:power` W, `photometric:illuminance` lux, `radiometric:irradiance` W/m²) fixes
+//!    the absolute output: `lux_spectral::emitted` with the light's world area
+//!    (`lux_math::size_factor`) and its shaping integral (lux-shaping), or the dome texture's
+//!    cosine-weighted mean, or the distant angle. `intensity`, `exposure`, `color` and
+//!    `normalize` do not enter (the proposal's `calculateRgbLuminance`).
+//! 2. Else `PhysicalLightIlluminantAPI` alone: the LightAPI luminance
+//!    `intensity · 2^exposure · color / sizeFactor` coloured by the illuminant's colour of one
+//!    nit (white, blackbody at `colorTemperature`, or the custom table); `enableColorTemperature`
+//!    is not applied a second time.
+//! 3. Else LTESpectralAPI `wavelength:emission` (or its `illuminantPreset`): the same LightAPI
+//!    luminance coloured by the SPD's colour of one nit (explicit values win over the preset).
+//! 4. Else the plain LightAPI emission (`lux_math::emitted_radiance`).
+
+use crate::RenderError;
+use crate::image_io::Texture;
+use crate::scene::{Light, RawValue};
+use glam::DVec3;
+use lux_math::{LightKind, LightShape, Profile};
+use lux_shaping::Shaping;
+use lux_spectral::{
+    ColorSpace, EmitterShape, IlluminantKind, Interpolation, LightGeometry, PhysicalLightInputs,
+    PhysicalQuantity, ShapingIntegral, SpectralAttribute, SpectralInputs, WavelengthUnit,
+};
+
+/// The API schemas that carry a physical quantity, with the quantity they author.
+const QUANTITY_APIS: [&str; 6] = [
+    "PhotometricAreaLightAPI",
+    "RadiometricAreaLightAPI",
+    "PhotometricDomeLightAPI",
+    "RadiometricDomeLightAPI",
+    "PhotometricDistantLightAPI",
+    "RadiometricDistantLightAPI",
+];
+
+/// A raw attribute of the light, with or without the `inputs:` prefix.
+fn raw<'a>(l: &'a Light, name: &str) -> Option<&'a RawValue> {
+    l.physical
+        .get(name)
+        .or_else(|| l.physical.get(&format!("inputs:{name}")))
+}
+
+/// Metadata `key` of attribute `name` (with or without `inputs:`).
+fn meta<'a>(l: &'a Light, name: &str, key: &str) -> Option<&'a str> {
+    l.physical_metadata
+        .get(name)
+        .or_else(|| l.physical_metadata.get(&format!("inputs:{name}")))
+        .and_then(|m| m.get(key))
+        .map(String::as_str)
+}
+
+fn number(l: &Light, name: &str, default: f64) -> Result<f64, RenderError> {
+    match raw(l, name) {
+        None => Ok(default),
+        Some(RawValue::Number(x)) => Ok(*x),
+        Some(other) => Err(light_error(
+            l,
+            format!("{name}: expected a number, found {other:?}"),
+        )),
+    }
+}
+
+fn pairs(l: &Light, name: &str) -> Result<Option<Vec<[f32; 2]>>, RenderError> {
+    match raw(l, name) {
+        None => Ok(None),
+        Some(RawValue::Numbers(v)) if v.len() % 2 == 0 => Ok(Some(
+            v.chunks_exact(2)
+                .map(|c| [c[0] as f32, c[1] as f32])
+                .collect(),
+        )),
+        Some(other) => Err(light_error(
+            l,
+            format!("{name}: expected float2[] (wavelength, value) pairs, found {other:?}"),
+        )),
+    }
+}
+
+fn light_error(l: &Light, message: impl Into<String>) -> RenderError {
+    RenderError::Light {
+        light: l.path.clone(),
+        message: message.into(),
+    }
+}
+
+fn spectral_error(l: &Light, e: lux_spectral::SpectralError) -> RenderError {
+    light_error(l, e.to_string())
+}
+
+fn has_api(l: &Light, name: &str) -> bool {
+    l.api_schemas.iter().any(|a| a == name)
+}
+
+/// The physical quantity the light's applied API authors (with the schema default when the
+/// API is applied but the value is not authored).
+fn quantity(l: &Light) -> Result<Option<PhysicalQuantity>, RenderError> {
+    let Some(api) = QUANTITY_APIS.iter().find(|a| has_api(l, a)) else {
+        return Ok(None);
+    };
+    let q = match *api {
+        "PhotometricAreaLightAPI" => PhysicalQuantity::PhotometricPower(number(
+            l,
+            "photometric:power",
+            PhysicalQuantity::DEFAULT_PHOTOMETRIC_POWER,
+        )?),
+        "RadiometricAreaLightAPI" => PhysicalQuantity::RadiometricPower(number(
+            l,
+            "radiometric:power",
+            PhysicalQuantity::DEFAULT_RADIOMETRIC_POWER,
+        )?),
+        "PhotometricDomeLightAPI" | "PhotometricDistantLightAPI" => {
+            PhysicalQuantity::PhotometricIlluminance(number(
+                l,
+                "photometric:illuminance",
+                PhysicalQuantity::DEFAULT_PHOTOMETRIC_ILLUMINANCE,
+            )?)
+        }
+        _ => PhysicalQuantity::RadiometricIrradiance(number(
+            l,
+            "radiometric:irradiance",
+            PhysicalQuantity::DEFAULT_RADIOMETRIC_IRRADIANCE,
+        )?),
+    };
+    Ok(Some(q))
+}
+
+/// `PhysicalLightInputs` of the light for `quantity` (illuminant token, custom table,
+/// colour temperature).
+pub fn physical_inputs(
+    l: &Light,
+    quantity: PhysicalQuantity,
+) -> Result<PhysicalLightInputs, RenderError> {
+    let mut inputs = PhysicalLightInputs::new(quantity);
+    inputs.color_temperature = l.params.color_temperature;
+    if let Some(v) = raw(l, "physical:illuminant") {
+        let RawValue::Text(t) = v else {
+            return Err(light_error(
+                l,
+                format!("physical:illuminant: expected a token, found {v:?}"),
+            ));
+        };
+        inputs.illuminant = IlluminantKind::parse(t).map_err(|e| spectral_error(l, e))?;
+    }
+    if let Some(p) = pairs(l, "physical:customIlluminant")? {
+        inputs.custom_illuminant = p;
+    }
+    Ok(inputs)
+}
+
+/// The LTESpectralAPI inputs of the light (emission only), or `None` without
+/// `wavelength:emission`.
+pub fn spectral_inputs(
+    l: &Light,
+    stage_unit: WavelengthUnit,
+) -> Result<Option<SpectralInputs>, RenderError> {
+    const ATTR: &str = "wavelength:emission";
+    let values = pairs(l, ATTR)?;
+    let preset = meta(l, ATTR, "illuminantPreset");
+    if values.is_none() && preset.is_none() {
+        return Ok(None);
+    }
+    let unit = meta(l, ATTR, "unitForWavelength")
+        .map(WavelengthUnit::parse)
+        .transpose()
+        .map_err(|e| spectral_error(l, e))?;
+    let interpolation = meta(l, ATTR, "emissionInterpolation")
+        .map(|t| Interpolation::parse(t, ATTR))
+        .transpose()
+        .map_err(|e| spectral_error(l, e))?
+        .unwrap_or_default();
+    let illuminant_preset = preset
+        .map(lux_spectral::Illuminant::parse)
+        .transpose()
+        .map_err(|e| spectral_error(l, e))?;
+    Ok(Some(SpectralInputs {
+        unit_for_wavelength: stage_unit,
+        emission: Some(SpectralAttribute {
+            values: values.unwrap_or_default(),
+            unit_for_wavelength: unit,
+            interpolation,
+            illuminant_preset,
+        }),
+        ..SpectralInputs::default()
+    }))
+}
+
+/// G of lux-spectral for an area light: the shaping integral weighted by the colour of one
+/// nit (whose Rec.709 luminance is 1), so that Φ = L·A·G holds for the luminance.
+fn shaping_integral(
+    l: &Light,
+    shape: EmitterShape,
+    shaping: &Shaping,
+    rgb_per_nit: DVec3,
+) -> Result<ShapingIntegral, RenderError> {
+    if shaping.is_identity() {
+        return Ok(ShapingIntegral::UNSHAPED);
+    }
+    let w = DVec3::from(lux_math::REC709_LUMINANCE) * rgb_per_nit;
+    let weigh = |g: [f64; 3]| w.dot(DVec3::from(g));
+    let g = match shape {
+        EmitterShape::Flat => ShapingIntegral::flat(weigh(shaping.integral_cos_hemisphere())),
+        EmitterShape::Sphere => ShapingIntegral::sphere(weigh(shaping.integral_sphere())),
+        EmitterShape::Cylinder => ShapingIntegral::cylinder(weigh(
+            shaping.integral_weighted(|d| (1.0 - d.x * d.x).max(0.0).sqrt()),
+        )),
+    };
+    g.map_err(|e| spectral_error(l, e))
+}
+
+/// The base radiance of `l` (see the module docs for the precedence of the APIs).
+/// `texture` is the dome's latlong texture (for `photometric:illuminance`).
+pub fn base_radiance(
+    l: &Light,
+    shaping: &Shaping,
+    texture: Option<&Texture>,
+    profile: Profile,
+    stage_unit: WavelengthUnit,
+) -> Result<DVec3, RenderError> {
+    let space = ColorSpace::Rec709;
+    if let Some(q) = quantity(l)? {
+        let inputs = physical_inputs(l, q)?;
+        let ill =
+            lux_spectral::resolve_illuminant(&inputs, space).map_err(|e| spectral_error(l, e))?;
+        let geometry = match &l.shape {
+            LightShape::Rect { .. }
+            | LightShape::Disk { .. }
+            | LightShape::Sphere { .. }
+            | LightShape::Cylinder { .. } => {
+                let shape = match l.kind {
+                    LightKind::Sphere => EmitterShape::Sphere,
+                    LightKind::Cylinder => EmitterShape::Cylinder,
+                    _ => EmitterShape::Flat,
+                };
+                LightGeometry::Area {
+                    world_area: lux_math::size_factor(&l.shape, &l.light_to_world, profile),
+                    shaping: shaping_integral(l, shape, shaping, ill.rgb_per_nit)?,
+                }
+            }
+            LightShape::Dome => LightGeometry::Dome {
+                cosine_weighted_mean: match texture {
+                    None => 1.0,
+                    Some(t) => {
+                        let lum: Vec<f32> = t
+                            .texels()
+                            .iter()
+                            .map(|p| {
+                                (lux_math::REC709_LUMINANCE[0] * p[0] as f64
+                                    + lux_math::REC709_LUMINANCE[1] * p[1] as f64
+                                    + lux_math::REC709_LUMINANCE[2] * p[2] as f64)
+                                    as f32
+                            })
+                            .collect();
+                        lux_spectral::latlong_cosine_weighted_mean(
+                            t.width(),
+                            t.height(),
+                            &lum,
+                            DVec3::Y,
+                        )
+                        .map_err(|e| spectral_error(l, e))?
+                    }
+                },
+            },
+            LightShape::Distant { angle_deg } => LightGeometry::Distant {
+                angle_deg: *angle_deg,
+            },
+            _ => {
+                return Err(light_error(
+                    l,
+                    format!("{} cannot be applied to a {}", q.attribute(), l.type_name),
+                ));
+            }
+        };
+        let e =
+            lux_spectral::emitted(&inputs, &geometry, space).map_err(|e| spectral_error(l, e))?;
+        return Ok(finite(e.rgb));
+    }
+    if has_api(l, "PhysicalLightIlluminantAPI") {
+        let inputs = physical_inputs(l, PhysicalQuantity::PhotometricPower(0.0))?;
+        let ill =
+            lux_spectral::resolve_illuminant(&inputs, space).map_err(|e| spectral_error(l, e))?;
+        let mut params = l.params;
+        params.enable_color_temperature = false;
+        let base = lux_math::emitted_radiance(&params, &l.shape, &l.light_to_world, profile);
+        return Ok(finite(base * ill.rgb_per_nit));
+    }
+    if let Some(s) = spectral_inputs(l, stage_unit)? {
+        let rgb = s
+            .emission_rgb_per_nit(space)
+            .map_err(|e| spectral_error(l, e))?
+            .unwrap_or(DVec3::ONE);
+        let mut params = l.params;
+        params.enable_color_temperature = false;
+        let base = lux_math::emitted_radiance(&params, &l.shape, &l.light_to_world, profile);
+        return Ok(finite(base * rgb));
+    }
+    Ok(finite(lux_math::emitted_radiance(
+        &l.params,
+        &l.shape,
+        &l.light_to_world,
+        profile,
+    )))
+}
+
+fn finite(c: DVec3) -> DVec3 {
+    if c.is_finite() {
+        c.max(DVec3::ZERO)
+    } else {
+        DVec3::ZERO
+    }
+}
