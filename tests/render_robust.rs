@@ -214,22 +214,16 @@ fn camera_sees_the_texture_upright_and_unmirrored() {
 fn light_selection_strategies_agree_with_sampling_every_light() {
     // 24 small sphere lights of varied power over a floor, probed at one point.
     let mut s = Scene::empty("code.usda");
-    s.meshes.push(Mesh {
-        path: "/Floor".into(),
-        positions: vec![
+    s.meshes.push(Mesh::new(
+        "/Floor",
+        vec![
             DVec3::new(-50.0, 0.0, -50.0),
             DVec3::new(-50.0, 0.0, 50.0),
             DVec3::new(50.0, 0.0, 50.0),
             DVec3::new(50.0, 0.0, -50.0),
         ],
-        triangles: vec![[0, 1, 2], [0, 2, 3]],
-        normals: None,
-        colors: None,
-        uvs: None,
-        double_sided: false,
-        material: None,
-        light: None,
-    });
+        vec![[0, 1, 2], [0, 2, 3]],
+    ));
     let mut c = Camera::with_defaults(
         "/Probe",
         DMat4::from_cols_array(&[

@@ -16,22 +16,16 @@ use lux::render::scene::{Camera, Light, Mesh, Projection, Scene};
 use std::f64::consts::PI;
 
 fn floor() -> Mesh {
-    Mesh {
-        path: "/Floor".into(),
-        positions: vec![
+    Mesh::new(
+        "/Floor",
+        vec![
             DVec3::new(-100.0, 0.0, -100.0),
             DVec3::new(-100.0, 0.0, 100.0),
             DVec3::new(100.0, 0.0, 100.0),
             DVec3::new(100.0, 0.0, -100.0),
         ],
-        triangles: vec![[0, 1, 2], [0, 2, 3]],
-        normals: None,
-        colors: None,
-        uvs: None,
-        double_sided: false,
-        material: None,
-        light: None,
-    }
+        vec![[0, 1, 2], [0, 2, 3]],
+    )
 }
 
 /// An orthographic camera 10 units above `(x, 0, z)` looking down, aperture 10⁻⁴ units.

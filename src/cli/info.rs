@@ -87,6 +87,7 @@ pub fn report_json(scene: &Scene, profile: &Result<ResolvedProfile, String>) -> 
             });
             let physical: serde_json::Map<String, Value> = l
                 .physical
+                .values
                 .iter()
                 .map(|(k, v)| (k.clone(), raw_json(v)))
                 .collect();
@@ -95,7 +96,7 @@ pub fn report_json(scene: &Scene, profile: &Result<ResolvedProfile, String>) -> 
                 "position": v3(l.position()), "axis": v3(l.axis()),
                 "api_schemas": l.api_schemas,
                 "profiles": per_profile, "shaping": shaping,
-                "physical": physical, "physical_metadata": l.physical_metadata,
+                "physical": physical, "physical_metadata": l.physical.metadata,
             })
         })
         .collect();
@@ -193,16 +194,17 @@ pub fn report_text(scene: &Scene, profile: &Result<ResolvedProfile, String>) -> 
                 let _ = writeln!(s, "  shaping: not applied");
             }
         }
-        for (k, v) in &l.physical {
+        for (k, v) in &l.physical.values {
             let meta = l
-                .physical_metadata
+                .physical
+                .metadata
                 .get(k)
                 .map(|m| format!("  {m:?}"))
                 .unwrap_or_default();
             let _ = writeln!(s, "  {k} = {}{meta}", raw_json(v));
         }
-        for (k, m) in &l.physical_metadata {
-            if !l.physical.contains_key(k) {
+        for (k, m) in &l.physical.metadata {
+            if !l.physical.values.contains_key(k) {
                 let _ = writeln!(s, "  {k} (no value)  {m:?}");
             }
         }

@@ -240,21 +240,17 @@ mod tests {
 
     fn quad(double_sided: bool, y: f64) -> Mesh {
         Mesh {
-            path: "/q".into(),
-            positions: vec![
-                DVec3::new(-1.0, y, -1.0),
-                DVec3::new(-1.0, y, 1.0),
-                DVec3::new(1.0, y, 1.0),
-                DVec3::new(1.0, y, -1.0),
-            ],
-            // front side +Y: (b − a) × (c − a) = (0,0,2) × (2,0,2) = (0,4,0)
-            triangles: vec![[0, 1, 2], [0, 2, 3]],
-            normals: None,
-            colors: None,
-            uvs: None,
             double_sided,
-            material: None,
-            light: None,
+            ..Mesh::new(
+                "/q",
+                vec![
+                    DVec3::new(-1.0, y, -1.0),
+                    DVec3::new(-1.0, y, 1.0),
+                    DVec3::new(1.0, y, 1.0),
+                    DVec3::new(1.0, y, -1.0),
+                ],
+                vec![[0, 1, 2], [0, 2, 3]],
+            )
         }
     }
 

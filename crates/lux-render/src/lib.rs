@@ -63,6 +63,14 @@ pub enum RenderError {
         /// What is wrong.
         message: String,
     },
+    /// A surface's spectral inputs cannot be converted.
+    #[error("{prim}: {message}")]
+    Surface {
+        /// Gprim or material prim path.
+        prim: String,
+        /// What is wrong.
+        message: String,
+    },
     /// The camera cannot produce rays.
     #[error(transparent)]
     View(#[from] view::ViewError),

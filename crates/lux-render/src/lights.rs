@@ -760,13 +760,11 @@ fn prepare(
         }
     };
     // Base emission.
-    let stage_unit = match scene.unit_for_wavelength.as_deref() {
-        None => lux_spectral::WavelengthUnit::default(),
-        Some(t) => lux_spectral::WavelengthUnit::parse(t).map_err(|e| RenderError::Light {
+    let stage_unit = physical::stage_wavelength_unit(scene.unit_for_wavelength.as_deref())
+        .map_err(|message| RenderError::Light {
             light: l.path.clone(),
-            message: format!("stage unitForWavelength: {e}"),
-        })?,
-    };
+            message,
+        })?;
     let radiance = physical::base_radiance(
         l,
         &shaping,

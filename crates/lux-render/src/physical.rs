@@ -20,7 +20,7 @@
 
 use crate::RenderError;
 use crate::image_io::Texture;
-use crate::scene::{Light, RawValue};
+use crate::scene::{Light, RawValue, SpectralAttributes};
 use glam::DVec3;
 use lux_math::{LightKind, LightShape, Profile};
 use lux_shaping::Shaping;
@@ -39,44 +39,40 @@ const QUANTITY_APIS: [&str; 6] = [
     "RadiometricDistantLightAPI",
 ];
 
-/// A raw attribute of the light, with or without the `inputs:` prefix.
-fn raw<'a>(l: &'a Light, name: &str) -> Option<&'a RawValue> {
-    l.physical
+/// A raw attribute, with or without the `inputs:` prefix.
+fn raw<'a>(a: &'a SpectralAttributes, name: &str) -> Option<&'a RawValue> {
+    a.values
         .get(name)
-        .or_else(|| l.physical.get(&format!("inputs:{name}")))
+        .or_else(|| a.values.get(&format!("inputs:{name}")))
 }
 
 /// Metadata `key` of attribute `name` (with or without `inputs:`).
-fn meta<'a>(l: &'a Light, name: &str, key: &str) -> Option<&'a str> {
-    l.physical_metadata
+fn meta<'a>(a: &'a SpectralAttributes, name: &str, key: &str) -> Option<&'a str> {
+    a.metadata
         .get(name)
-        .or_else(|| l.physical_metadata.get(&format!("inputs:{name}")))
+        .or_else(|| a.metadata.get(&format!("inputs:{name}")))
         .and_then(|m| m.get(key))
         .map(String::as_str)
 }
 
-fn number(l: &Light, name: &str, default: f64) -> Result<f64, RenderError> {
-    match raw(l, name) {
+fn number(a: &SpectralAttributes, name: &str, default: f64) -> Result<f64, String> {
+    match raw(a, name) {
         None => Ok(default),
         Some(RawValue::Number(x)) => Ok(*x),
-        Some(other) => Err(light_error(
-            l,
-            format!("{name}: expected a number, found {other:?}"),
-        )),
+        Some(other) => Err(format!("{name}: expected a number, found {other:?}")),
     }
 }
 
-fn pairs(l: &Light, name: &str) -> Result<Option<Vec<[f32; 2]>>, RenderError> {
-    match raw(l, name) {
+fn pairs(a: &SpectralAttributes, name: &str) -> Result<Option<Vec<[f32; 2]>>, String> {
+    match raw(a, name) {
         None => Ok(None),
         Some(RawValue::Numbers(v)) if v.len() % 2 == 0 => Ok(Some(
             v.chunks_exact(2)
                 .map(|c| [c[0] as f32, c[1] as f32])
                 .collect(),
         )),
-        Some(other) => Err(light_error(
-            l,
-            format!("{name}: expected float2[] (wavelength, value) pairs, found {other:?}"),
+        Some(other) => Err(format!(
+            "{name}: expected float2[] (wavelength, value) pairs, found {other:?}"
         )),
     }
 }
@@ -88,7 +84,7 @@ fn light_error(l: &Light, message: impl Into<String>) -> RenderError {
     }
 }
 
-fn spectral_error(l: &Light, e: lux_spectral::SpectralError) -> RenderError {
+fn spectral_error(l: &Light, e: impl std::fmt::Display) -> RenderError {
     light_error(l, e.to_string())
 }
 
@@ -102,29 +98,43 @@ fn quantity(l: &Light) -> Result<Option<PhysicalQuantity>, RenderError> {
     let Some(api) = QUANTITY_APIS.iter().find(|a| has_api(l, a)) else {
         return Ok(None);
     };
+    let a = &l.physical;
+    let e = |m: String| light_error(l, m);
     let q = match *api {
-        "PhotometricAreaLightAPI" => PhysicalQuantity::PhotometricPower(number(
-            l,
-            "photometric:power",
-            PhysicalQuantity::DEFAULT_PHOTOMETRIC_POWER,
-        )?),
-        "RadiometricAreaLightAPI" => PhysicalQuantity::RadiometricPower(number(
-            l,
-            "radiometric:power",
-            PhysicalQuantity::DEFAULT_RADIOMETRIC_POWER,
-        )?),
+        "PhotometricAreaLightAPI" => PhysicalQuantity::PhotometricPower(
+            number(
+                a,
+                "photometric:power",
+                PhysicalQuantity::DEFAULT_PHOTOMETRIC_POWER,
+            )
+            .map_err(e)?,
+        ),
+        "RadiometricAreaLightAPI" => PhysicalQuantity::RadiometricPower(
+            number(
+                a,
+                "radiometric:power",
+                PhysicalQuantity::DEFAULT_RADIOMETRIC_POWER,
+            )
+            .map_err(e)?,
+        ),
         "PhotometricDomeLightAPI" | "PhotometricDistantLightAPI" => {
-            PhysicalQuantity::PhotometricIlluminance(number(
-                l,
-                "photometric:illuminance",
-                PhysicalQuantity::DEFAULT_PHOTOMETRIC_ILLUMINANCE,
-            )?)
+            PhysicalQuantity::PhotometricIlluminance(
+                number(
+                    a,
+                    "photometric:illuminance",
+                    PhysicalQuantity::DEFAULT_PHOTOMETRIC_ILLUMINANCE,
+                )
+                .map_err(e)?,
+            )
         }
-        _ => PhysicalQuantity::RadiometricIrradiance(number(
-            l,
-            "radiometric:irradiance",
-            PhysicalQuantity::DEFAULT_RADIOMETRIC_IRRADIANCE,
-        )?),
+        _ => PhysicalQuantity::RadiometricIrradiance(
+            number(
+                a,
+                "radiometric:irradiance",
+                PhysicalQuantity::DEFAULT_RADIOMETRIC_IRRADIANCE,
+            )
+            .map_err(e)?,
+        ),
     };
     Ok(Some(q))
 }
@@ -137,7 +147,7 @@ pub fn physical_inputs(
 ) -> Result<PhysicalLightInputs, RenderError> {
     let mut inputs = PhysicalLightInputs::new(quantity);
     inputs.color_temperature = l.params.color_temperature;
-    if let Some(v) = raw(l, "physical:illuminant") {
+    if let Some(v) = raw(&l.physical, "physical:illuminant") {
         let RawValue::Text(t) = v else {
             return Err(light_error(
                 l,
@@ -146,47 +156,109 @@ pub fn physical_inputs(
         };
         inputs.illuminant = IlluminantKind::parse(t).map_err(|e| spectral_error(l, e))?;
     }
-    if let Some(p) = pairs(l, "physical:customIlluminant")? {
+    if let Some(p) =
+        pairs(&l.physical, "physical:customIlluminant").map_err(|m| light_error(l, m))?
+    {
         inputs.custom_illuminant = p;
     }
     Ok(inputs)
 }
 
-/// The LTESpectralAPI inputs of the light (emission only), or `None` without
+/// A `float2[] wavelength:*` attribute with its metadata, `None` when neither values nor an
+/// `illuminantPreset` are authored.
+fn spectral_attribute(
+    a: &SpectralAttributes,
+    attr: &str,
+    interpolation_key: Option<&str>,
+) -> Result<Option<SpectralAttribute>, String> {
+    let values = pairs(a, attr)?;
+    let preset = meta(a, attr, "illuminantPreset");
+    if values.is_none() && preset.is_none() {
+        return Ok(None);
+    }
+    let unit = meta(a, attr, "unitForWavelength")
+        .map(WavelengthUnit::parse)
+        .transpose()
+        .map_err(|e| e.to_string())?;
+    let interpolation = interpolation_key
+        .and_then(|k| meta(a, attr, k))
+        .map(|t| Interpolation::parse(t, attr))
+        .transpose()
+        .map_err(|e| e.to_string())?
+        .unwrap_or_default();
+    let illuminant_preset = preset
+        .map(lux_spectral::Illuminant::parse)
+        .transpose()
+        .map_err(|e| e.to_string())?;
+    Ok(Some(SpectralAttribute {
+        values: values.unwrap_or_default(),
+        unit_for_wavelength: unit,
+        interpolation,
+        illuminant_preset,
+    }))
+}
+
+/// The LTESpectralAPI inputs of a light (emission only), or `None` without
 /// `wavelength:emission`.
 pub fn spectral_inputs(
     l: &Light,
     stage_unit: WavelengthUnit,
 ) -> Result<Option<SpectralInputs>, RenderError> {
-    const ATTR: &str = "wavelength:emission";
-    let values = pairs(l, ATTR)?;
-    let preset = meta(l, ATTR, "illuminantPreset");
-    if values.is_none() && preset.is_none() {
-        return Ok(None);
-    }
-    let unit = meta(l, ATTR, "unitForWavelength")
-        .map(WavelengthUnit::parse)
-        .transpose()
-        .map_err(|e| spectral_error(l, e))?;
-    let interpolation = meta(l, ATTR, "emissionInterpolation")
-        .map(|t| Interpolation::parse(t, ATTR))
-        .transpose()
-        .map_err(|e| spectral_error(l, e))?
-        .unwrap_or_default();
-    let illuminant_preset = preset
-        .map(lux_spectral::Illuminant::parse)
-        .transpose()
-        .map_err(|e| spectral_error(l, e))?;
-    Ok(Some(SpectralInputs {
+    let emission = spectral_attribute(
+        &l.physical,
+        "wavelength:emission",
+        Some("emissionInterpolation"),
+    )
+    .map_err(|m| light_error(l, m))?;
+    Ok(emission.map(|e| SpectralInputs {
         unit_for_wavelength: stage_unit,
-        emission: Some(SpectralAttribute {
-            values: values.unwrap_or_default(),
-            unit_for_wavelength: unit,
-            interpolation,
-            illuminant_preset,
-        }),
+        emission: Some(e),
         ..SpectralInputs::default()
     }))
+}
+
+/// The LTESpectralAPI inputs of a surface: `wavelength:reflectance`, `wavelength:ior` (with
+/// `iorInterpolation`, including `"sellmeier"`) and the scalar `ior`. Errors are messages for
+/// the caller to attach to the prim.
+pub fn surface_spectral_inputs(
+    a: &SpectralAttributes,
+    stage_unit: WavelengthUnit,
+) -> Result<SpectralInputs, String> {
+    let reflectance = spectral_attribute(a, "wavelength:reflectance", None)?;
+    let ior = match pairs(a, "wavelength:ior")? {
+        None => None,
+        Some(values) => Some(lux_spectral::IorAttribute {
+            values,
+            unit_for_wavelength: meta(a, "wavelength:ior", "unitForWavelength")
+                .map(WavelengthUnit::parse)
+                .transpose()
+                .map_err(|e| e.to_string())?,
+            interpolation: meta(a, "wavelength:ior", "iorInterpolation")
+                .map(lux_spectral::IorInterpolation::parse)
+                .transpose()
+                .map_err(|e| e.to_string())?
+                .unwrap_or_default(),
+        }),
+    };
+    let scalar_ior = match raw(a, "ior") {
+        Some(RawValue::Number(x)) => Some(*x),
+        _ => None,
+    };
+    Ok(SpectralInputs {
+        unit_for_wavelength: stage_unit,
+        emission: None,
+        reflectance,
+        ior,
+        scalar_ior,
+    })
+}
+
+/// The stage's `unitForWavelength` (nanometres when unauthored).
+pub fn stage_wavelength_unit(unit: Option<&str>) -> Result<WavelengthUnit, String> {
+    match unit {
+        None => Ok(WavelengthUnit::default()),
+        Some(t) => WavelengthUnit::parse(t).map_err(|e| format!("stage unitForWavelength: {e}")),
+    }
 }
 
 /// G of lux-spectral for an area light: the shaping integral weighted by the colour of one

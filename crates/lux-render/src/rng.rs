@@ -118,7 +118,8 @@ impl SampleStream {
     /// Sample `sample` of `spp` of pixel `pixel` (a linear pixel index) under `seed`.
     #[inline]
     pub fn new(seed: u64, pixel: u64, sample: u32, spp: u32) -> SampleStream {
-        let key = mix64(mix64(seed ^ 0x6A09_E667_F3BC_C909) ^ pixel.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+        let key =
+            mix64(mix64(seed ^ 0x6A09_E667_F3BC_C909) ^ pixel.wrapping_mul(0x9E37_79B9_7F4A_7C15));
         SampleStream {
             key,
             sample,
@@ -197,7 +198,10 @@ mod tests {
                         let c = (p[0] * nx as f64) as u32 + nx * (p[1] * ny as f64) as u32;
                         cells[c as usize] += 1;
                     }
-                    assert!(cells.iter().all(|&c| c == 1), "k {k} pixel {pixel} shape {nx}x{ny}");
+                    assert!(
+                        cells.iter().all(|&c| c == 1),
+                        "k {k} pixel {pixel} shape {nx}x{ny}"
+                    );
                 }
             }
         }
@@ -229,7 +233,10 @@ mod tests {
         // freedom, P(chi2 > 110) < 1e-4 even for independent draws.
         assert!(chi2 < 110.0, "chi2 {chi2}");
         let corr = sxy / n as f64 * 12.0;
-        assert!(corr.abs() < 4.0 / (n as f64).sqrt(), "correlation between pairs {corr}");
+        assert!(
+            corr.abs() < 4.0 / (n as f64).sqrt(),
+            "correlation between pairs {corr}"
+        );
     }
 
     /// The scrambled net integrates a smooth function much better than independent points:

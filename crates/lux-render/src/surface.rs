@@ -5,7 +5,7 @@
 use crate::RenderError;
 use crate::geometry::Hit;
 use crate::image_io::{Texture, linear_to_srgb};
-use crate::scene::{Diffuse, Scene, TextureInput};
+use crate::scene::{Diffuse, Scene, SpectralAttributes, TextureInput};
 use glam::{DVec2, DVec3, DVec4};
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -105,6 +105,30 @@ enum Albedo {
 /// The prepared materials of a scene.
 pub struct Surfaces {
     materials: Vec<Albedo>,
+    /// Per mesh: the albedo of a `wavelength:reflectance` authored on the gprim.
+    mesh_reflectance: Vec<Option<DVec3>>,
+}
+
+/// Linear Rec.709 albedo of a `wavelength:reflectance` (lux-spectral, lit by the colour
+/// space's white), if authored.
+fn reflectance_albedo(
+    prim: &str,
+    a: &SpectralAttributes,
+    unit: lux_spectral::WavelengthUnit,
+) -> Result<Option<DVec3>, RenderError> {
+    let err = |message: String| RenderError::Surface {
+        prim: prim.to_owned(),
+        message,
+    };
+    if a.is_empty() {
+        return Ok(None);
+    }
+    let inputs = crate::physical::surface_spectral_inputs(a, unit).map_err(err)?;
+    // Validate the IOR too (it does not change a diffuse surface): bad data is an error.
+    inputs.ior().map_err(|e| err(e.to_string()))?;
+    inputs
+        .reflectance_rgb(lux_spectral::ColorSpace::Rec709)
+        .map_err(|e| err(e.to_string()))
 }
 
 /// The shading frame and albedo at a hit.
@@ -134,15 +158,33 @@ impl Surfaces {
     /// Loads the textures of every material (once per file). A texture that does not resolve or
     /// cannot be read is an error naming it.
     pub fn new(scene: &Scene) -> Result<Surfaces, RenderError> {
+        let unit = crate::physical::stage_wavelength_unit(scene.unit_for_wavelength.as_deref())
+            .map_err(|message| RenderError::Surface {
+                prim: "/".into(),
+                message,
+            })?;
         let mut cache: HashMap<PathBuf, Arc<Texture>> = HashMap::new();
         let mut materials = Vec::with_capacity(scene.materials.len());
         for m in &scene.materials {
+            // LTESpectralAPI: a spectral reflectance on the surface shader replaces diffuseColor.
+            if let Some(c) = reflectance_albedo(&m.path, &m.spectral, unit)? {
+                materials.push(Albedo::Color(c));
+                continue;
+            }
             materials.push(match &m.diffuse {
                 Diffuse::Color(c) => Albedo::Color(*c),
                 Diffuse::Texture(t) => texture_shader(&m.path, t, &mut cache)?,
             });
         }
-        Ok(Surfaces { materials })
+        let mesh_reflectance = scene
+            .meshes
+            .iter()
+            .map(|m| reflectance_albedo(&m.path, &m.spectral, unit))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Surfaces {
+            materials,
+            mesh_reflectance,
+        })
     }
 
     /// The surface seen by a ray of direction `d` at `hit`.
@@ -161,18 +203,24 @@ impl Surfaces {
         } else if ns.dot(ng) < 0.0 {
             ns = -ns;
         }
-        let albedo = match mesh.material.and_then(|i| self.materials.get(i)) {
-            Some(Albedo::Color(c)) => *c,
-            Some(Albedo::Texture(t)) => match &mesh.uvs {
-                Some(uv) => {
-                    let c = &uv[hit.tri];
-                    t.eval(b0 * c[0] + b1 * c[1] + b2 * c[2])
-                }
-                None => t.eval(DVec2::ZERO),
-            },
-            None => match &mesh.colors {
-                Some(c) => interp3(&c[hit.tri]),
-                None => DVec3::ONE,
+        let albedo = match (
+            self.mesh_reflectance[hit.mesh],
+            mesh.material.and_then(|i| self.materials.get(i)),
+        ) {
+            (Some(c), _) => c,
+            (None, m) => match m {
+                Some(Albedo::Color(c)) => *c,
+                Some(Albedo::Texture(t)) => match &mesh.uvs {
+                    Some(uv) => {
+                        let c = &uv[hit.tri];
+                        t.eval(b0 * c[0] + b1 * c[1] + b2 * c[2])
+                    }
+                    None => t.eval(DVec2::ZERO),
+                },
+                None => match &mesh.colors {
+                    Some(c) => interp3(&c[hit.tri]),
+                    None => DVec3::ONE,
+                },
             },
         };
         let albedo = if albedo.is_finite() {

@@ -148,13 +148,11 @@ pub struct Light {
     /// The prim's applied API schemas as composed.
     pub api_schemas: Vec<String>,
     /// Raw `physical:*`, `photometric:*`, `radiometric:*`, `wavelength:*` attributes (with or
-    /// without the `inputs:` prefix), keyed by attribute name.
-    pub physical: BTreeMap<String, RawValue>,
-    /// String-valued metadata of those attributes (LTESpectralAPI `unitForWavelength`,
-    /// `emissionInterpolation`, `illuminantPreset`, `iorInterpolation`), keyed by attribute
-    /// name, then metadata key. An attribute may carry metadata without a value (an
-    /// `illuminantPreset` on an empty `wavelength:emission`).
-    pub physical_metadata: BTreeMap<String, BTreeMap<String, String>>,
+    /// without the `inputs:` prefix) and their LTESpectralAPI metadata (`unitForWavelength`,
+    /// `emissionInterpolation`, `illuminantPreset`, `iorInterpolation`). An attribute may
+    /// carry metadata without a value (an `illuminantPreset` on an empty
+    /// `wavelength:emission`).
+    pub physical: SpectralAttributes,
 }
 
 impl Light {
@@ -191,8 +189,7 @@ impl Light {
             }
             .to_owned(),
             api_schemas: Vec::new(),
-            physical: BTreeMap::new(),
-            physical_metadata: BTreeMap::new(),
+            physical: SpectralAttributes::default(),
         }
     }
 
@@ -216,6 +213,95 @@ pub const SPECTRAL_METADATA: [&str; 4] = [
     "illuminantPreset",
     "iorInterpolation",
 ];
+
+/// Attribute namespaces a light's physical-unit and spectral inputs live in.
+pub const LIGHT_NAMESPACES: [&str; 4] =
+    ["physical:", "photometric:", "radiometric:", "wavelength:"];
+
+/// Attribute namespaces of a surface's spectral inputs (LTESpectralAPI on a gprim or on its
+/// material's surface shader), plus the scalar `ior`.
+pub const SURFACE_NAMESPACES: [&str; 2] = ["wavelength:", "ior"];
+
+/// Raw attributes in some namespaces (with or without the `inputs:` prefix) and their
+/// LTESpectralAPI metadata, for conversion by lux-spectral.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SpectralAttributes {
+    /// Values keyed by attribute name as authored.
+    pub values: BTreeMap<String, RawValue>,
+    /// String metadata ([`SPECTRAL_METADATA`] keys) keyed by attribute name, then key.
+    pub metadata: BTreeMap<String, BTreeMap<String, String>>,
+}
+
+impl SpectralAttributes {
+    /// Nothing authored.
+    pub fn is_empty(&self) -> bool {
+        self.values.is_empty() && self.metadata.is_empty()
+    }
+}
+
+/// Reads every attribute of `prim` whose name (without `inputs:`) starts with one of
+/// `namespaces` (an entry without a trailing `:` must match the whole name), with its
+/// [`SPECTRAL_METADATA`]. Values of a type lux cannot use are skipped with a warning.
+pub fn read_spectral_attributes(
+    r: &mut Reader<'_>,
+    prim: &Prim,
+    namespaces: &[&str],
+) -> Result<SpectralAttributes, LoadError> {
+    let mut out = SpectralAttributes::default();
+    let names = prim.property_names().map_err(|e| r.usd_error(prim, e))?;
+    for name in names {
+        let name = name.as_str();
+        let bare = name.strip_prefix("inputs:").unwrap_or(name);
+        let wanted = namespaces.iter().any(|n| {
+            if n.ends_with(':') {
+                bare.starts_with(n)
+            } else {
+                bare == *n
+            }
+        });
+        if !wanted {
+            continue;
+        }
+        let mut metas = BTreeMap::new();
+        for key in SPECTRAL_METADATA {
+            if let Some(v) = r.metadata_text(prim, name, key) {
+                metas.insert(key.to_owned(), v);
+            }
+        }
+        if !metas.is_empty() {
+            out.metadata.insert(name.to_owned(), metas);
+        }
+        if let Some(v) = r.raw(prim, name)? {
+            let raw = if let Some(b) = value::as_bool(&v) {
+                RawValue::Bool(b)
+            } else if let Some(x) = value::as_f64(&v) {
+                RawValue::Number(x)
+            } else if let Some(t) = value::as_text(&v) {
+                RawValue::Text(t)
+            } else if let Some((authored, resolved)) = value::as_asset(&v) {
+                RawValue::Asset(AssetRef {
+                    authored,
+                    resolved: resolved.map(Into::into),
+                })
+            } else if let Some(a) = value::as_f64_array(&v) {
+                RawValue::Numbers(a)
+            } else if let Some(a) = value::as_vec2_array(&v) {
+                RawValue::Numbers(a.iter().flat_map(|p| [p.x, p.y]).collect())
+            } else if let Some(a) = value::as_vec3_array(&v) {
+                RawValue::Numbers(a.iter().flat_map(|p| [p.x, p.y, p.z]).collect())
+            } else {
+                r.warn(
+                    prim,
+                    WarningKind::Unsupported,
+                    format!("{name}: value type {} not recorded", value::type_label(&v)),
+                );
+                continue;
+            };
+            out.values.insert(name.to_owned(), raw);
+        }
+    }
+    Ok(out)
+}
 
 /// The light kind of a concrete light prim type, `None` for anything else.
 pub fn kind_of_type(type_name: &str) -> Option<LightKind> {
@@ -324,58 +410,11 @@ pub fn read_light(
     } else {
         ShadowInputs::default()
     };
-    let mut physical = BTreeMap::new();
-    let mut physical_metadata = BTreeMap::new();
     let names = prim.property_names().map_err(|e| r.usd_error(prim, e))?;
-    let mut shaping_authored = false;
-    for name in names {
-        let name = name.as_str();
-        let bare = name.strip_prefix("inputs:").unwrap_or(name);
-        if name.starts_with("inputs:shaping:") {
-            shaping_authored = true;
-        }
-        let ns = ["physical:", "photometric:", "radiometric:", "wavelength:"];
-        if !ns.iter().any(|n| bare.starts_with(n)) {
-            continue;
-        }
-        let mut metas = BTreeMap::new();
-        for key in SPECTRAL_METADATA {
-            if let Some(v) = r.metadata_text(prim, name, key) {
-                metas.insert(key.to_owned(), v);
-            }
-        }
-        if !metas.is_empty() {
-            physical_metadata.insert(name.to_owned(), metas);
-        }
-        if let Some(v) = r.raw(prim, name)? {
-            let raw = if let Some(b) = value::as_bool(&v) {
-                RawValue::Bool(b)
-            } else if let Some(x) = value::as_f64(&v) {
-                RawValue::Number(x)
-            } else if let Some(t) = value::as_text(&v) {
-                RawValue::Text(t)
-            } else if let Some((authored, resolved)) = value::as_asset(&v) {
-                RawValue::Asset(AssetRef {
-                    authored,
-                    resolved: resolved.map(Into::into),
-                })
-            } else if let Some(a) = value::as_f64_array(&v) {
-                RawValue::Numbers(a)
-            } else if let Some(a) = value::as_vec2_array(&v) {
-                RawValue::Numbers(a.iter().flat_map(|p| [p.x, p.y]).collect())
-            } else if let Some(a) = value::as_vec3_array(&v) {
-                RawValue::Numbers(a.iter().flat_map(|p| [p.x, p.y, p.z]).collect())
-            } else {
-                r.warn(
-                    prim,
-                    WarningKind::Unsupported,
-                    format!("{name}: value type {} not recorded", value::type_label(&v)),
-                );
-                continue;
-            };
-            physical.insert(name.to_owned(), raw);
-        }
-    }
+    let shaping_authored = names
+        .iter()
+        .any(|n| n.as_str().starts_with("inputs:shaping:"));
+    let physical = read_spectral_attributes(r, prim, &LIGHT_NAMESPACES)?;
     if shaping.is_none() && shaping_authored {
         r.warn(
             prim,
@@ -449,6 +488,5 @@ pub fn read_light(
             .unwrap_or_else(|| default_sync.to_owned()),
         api_schemas: api_schemas.to_vec(),
         physical,
-        physical_metadata,
     })
 }

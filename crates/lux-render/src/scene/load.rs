@@ -375,6 +375,11 @@ impl Walk<'_> {
             }
         }
         let double_sided = self.r.bool_or(prim, "doubleSided", false)?;
+        let spectral = super::light::read_spectral_attributes(
+            &mut self.r,
+            prim,
+            &super::light::SURFACE_NAMESPACES,
+        )?;
         let mut light = None;
         if api.iter().any(|a| a == "MeshLightAPI") {
             let tris = topo
@@ -410,6 +415,7 @@ impl Walk<'_> {
             double_sided,
             material,
             light,
+            spectral,
         });
         Ok(())
     }

@@ -1,6 +1,7 @@
 //! `material:binding` → `UsdPreviewSurface.inputs:diffuseColor`, as a value or a `UsdUVTexture`.
 
 use super::error::{LoadError, WarningKind};
+use super::light::{SURFACE_NAMESPACES, SpectralAttributes, read_spectral_attributes};
 use super::reader::{AssetRef, Reader};
 use glam::{DVec3, DVec4};
 use openusd::usd::Prim;
@@ -54,6 +55,9 @@ pub struct Material {
     pub diffuse: Diffuse,
     /// Other authored UsdPreviewSurface inputs (recorded by name, not used).
     pub other_inputs: Vec<String>,
+    /// LTESpectralAPI inputs of the surface shader (`wavelength:reflectance`,
+    /// `wavelength:ior`, scalar `ior`); a `wavelength:reflectance` replaces `diffuseColor`.
+    pub spectral: SpectralAttributes,
 }
 
 /// Follows the connection of `attr` on `prim` through NodeGraph/Material interface inputs;
@@ -87,6 +91,7 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
         path: path.to_owned(),
         diffuse: Diffuse::Color(DEFAULT_DIFFUSE),
         other_inputs: Vec::new(),
+        spectral: SpectralAttributes::default(),
     };
     let (shader_path, _) = follow(r, path, "outputs:surface")?;
     if shader_path == path {
@@ -106,6 +111,7 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
         );
         return Ok(out);
     }
+    out.spectral = read_spectral_attributes(r, &shader, &SURFACE_NAMESPACES)?;
     for name in shader
         .property_names()
         .map_err(|e| r.usd_error(&shader, e))?

@@ -30,6 +30,28 @@ pub struct Mesh {
     pub material: Option<usize>,
     /// Index into `Scene::lights` when the gprim has `MeshLightAPI`.
     pub light: Option<usize>,
+    /// LTESpectralAPI inputs authored on the gprim itself (`wavelength:reflectance`, …); a
+    /// reflectance here wins over the material's.
+    pub spectral: super::light::SpectralAttributes,
+}
+
+impl Mesh {
+    /// A single-sided mesh without primvars, material or light, for scenes built in code.
+    /// Triangles are wound with `(b − a) × (c − a)` towards the front side.
+    pub fn new(path: impl Into<String>, positions: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> Mesh {
+        Mesh {
+            path: path.into(),
+            positions,
+            triangles,
+            normals: None,
+            colors: None,
+            uvs: None,
+            double_sided: false,
+            material: None,
+            light: None,
+            spectral: Default::default(),
+        }
+    }
 }
 
 /// The triangulated topology of a gprim in its local space, before transforming.

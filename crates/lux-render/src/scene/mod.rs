@@ -23,7 +23,7 @@ pub mod xform;
 
 pub use camera::{Camera, Projection, RenderBase, RenderProduct, RenderSettings};
 pub use error::{LoadError, Warning, WarningKind};
-pub use light::{Light, PoleAxis, RawValue, ShadowInputs, ShapingInputs};
+pub use light::{Light, PoleAxis, RawValue, ShadowInputs, ShapingInputs, SpectralAttributes};
 pub use load::load_stage;
 pub use material::{Diffuse, Material, TextureInput};
 pub use mesh::Mesh;

@@ -1,0 +1,352 @@
+//! Physical light units and the spectral API wired into the renderer (issue 8): the loader
+//! reads the attributes and their metadata, the renderer emits lux-spectral's conversion, and
+//! rendered irradiance matches the authored physical quantity.
+
+use glam::{DMat4, DQuat, DVec3};
+use lux::math::{LightShape, Profile};
+use lux::render::conformance::{ProfileSource, ResolvedProfile};
+use lux::render::lights::{LightOptions, LightSelection, LightSet};
+use lux::render::render::{RenderOptions, Renderer};
+use lux::render::scene::{Camera, Light, Mesh, Projection, RawValue, Scene, load_stage};
+use lux::shaping::{Shaping, ShapingOptions, ShapingParams};
+use lux::spectral::{
+    ColorSpace, IlluminantKind, PhysicalLightInputs, PhysicalQuantity, resolve_illuminant,
+};
+use std::f64::consts::PI;
+use std::path::PathBuf;
+
+fn data() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/physical_lights.usda")
+}
+
+fn lights(scene: &Scene) -> LightSet {
+    LightSet::new(
+        scene,
+        LightOptions {
+            profile: Profile::Spec,
+            selection: LightSelection::All,
+        },
+    )
+    .unwrap()
+}
+
+fn radiance(set: &LightSet, path: &str) -> DVec3 {
+    set.lights
+        .iter()
+        .find(|l| l.path == path)
+        .unwrap_or_else(|| panic!("{path} prepared"))
+        .radiance
+}
+
+fn close3(got: DVec3, want: DVec3, rel: f64, what: &str) {
+    assert!(
+        (got - want).abs().max_element() <= rel * want.abs().max_element(),
+        "{what}: got {got}, want {want}"
+    );
+}
+
+#[test]
+fn loader_reads_physical_attributes_and_spectral_metadata() {
+    let scene = load_stage(data(), 1.0).unwrap();
+    assert_eq!(scene.unit_for_wavelength.as_deref(), Some("nanometers"));
+    let l = scene.light("/World/Lumens").unwrap();
+    assert!(l.api_schemas.iter().any(|a| a == "PhotometricAreaLightAPI"));
+    assert_eq!(
+        l.physical.values["photometric:power"],
+        RawValue::Number(800.0)
+    );
+    assert_eq!(
+        l.physical.values["physical:illuminant"],
+        RawValue::Text("blackbody".into())
+    );
+    let p = scene.light("/World/Preset").unwrap();
+    assert_eq!(
+        p.physical.metadata["wavelength:emission"]["illuminantPreset"],
+        "d65"
+    );
+    let m = scene.light("/World/Micrometres").unwrap();
+    assert_eq!(
+        m.physical.metadata["wavelength:emission"]["unitForWavelength"],
+        "micrometers"
+    );
+    assert_eq!(
+        m.physical.metadata["wavelength:emission"]["emissionInterpolation"],
+        "held"
+    );
+    let grey = scene
+        .meshes
+        .iter()
+        .find(|m| m.path == "/World/Grey")
+        .unwrap();
+    assert_eq!(
+        grey.spectral.metadata["wavelength:ior"]["iorInterpolation"],
+        "sellmeier"
+    );
+}
+
+#[test]
+fn renderer_emits_the_converted_radiance() {
+    let scene = load_stage(data(), 1.0).unwrap();
+    let set = lights(&scene);
+    // Rect: L = Φ/(A·π) nits, coloured by the 3000 K blackbody's colour of one nit.
+    let mut inputs = PhysicalLightInputs::new(PhysicalQuantity::PhotometricPower(800.0));
+    inputs.illuminant = IlluminantKind::Blackbody;
+    inputs.color_temperature = 3000.0;
+    let ill = resolve_illuminant(&inputs, ColorSpace::Rec709).unwrap();
+    close3(
+        radiance(&set, "/World/Lumens"),
+        ill.rgb_per_nit * (800.0 / (2.0 * 0.5 * PI)),
+        1e-9,
+        "photometric rect",
+    );
+    // Sphere: Φv = K·W over the white illuminant (D65 on 380–780 nm), L = Φv/(4πr²·π).
+    let white = resolve_illuminant(
+        &PhysicalLightInputs::new(PhysicalQuantity::RadiometricPower(5.0)),
+        ColorSpace::Rec709,
+    )
+    .unwrap();
+    assert!(
+        white.efficacy > 150.0 && white.efficacy < 400.0,
+        "{}",
+        white.efficacy
+    );
+    let area = 4.0 * PI * 0.25 * 0.25;
+    close3(
+        radiance(&set, "/World/Watts"),
+        DVec3::splat(5.0 * white.efficacy / (area * PI)),
+        1e-9,
+        "radiometric sphere",
+    );
+    // Distant: E/(π sin²θmax) for the 0.53° sun (`float inputs:angle`: the f32 value).
+    let s = ((0.53f32 as f64).to_radians() / 2.0).sin();
+    close3(
+        radiance(&set, "/World/Sun"),
+        DVec3::splat(100000.0 / (PI * s * s)),
+        1e-9,
+        "photometric sun",
+    );
+    // Preset D65 emission with intensity 2: D65 is the Rec.709 white, so (2, 2, 2).
+    close3(
+        radiance(&set, "/World/Preset"),
+        DVec3::splat(2.0),
+        2e-3,
+        "d65 preset",
+    );
+    // A µm table (held) is the same SPD as its nm version; out-of-gamut (negative) Rec.709
+    // components are clamped to 0 on emission.
+    let nm = lux::spectral::SpectralInputs {
+        emission: Some(lux::spectral::SpectralAttribute {
+            values: vec![[500.0, 1.0], [600.0, 1.0]],
+            interpolation: lux::spectral::Interpolation::Held,
+            ..Default::default()
+        }),
+        ..Default::default()
+    };
+    let want = nm
+        .emission_rgb_per_nit(ColorSpace::Rec709)
+        .unwrap()
+        .unwrap()
+        .max(DVec3::ZERO);
+    let got = radiance(&set, "/World/Micrometres");
+    close3(got, want, 1e-6, "µm emission");
+    assert!(got.z == 0.0 && got.y > got.x, "{got}");
+}
+
+fn floor_probe_scene(light: Light, x: f64, z: f64) -> Scene {
+    let mut s = Scene::empty("code.usda");
+    s.meshes.push(Mesh::new(
+        "/Floor",
+        vec![
+            DVec3::new(-100.0, 0.0, -100.0),
+            DVec3::new(-100.0, 0.0, 100.0),
+            DVec3::new(100.0, 0.0, 100.0),
+            DVec3::new(100.0, 0.0, -100.0),
+        ],
+        vec![[0, 1, 2], [0, 2, 3]],
+    ));
+    let mut c = Camera::with_defaults(
+        "/Probe",
+        DMat4::from_cols_array(&[
+            1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 1.0, 0.0, 0.0, x, 10.0, z, 1.0,
+        ]),
+    );
+    c.projection = Projection::Orthographic;
+    c.horizontal_aperture = 1e-3;
+    c.vertical_aperture = 1e-3;
+    c.clipping_range = glam::DVec2::new(0.0, 1e6);
+    s.cameras.push(c);
+    s.lights.push(light);
+    s
+}
+
+fn probe(s: &Scene, spp: u32) -> f64 {
+    let mut o = RenderOptions::new(ResolvedProfile {
+        profile: Profile::Spec,
+        source: ProfileSource::CommandLine,
+    });
+    o.spp = spp;
+    o.resolution = Some([1, 1]);
+    Renderer::new(s, o).unwrap().pixel_value(0, 0).x
+}
+
+#[test]
+fn rendered_irradiance_matches_the_authored_power() {
+    // A shaped rect of 800 lm (cone 30°, softness 0.4, focus 1.5) 40 units above the floor,
+    // aimed down: far away it is a point source whose on-axis intensity is
+    // I(0) = L·A·f(0) with L = Φ/(A·G), so E = Φ·f(0)/(G·d²) — G from lux-shaping.
+    let d = 40.0;
+    let params = ShapingParams {
+        focus: 1.5,
+        cone_angle_deg: 30.0,
+        cone_softness: 0.4,
+        ..ShapingParams::default()
+    };
+    let shaping = Shaping::new(&params, None, ShapingOptions::default()).unwrap();
+    let g = shaping.integral_cos_hemisphere()[0];
+    let mut l = Light::with_defaults(
+        "/Lumens",
+        LightShape::Rect {
+            width: 0.4,
+            height: 0.2,
+        },
+        DMat4::from_rotation_translation(
+            DQuat::from_rotation_arc(DVec3::NEG_Z, DVec3::NEG_Y),
+            DVec3::new(0.0, d, 0.0),
+        ),
+    );
+    l.api_schemas = vec!["PhotometricAreaLightAPI".into(), "ShapingAPI".into()];
+    l.physical
+        .values
+        .insert("photometric:power".into(), RawValue::Number(800.0));
+    l.shaping = Some(lux::render::scene::ShapingInputs {
+        focus: 1.5,
+        cone_angle_deg: 30.0,
+        cone_softness: 0.4,
+        ..Default::default()
+    });
+    let e = probe(&floor_probe_scene(l, 0.0, 0.0), 64) * PI;
+    let want = 800.0 / (g * d * d);
+    assert!((e - want).abs() < 1e-3 * want, "E = {e} lux, want {want}");
+
+    // A PhotometricDistantLightAPI sun of 50 000 lux at 30° from the zenith: E = 50000·cos 30°.
+    let mut sun = Light::with_defaults(
+        "/Sun",
+        LightShape::Distant { angle_deg: 0.53 },
+        DMat4::from_quat(DQuat::from_rotation_arc(
+            DVec3::NEG_Z,
+            DVec3::new(0.5, -(3f64.sqrt()) / 2.0, 0.0),
+        )),
+    );
+    sun.api_schemas = vec!["PhotometricDistantLightAPI".into()];
+    sun.physical
+        .values
+        .insert("photometric:illuminance".into(), RawValue::Number(50000.0));
+    let e = probe(&floor_probe_scene(sun, 0.0, 0.0), 64) * PI;
+    let want = 50000.0 * (3f64.sqrt() / 2.0);
+    assert!((e - want).abs() < 1e-3 * want, "sun E = {e}, want {want}");
+
+    // A PhotometricDomeLightAPI of 20 000 lux without a texture: the upward floor receives it.
+    let mut dome = Light::with_defaults("/Sky", LightShape::Dome, DMat4::IDENTITY);
+    dome.api_schemas = vec!["PhotometricDomeLightAPI".into()];
+    dome.physical
+        .values
+        .insert("photometric:illuminance".into(), RawValue::Number(20000.0));
+    let e = probe(&floor_probe_scene(dome, 0.0, 0.0), 1024) * PI;
+    assert!((e - 20000.0).abs() < 2e-3 * 20000.0, "dome E = {e}");
+}
+
+#[test]
+fn spectral_reflectance_sets_the_albedo() {
+    let scene = load_stage(data(), 1.0).unwrap();
+    // The Grey triangle's constant 0.5 reflectance under the white point is ≈ grey 0.5.
+    let mut s = floor_probe_scene(
+        Light::with_defaults(
+            "/Sun",
+            LightShape::Distant { angle_deg: 0.0 },
+            DMat4::from_quat(DQuat::from_rotation_arc(DVec3::NEG_Z, DVec3::NEG_Y)),
+        ),
+        0.0,
+        0.0,
+    );
+    s.lights[0].params.intensity = PI;
+    s.meshes[0].spectral = scene
+        .meshes
+        .iter()
+        .find(|m| m.path == "/World/Grey")
+        .unwrap()
+        .spectral
+        .clone();
+    let mut o = RenderOptions::new(ResolvedProfile {
+        profile: Profile::Spec,
+        source: ProfileSource::CommandLine,
+    });
+    o.spp = 4;
+    o.resolution = Some([1, 1]);
+    let v = Renderer::new(&s, o).unwrap().pixel_value(0, 0);
+    for c in [v.x, v.y, v.z] {
+        assert!((c - 0.5).abs() < 5e-3, "{v}");
+    }
+}
+
+#[test]
+fn bad_spectra_are_errors_naming_the_prim() {
+    let mut l = Light::with_defaults("/Bad", LightShape::Sphere { radius: 0.1 }, DMat4::IDENTITY);
+    l.physical.values.insert(
+        "wavelength:emission".into(),
+        RawValue::Numbers(vec![600.0, 1.0, 500.0, 1.0]),
+    );
+    let s = floor_probe_scene(l, 0.0, 0.0);
+    let e = LightSet::new(
+        &s,
+        LightOptions {
+            profile: Profile::Spec,
+            selection: LightSelection::All,
+        },
+    )
+    .err()
+    .expect("unsorted wavelengths are refused");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("/Bad") && msg.contains("wavelength:emission"),
+        "{msg}"
+    );
+    // Empty without a preset.
+    let mut l = Light::with_defaults(
+        "/Empty",
+        LightShape::Sphere { radius: 0.1 },
+        DMat4::IDENTITY,
+    );
+    l.physical
+        .values
+        .insert("wavelength:emission".into(), RawValue::Numbers(vec![]));
+    assert!(
+        LightSet::new(
+            &floor_probe_scene(l, 0.0, 0.0),
+            LightOptions {
+                profile: Profile::Spec,
+                selection: LightSelection::All,
+            },
+        )
+        .is_err()
+    );
+    // A bad reflectance on a gprim fails the render set-up, naming the gprim.
+    let mut s = floor_probe_scene(
+        Light::with_defaults("/L", LightShape::Sphere { radius: 0.1 }, DMat4::IDENTITY),
+        0.0,
+        0.0,
+    );
+    s.meshes[0].spectral.values.insert(
+        "wavelength:reflectance".into(),
+        RawValue::Numbers(vec![400.0, 1.5, 700.0, 0.5]),
+    );
+    let e = Renderer::new(
+        &s,
+        RenderOptions::new(ResolvedProfile {
+            profile: Profile::Spec,
+            source: ProfileSource::CommandLine,
+        }),
+    )
+    .err()
+    .expect("reflectance above 1 is refused");
+    assert!(e.to_string().contains("/Floor"), "{e}");
+}
