@@ -85,7 +85,11 @@ fn finish(points: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> Topology {
 fn arc(r: f64, zc: f64, t0: f64, t1: f64, steps: usize) -> impl Iterator<Item = DVec2> {
     (0..=steps).map(move |k| {
         let t = t0 + (t1 - t0) * k as f64 / steps as f64;
-        DVec2::new(r * t.sin(), zc + r * t.cos())
+        // sin(π) is 1.2e-16, not 0: snap the poles onto the axis so that the revolved pole
+        // copies coincide and their sliver triangles are dropped as degenerate.
+        let s = t.sin();
+        let s = if s.abs() < 1e-12 { 0.0 } else { s };
+        DVec2::new(r * s, zc + r * t.cos())
     })
 }
 
