@@ -11,7 +11,9 @@
 //! - `factor/ies_bilinear_shaped`: the same with angleScale 0.8, focus, tint and a soft 120°
 //!   cone;
 //! - `factor/ies_bicubic`: the first with bicubic interpolation;
-//! - `bounds/max_factor_in_cone`: the IES light's bound over a 10° query cone.
+//! - `bounds/max_factor_in_cone`: the IES light's bound over a 10° query cone;
+//! - `factor/identity`: a light without ShapingAPI — the cost of the harness and of the
+//!   direction check, for reference.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::DVec3;
@@ -108,6 +110,7 @@ fn factor(c: &mut Criterion) {
     .unwrap();
 
     let mut g = c.benchmark_group("factor");
+    bench(&mut g, "identity", &Shaping::identity(), &sphere);
     bench(&mut g, "no_ies", &no_ies, &sphere);
     bench(&mut g, "no_ies_in_cone", &no_ies, &in_cone);
     bench(&mut g, "ies_bilinear", &ies, &sphere);

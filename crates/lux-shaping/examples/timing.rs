@@ -72,6 +72,9 @@ fn main() {
     };
     let o = ShapingOptions::default();
 
+    measure("calibration: harness (|d|²)", &sphere, |d| {
+        [d.length_squared() as f32; 3]
+    });
     measure("calibration: light_polar", &sphere, |d| {
         let (t, p) = lux_math::light_polar(d).unwrap();
         [(t + p) as f32; 3]

@@ -132,8 +132,6 @@ impl IesPart {
             for &bb in &self.band_bound[i0..=i1] {
                 m = m.max(bb);
             }
-            // a range that ends exactly on a grid line touches the next band's edge value only,
-            // which the band above already bounds
         }
         m
     }

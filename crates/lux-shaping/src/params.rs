@@ -37,8 +37,13 @@ pub struct ShapingParams {
     /// finite.
     pub ies_angle_scale: f64,
     /// `inputs:shaping:ies:normalize` (schema default false): divide the IES sample by the
-    /// profile's mean intensity ([`lux_ies::PhotometricWeb::mean_intensity`]) so that the
-    /// profile reshapes the emission without changing its total power.
+    /// profile's mean intensity ([`lux_ies::PhotometricWeb::mean_intensity`]: flux/4π, or
+    /// flux/2π when the vertical range spans ≤ 95.73°) so that the profile reshapes the
+    /// emission without changing its total power. Under [`Profile::Spec`] the normalized IES
+    /// factor integrates to exactly 4π over the sphere (mean 1), or 2π for the narrow-range
+    /// profiles (mean 1 over their emitting hemisphere when they lie within 0..90° or
+    /// 90..180°); under [`Profile::HdEmbree`] the divisor uses the midpoint-rule flux. A profile
+    /// whose flux is 0 gives an IES factor of 0.
     pub ies_normalize: bool,
 }
 

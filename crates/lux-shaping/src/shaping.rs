@@ -419,20 +419,23 @@ impl Shaping {
 
     /// `∫_{S²} factor(ω) dω` per channel (steradians; 4π for the identity).
     ///
-    /// Computed in θ (polar angle from −Z) as `∫_0^π Φ(θ) sin θ dθ`, where `Φ(θ)` is the
-    /// integral over φ. Without IES, and with a type C profile under bilinear interpolation,
-    /// `Φ` is exact (2π × focus colour × cone; the bilinear interpolant integrates exactly in φ
-    /// by the trapezoid rule on the profile's own horizontal angles, so `Φ` is the φ-integrated
-    /// profile, piecewise linear in θies). Bicubic type C profiles integrate φ numerically
-    /// (adaptive Gauss–Kronrod) between their horizontal angles. Types A/B without angleScale
-    /// are integrated in their own (V, H) coordinates (`dω = cos V dV dH`), split at their
-    /// grid lines and where the cone edges cross them; with an angleScale, in (θ, φ) split where
-    /// each θ-slice crosses the native grid lines (solved in closed form). The θ integral is adaptive Gauss–Kronrod
-    /// (7/15) split at every kink: the cone edge and ramp start, π/2, the profile's vertical
-    /// angles mapped back through angleScale (types A/B: the polar angles at which θ-circles
-    /// touch the native grid lines), and, for a large focus exponent, at multiples of
-    /// 1/√focus near the poles. Requested relative accuracy 10⁻¹⁰ (the tests check 10⁻⁵
-    /// against closed forms).
+    /// Computed in θ (polar angle from −Z) as `∫_0^π Φ(θ) sin θ dθ`, `Φ(θ)` being the integral
+    /// over φ:
+    /// - without IES, `Φ = 2π × focus colour × cone`;
+    /// - type C, bilinear: `Φ` is exact, because the bilinear interpolant integrates exactly in
+    ///   φ by the trapezoid rule on the profile's own horizontal angles; `Φ` is then the
+    ///   φ-integrated profile, piecewise linear in θies;
+    /// - type C, bicubic: φ by adaptive Gauss–Kronrod between the horizontal angles;
+    /// - types A/B without angleScale: in their own coordinates (`dω = cos V dV dH`), split at
+    ///   their grid lines and where the cone edges cross them (closed form);
+    /// - types A/B with an angleScale: in (θ, φ), each θ-slice split where it crosses the
+    ///   native grid lines (closed form). The slowest case: ~1–2 s for a 45 × 45 grid.
+    ///
+    /// The θ integral is adaptive Gauss–Kronrod (7/15) split at every kink: the cone edge and
+    /// ramp start, π/2, the profile's vertical angles mapped back through angleScale (types A/B:
+    /// where θ-circles touch the native grid lines), and, for a focus exponent above 4, at
+    /// multiples of 1/√focus near the poles. Requested relative accuracy 10⁻¹⁰; the tests check
+    /// 10⁻⁹ against closed forms and exact fluxes.
     pub fn integral_sphere(&self) -> [f64; 3] {
         if let Some(p) = self.native_ab() {
             return self.integrate_native(p, &|_| 1.0);
@@ -459,9 +462,10 @@ impl Shaping {
     /// Iterated adaptive Gauss–Kronrod: θ split as in
     /// [`integral_sphere`](Self::integral_sphere), φ split at multiples of π/8 and where the
     /// slice crosses the profile's grid lines (type C: its horizontal angles; types A/B: the
-    /// crossings of the θies circle with the native V and H lines, solved in closed form). `w` should be finite and piecewise smooth; its own
-    /// kinks are found by bisection only, so accuracy then depends on the panel budget.
-    /// Non-finite values of `w` count as 0.
+    /// crossings of the θies-circle with the native V and H lines, in closed form; types A/B
+    /// without angleScale are integrated in (V, H) as for `integral_sphere`). `w` should be
+    /// finite and piecewise smooth: its own kinks are found by bisection only, so their accuracy
+    /// depends on the panel budget. Non-finite values of `w` count as 0.
     pub fn integral_weighted(&self, w: impl Fn(DVec3) -> f64) -> [f64; 3] {
         if let Some(p) = self.native_ab() {
             return self.integrate_native(p, &w);

@@ -370,3 +370,74 @@ fn bicubic_and_weighted_paths_agree_with_the_exact_one() {
     // value at 180°: g(180, h) = 100 − 60 = 40 cd everywhere → 4π · 40
     close3(leg.integral_sphere(), [4.0 * PI * 40.0; 3], 1e-9);
 }
+
+#[test]
+fn types_a_and_b_with_an_angle_scale() {
+    let vs: Vec<f64> = (-6..=6).map(|k| 15.0 * k as f64).collect();
+    let hs: Vec<f64> = (0..=6).map(|k| 15.0 * k as f64).collect();
+    // constant 1 cd over the measured range = the front hemisphere (θ ≤ 90°)
+    let one = |pt| file(pt, vs.clone(), hs.clone(), vec![1.0; vs.len() * hs.len()]);
+    // a profile with kinks on every grid line
+    let bumpy = |pt| {
+        let cd = hs
+            .iter()
+            .flat_map(|&h| {
+                vs.iter()
+                    .map(move |&v| 10.0 + (v * 0.37 + h * 0.11).sin().abs() * 20.0 + v.abs() * 0.1)
+            })
+            .collect();
+        file(pt, vs.clone(), hs.clone(), cd)
+    };
+    for pt in [PhotometricType::A, PhotometricType::B] {
+        // angleScale 0.5: θies = 2θ is in the front hemisphere for θ ≤ 45° and, wrapping
+        // round, for θ ≥ 135°: 2 · 2π(1 − cos 45°)
+        let s = ies_shaping(
+            web_of(&one(pt)),
+            ShapingParams {
+                ies_angle_scale: 0.5,
+                ..ShapingParams::NO_SHAPING
+            },
+            ShapingOptions::default(),
+        );
+        close3(
+            s.integral_sphere(),
+            [2.0 * TAU * (1.0 - 0.5f64.sqrt()); 3],
+            1e-9,
+        );
+        // a scale that is not the identity but maps like it: the (θ, φ) path with its closed-
+        // form grid crossings must agree with the native (V, H) path
+        let p = ShapingParams {
+            focus: 1.5,
+            cone_angle_deg: 70.0,
+            cone_softness: 0.4,
+            ..ShapingParams::NO_SHAPING
+        };
+        let native = ies_shaping(web_of(&bumpy(pt)), p, ShapingOptions::default());
+        let light = ies_shaping(
+            web_of(&bumpy(pt)),
+            ShapingParams {
+                ies_angle_scale: 1.0 + 1e-13,
+                ..p
+            },
+            ShapingOptions::default(),
+        );
+        let want = native.integral_sphere();
+        close3(light.integral_sphere(), want, 1e-8);
+        close3(
+            light.integral_cos_hemisphere(),
+            native.integral_cos_hemisphere(),
+            1e-8,
+        );
+        // and the native path against the profile's exact flux with no shaping
+        let plain = ies_shaping(
+            web_of(&bumpy(pt)),
+            ShapingParams::NO_SHAPING,
+            ShapingOptions::default(),
+        );
+        close3(
+            plain.integral_sphere(),
+            [web_of(&bumpy(pt)).flux_exact(); 3],
+            1e-12,
+        );
+    }
+}
