@@ -1,5 +1,6 @@
-//! lux-math benchmarks (issue 2 targets): sizeFactor per light kind (≤ 200 ns for the
-//! ellipsoid, ≤ 20 ns for the rest) and the blackbody colour (≤ 20 ns).
+//! lux-math benchmarks (issue 2 targets): sizeFactor per light kind (group `size_factor`: one
+//! bench per kind and profile; ≤ 200 ns for the ellipsoid `sphere_ellipsoid_exact`, ≤ 20 ns for
+//! the rest) and the blackbody colour (group `blackbody`, ≤ 20 ns).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::{DMat4, DQuat, DVec3};
@@ -54,6 +55,30 @@ fn size_factors(c: &mut Criterion) {
         (
             "disk_exact",
             LightShape::Disk { radius: 0.5 },
+            Profile::Spec,
+        ),
+        (
+            "disk_reference",
+            LightShape::Disk { radius: 0.5 },
+            Profile::HdEmbree,
+        ),
+        (
+            "portal",
+            LightShape::Portal {
+                width: 1.0,
+                height: 1.0,
+            },
+            Profile::Spec,
+        ),
+        (
+            // A MeshLightAPI quad: two triangles.
+            "mesh_2_triangles",
+            LightShape::Mesh {
+                triangles: vec![
+                    [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0)],
+                    [DVec3::ZERO, DVec3::new(1.0, 1.0, 0.0), DVec3::Y],
+                ],
+            },
             Profile::Spec,
         ),
         (

@@ -22,6 +22,8 @@
 //! assert_eq!(emitted_radiance(&params, &shape, &xf, Profile::Spec), DVec3::splat(2.0));
 //! ```
 
+#![warn(missing_docs)]
+
 mod blackbody;
 mod elliptic;
 mod emission;
@@ -37,8 +39,8 @@ pub use blackbody::{
     spec_blackbody_rgb, usdlux_blackbody_rgb,
 };
 pub use elliptic::{
-    carlson_rf_rd, carlson_rg, ellipse_perimeter, ellipse_perimeter_ramanujan, ellipsoid_area,
-    ellipsoid_area_thomsen,
+    THOMSEN_P, carlson_rf_rd, carlson_rg, ellipse_perimeter, ellipse_perimeter_ramanujan,
+    ellipsoid_area, ellipsoid_area_thomsen,
 };
 pub use emission::{LightParams, emission, emitted_radiance};
 pub use polar::{Frame, azimuth_from_xy, light_direction, light_polar};
@@ -51,3 +53,8 @@ pub use size::{
     world_area,
 };
 pub use transform::{is_finite_matrix, linear_part, transform_vector, usd_matrix, usd_rows};
+
+/// The README's example, compiled and run as a doctest.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
