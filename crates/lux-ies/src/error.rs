@@ -75,6 +75,20 @@ pub enum IesError {
         /// The cap.
         max: u64,
     },
+    /// More numbers than the header's counts declare: numeric data after the last of the
+    /// `n_h × n_v` candela values, i.e. the counts and the data disagree (LM-63 "number of
+    /// vertical/horizontal angles"). Refused unless [`ParseOptions::lenient`] is set.
+    ///
+    /// [`ParseOptions::lenient`]: crate::ParseOptions::lenient
+    #[error("{at}: count mismatch: found {found:?} after the {expected}")]
+    CountMismatch {
+        /// The first extra number.
+        at: Position,
+        /// Its text.
+        found: String,
+        /// What the header declared, e.g. "73 × 37 = 2701 candela values the header declares".
+        expected: String,
+    },
     /// Angles that are not strictly increasing.
     #[error("{at}: {field} angles must be strictly increasing: {value} follows {previous}")]
     NonMonotonic {
@@ -147,6 +161,7 @@ impl IesError {
             | IesError::NotANumber { at, .. }
             | IesError::InvalidValue { at, .. }
             | IesError::AbsurdCount { at, .. }
+            | IesError::CountMismatch { at, .. }
             | IesError::NonMonotonic { at, .. }
             | IesError::IllegalAngleRange { at, .. }
             | IesError::MissingTilt { at }

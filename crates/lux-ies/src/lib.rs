@@ -27,6 +27,7 @@
 
 // `!(x >= a)` is used on purpose: it is true for NaN, which must take the "outside" branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
+#![warn(missing_docs)]
 
 mod derived;
 mod edition;
@@ -53,3 +54,8 @@ pub use parse::{MAX_ANGLES, MAX_TILT_ANGLES, MAX_VALUES, ParseOptions, Parsed, T
 pub use tilt::{LampGeometry, Tilt, TiltData};
 pub use warning::Warning;
 pub use web::{Interpolation, PhotometricWeb, Symmetry};
+
+/// The README's example, compiled and run as a doctest.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

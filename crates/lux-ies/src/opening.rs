@@ -64,19 +64,53 @@ pub enum LuminousOpening {
         /// |h|.
         height: f64,
     },
-    /// w < 0, l > 0, h < 0 (|w| = |h|): cylinder along the 0°–180° (length) axis.
+    /// w < 0, l > 0, h < 0 with |w| = |h|: "horizontal cylinder along photometric horizontal",
+    /// its axis along the 0°–180° (length) direction.
     HorizontalCylinderAlongLength {
         /// |w|.
         diameter: f64,
         /// l.
         length: f64,
     },
-    /// w > 0, l < 0, h < 0 (|l| = |h|): cylinder along the 90°–270° (width) axis.
+    /// w < 0, l > 0, h < 0 with |w| ≠ |h|: "horizontal ellipsoidal cylinder along photometric
+    /// horizontal".
+    HorizontalEllipticalCylinderAlongLength {
+        /// |w|.
+        width: f64,
+        /// l.
+        length: f64,
+        /// |h|.
+        height: f64,
+    },
+    /// w > 0, l < 0, h < 0 with |l| = |h|: "horizontal cylinder perpendicular to photometric
+    /// horizontal", its axis along the 90°–270° (width) direction.
     HorizontalCylinderAlongWidth {
         /// w.
         width: f64,
         /// |l|.
         diameter: f64,
+    },
+    /// w > 0, l < 0, h < 0 with |l| ≠ |h|: "horizontal ellipsoidal cylinder perpendicular to
+    /// photometric horizontal".
+    HorizontalEllipticalCylinderAlongWidth {
+        /// w.
+        width: f64,
+        /// |l|.
+        length: f64,
+        /// |h|.
+        height: f64,
+    },
+    /// w < 0, l = 0, h < 0 with |w| = |h|: "vertical circle facing photometric horizontal".
+    VerticalCircle {
+        /// |w|.
+        diameter: f64,
+    },
+    /// w < 0, l = 0, h < 0 with |w| ≠ |h|: "vertical ellipse facing photometric horizontal".
+    VerticalEllipse {
+        /// |w|.
+        width: f64,
+        /// |h|.
+        height: f64,
     },
     /// Any other sign combination (not defined by the annex).
     Other {
@@ -90,7 +124,10 @@ pub enum LuminousOpening {
 }
 
 impl LuminousOpening {
-    /// Classifies width, length, height as written in the file (LM-63-2002 Annex D sign rules).
+    /// Classifies width, length, height as written in the file by the sign rules of the
+    /// LM-63-2002 annex "luminous shapes" (15 shapes; zero, positive and negative dimensions
+    /// select the shape, equal magnitudes distinguish circles/cylinders/spheres from their
+    /// elliptical versions). A sign pattern the annex does not define gives [`Self::Other`].
     pub fn from_dimensions(w: f64, l: f64, h: f64) -> LuminousOpening {
         use LuminousOpening::*;
         let (aw, al, ah) = (w.abs(), l.abs(), h.abs());
@@ -140,14 +177,39 @@ impl LuminousOpening {
                 }
             }
         } else if w < 0.0 && l > 0.0 && h < 0.0 {
-            HorizontalCylinderAlongLength {
-                diameter: aw,
-                length: l,
+            if aw == ah {
+                HorizontalCylinderAlongLength {
+                    diameter: aw,
+                    length: l,
+                }
+            } else {
+                HorizontalEllipticalCylinderAlongLength {
+                    width: aw,
+                    length: l,
+                    height: ah,
+                }
             }
         } else if w > 0.0 && l < 0.0 && h < 0.0 {
-            HorizontalCylinderAlongWidth {
-                width: w,
-                diameter: al,
+            if al == ah {
+                HorizontalCylinderAlongWidth {
+                    width: w,
+                    diameter: al,
+                }
+            } else {
+                HorizontalEllipticalCylinderAlongWidth {
+                    width: w,
+                    length: al,
+                    height: ah,
+                }
+            }
+        } else if w < 0.0 && l == 0.0 && h < 0.0 {
+            if aw == ah {
+                VerticalCircle { diameter: aw }
+            } else {
+                VerticalEllipse {
+                    width: aw,
+                    height: ah,
+                }
             }
         } else {
             Other {
@@ -164,23 +226,25 @@ mod tests {
     use super::LuminousOpening::*;
     use super::*;
 
+    /// The full table of lidrs' `test_get_luminous_opening` (sammorrell/lidrs @ 9aa5cef5,
+    /// src/io/ies/tests.rs, MIT), in its order, with lidrs' variant names mapped to ours.
     #[test]
-    fn annex_sign_table() {
+    fn lidrs_luminous_opening_table() {
         let f = LuminousOpening::from_dimensions;
         assert_eq!(f(0.0, 0.0, 0.0), Point);
         assert_eq!(
-            f(1.0, 2.0, 0.0),
+            f(1.0, 1.0, 0.0),
             Rectangle {
                 width: 1.0,
-                length: 2.0
+                length: 1.0
             }
         );
         assert_eq!(
-            f(1.0, 2.0, 3.0),
+            f(1.0, 1.0, 1.0),
             RectangleWithSides {
                 width: 1.0,
-                length: 2.0,
-                height: 3.0
+                length: 1.0,
+                height: 1.0
             }
         );
         assert_eq!(f(-1.0, -1.0, 0.0), Circle { diameter: 1.0 });
@@ -208,27 +272,62 @@ mod tests {
         );
         assert_eq!(f(-1.0, -1.0, -1.0), Sphere { diameter: 1.0 });
         assert_eq!(
-            f(-1.0, -2.0, -1.0),
+            f(-1.0, -1.0, -2.0),
             Ellipsoid {
                 width: 1.0,
-                length: 2.0,
-                height: 1.0
+                length: 1.0,
+                height: 2.0
             }
         );
         assert_eq!(
-            f(-1.0, 2.0, -1.0),
+            f(-3.0, -1.0, -2.0),
+            Ellipsoid {
+                width: 3.0,
+                length: 1.0,
+                height: 2.0
+            }
+        );
+        assert_eq!(
+            f(-1.0, 1.0, -1.0),
             HorizontalCylinderAlongLength {
                 diameter: 1.0,
-                length: 2.0
+                length: 1.0
             }
         );
         assert_eq!(
-            f(2.0, -1.0, -1.0),
+            f(-1.0, 1.0, -2.0),
+            HorizontalEllipticalCylinderAlongLength {
+                width: 1.0,
+                length: 1.0,
+                height: 2.0
+            }
+        );
+        assert_eq!(
+            f(1.0, -1.0, -1.0),
             HorizontalCylinderAlongWidth {
-                width: 2.0,
+                width: 1.0,
                 diameter: 1.0
             }
         );
+        assert_eq!(
+            f(1.0, -1.0, -2.0),
+            HorizontalEllipticalCylinderAlongWidth {
+                width: 1.0,
+                length: 1.0,
+                height: 2.0
+            }
+        );
+        assert_eq!(f(-1.0, 0.0, -1.0), VerticalCircle { diameter: 1.0 });
+        assert_eq!(
+            f(-1.0, 0.0, -2.0),
+            VerticalEllipse {
+                width: 1.0,
+                height: 2.0
+            }
+        );
+        // Sign patterns outside the annex.
         assert!(matches!(f(1.0, -1.0, 0.0), Other { .. }));
+        assert!(matches!(f(0.0, 1.0, 0.0), Other { .. }));
+        assert!(matches!(f(f64::NAN, 1.0, 0.0), Other { .. }));
     }
 }

@@ -26,6 +26,12 @@ pub struct ParseOptions<'r> {
     /// Make an unresolvable `TILT=<file>` an error ([`IesError::TiltFileMissing`]) instead of a
     /// warning.
     pub require_tilt_file: bool,
+    /// Accept two common deviations with a warning instead of refusing the file: integer fields
+    /// written as decimals (`2.0` for a count or a code; [`Warning::IntegerWrittenAsDecimal`])
+    /// and numbers after the last candela value ([`Warning::TrailingData`]). Off by default:
+    /// LM-63 integer fields are integers (appleseed's reader refuses `2.0` too) and extra numbers
+    /// mean the header counts do not match the data ([`IesError::CountMismatch`]).
+    pub lenient: bool,
 }
 
 impl core::fmt::Debug for ParseOptions<'_> {
@@ -33,6 +39,7 @@ impl core::fmt::Debug for ParseOptions<'_> {
         f.debug_struct("ParseOptions")
             .field("tilt_resolver", &self.tilt_resolver.is_some())
             .field("require_tilt_file", &self.require_tilt_file)
+            .field("lenient", &self.lenient)
             .finish()
     }
 }
@@ -137,7 +144,7 @@ fn parse(text: &str, options: &ParseOptions<'_>) -> Result<Parsed, IesError> {
     let tilt = if tilt_text.eq_ignore_ascii_case("NONE") {
         Tilt::None
     } else if tilt_text.eq_ignore_ascii_case("INCLUDE") {
-        Tilt::Include(parse_tilt_block(&mut lx, &mut warnings)?)
+        Tilt::Include(parse_tilt_block(&mut lx, &mut warnings, options.lenient)?)
     } else {
         let name = tilt_text.to_owned();
         let resolved = options.tilt_resolver.and_then(|r| r(&name));
@@ -146,10 +153,12 @@ fn parse(text: &str, options: &ParseOptions<'_>) -> Result<Parsed, IesError> {
                 let mut tl = Lexer::new(&content, 1, 1);
                 let mut inner_w = Vec::new();
                 let data =
-                    parse_tilt_block(&mut tl, &mut inner_w).map_err(|e| IesError::TiltFile {
-                        at: tilt_at,
-                        name: name.clone(),
-                        inner: Box::new(e),
+                    parse_tilt_block(&mut tl, &mut inner_w, options.lenient).map_err(|e| {
+                        IesError::TiltFile {
+                            at: tilt_at,
+                            name: name.clone(),
+                            inner: Box::new(e),
+                        }
                     })?;
                 Tilt::File {
                     name,
@@ -169,10 +178,11 @@ fn parse(text: &str, options: &ParseOptions<'_>) -> Result<Parsed, IesError> {
         }
     };
 
+    let lenient = options.lenient;
     let int = |lx: &mut Lexer<'_>, field: &'static str, w: &mut Vec<Warning>| {
         let (v, at, decorated) = lx.integer(&|| field.to_owned())?;
         if decorated {
-            w.push(Warning::IntegerWrittenAsDecimal { at, field });
+            decimal_integer(at, field, v, lenient, w)?;
         }
         Ok::<_, IesError>((v, at))
     };
@@ -291,6 +301,16 @@ fn parse(text: &str, options: &ParseOptions<'_>) -> Result<Parsed, IesError> {
         }
     }
     if let Some(tok) = lx.next_token() {
+        if crate::lexer::parse_number(tok.text).is_some() && !lenient {
+            return Err(IesError::CountMismatch {
+                at: tok.at,
+                found: tok.text.chars().take(40).collect(),
+                expected: format!(
+                    "{nh} × {nv} = {} candela values the header declares",
+                    nh * nv
+                ),
+            });
+        }
         warnings.push(Warning::TrailingData { at: tok.at });
     }
     Ok(Parsed {
@@ -349,13 +369,35 @@ fn count(v: i64, at: Position, field: &'static str, max: u64) -> Result<usize, I
     Ok(v as usize)
 }
 
-fn parse_tilt_block(lx: &mut Lexer<'_>, w: &mut Vec<Warning>) -> Result<TiltData, IesError> {
+/// An integer field written as `2.0` / `2e0`: an error, or a warning when `lenient`.
+fn decimal_integer(
+    at: Position,
+    field: &'static str,
+    value: i64,
+    lenient: bool,
+    w: &mut Vec<Warning>,
+) -> Result<(), IesError> {
+    if lenient {
+        w.push(Warning::IntegerWrittenAsDecimal { at, field });
+        Ok(())
+    } else {
+        Err(IesError::InvalidValue {
+            at,
+            field,
+            value: value.to_string(),
+            expected: "an integer written without a decimal point or exponent".into(),
+        })
+    }
+}
+
+fn parse_tilt_block(
+    lx: &mut Lexer<'_>,
+    w: &mut Vec<Warning>,
+    lenient: bool,
+) -> Result<TiltData, IesError> {
     let (g, at, dec) = lx.integer(&|| "lamp-to-luminaire geometry".into())?;
     if dec {
-        w.push(Warning::IntegerWrittenAsDecimal {
-            at,
-            field: "lamp-to-luminaire geometry",
-        });
+        decimal_integer(at, "lamp-to-luminaire geometry", g, lenient, w)?;
     }
     let geometry = LampGeometry::from_code(g).ok_or_else(|| IesError::InvalidValue {
         at,
@@ -363,7 +405,10 @@ fn parse_tilt_block(lx: &mut Lexer<'_>, w: &mut Vec<Warning>) -> Result<TiltData
         value: g.to_string(),
         expected: "1, 2 or 3".into(),
     })?;
-    let (n, at, _) = lx.integer(&|| "number of tilt angles".into())?;
+    let (n, at, dec) = lx.integer(&|| "number of tilt angles".into())?;
+    if dec {
+        decimal_integer(at, "number of tilt angles", n, lenient, w)?;
+    }
     let n = count(n, at, "number of tilt angles", MAX_TILT_ANGLES)?;
     let cap = n.min(lx.remaining() / 2 + 1);
     let mut angles = Vec::with_capacity(cap);

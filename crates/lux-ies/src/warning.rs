@@ -34,7 +34,7 @@ pub enum Warning {
         /// The file name.
         name: String,
     },
-    /// An integer field written as `2.0`.
+    /// An integer field written as `2.0` (accepted only with `ParseOptions::lenient`).
     #[error("{at}: {field} written as a decimal number")]
     IntegerWrittenAsDecimal {
         /// Position.
@@ -50,7 +50,8 @@ pub enum Warning {
         /// The value.
         value: f64,
     },
-    /// Tokens after the last candela value (ignored).
+    /// Tokens after the last candela value, ignored: any non-numeric text, or (with
+    /// `ParseOptions::lenient`) numbers, which otherwise are an `IesError::CountMismatch`.
     #[error("{at}: data after the last candela value ignored")]
     TrailingData {
         /// Position of the first extra token.

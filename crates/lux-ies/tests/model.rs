@@ -289,6 +289,7 @@ fn editions_1986_and_2019_and_tilt_files() {
     let opts = ParseOptions {
         tilt_resolver: Some(&resolver),
         require_tilt_file: true,
+        ..Default::default()
     };
     let p = IesFile::parse_with(&tf, &opts).unwrap();
     let d = p.file.tilt.data().unwrap();
@@ -297,7 +298,7 @@ fn editions_1986_and_2019_and_tilt_files() {
     let bad = |_: &str| Some("2\n3\n0 90 x\n".to_string());
     let opts = ParseOptions {
         tilt_resolver: Some(&bad),
-        require_tilt_file: false,
+        ..Default::default()
     };
     match IesFile::parse_with(&tf, &opts).unwrap_err() {
         IesError::TiltFile { inner, .. } => assert_eq!((inner.line(), inner.column()), (3, 6)),
@@ -602,10 +603,10 @@ fn arb_file() -> impl Strategy<Value = IesFile> {
                 out
             });
             let cd = proptest::collection::vec(0.0f64..1e5, nv * nh);
-            let kw = proptest::collection::vec(
-                ("[A-Z_]{1,8}", "[a-zA-Z0-9 .,:-]{0,20}", "[a-z ]{0,10}"),
-                0..4,
-            );
+            // `[MORE]` is the continuation marker, not a keyword name.
+            let name = "[A-Z_]{1,8}".prop_filter("MORE is a continuation", |n| n != "MORE");
+            let kw =
+                proptest::collection::vec((name, "[a-zA-Z0-9 .,:-]{0,20}", "[a-z ]{0,10}"), 0..4);
             let nums = (
                 -2.0f64..5.0,
                 0.01f64..10.0,
