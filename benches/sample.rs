@@ -77,6 +77,12 @@ fn benches(c: &mut Criterion) {
     .unwrap();
     bench_light(c, "sphere_cone_sheared", &Light::Sphere(ellipsoid), r);
     let disk = |t| Light::Disk(DiskLight::new(0.5, up(0.5), t).unwrap());
+    bench_light(
+        c,
+        "disk_elliptic_cone",
+        &disk(DiskTechnique::EllipticCone),
+        r,
+    );
     bench_light(c, "disk_polar_chord", &disk(DiskTechnique::PolarChord), r);
     bench_light(c, "disk_area", &disk(DiskTechnique::Area), r);
     let cyl = |t| Light::Cylinder(CylinderLight::new(0.5, 1.0, up(1.0), t).unwrap());

@@ -94,6 +94,10 @@ fn main() {
             Light::Sphere(SphereLight::new(0.5, up(1.5), SphereTechnique::Area).unwrap()),
         ),
         (
+            "disk_elliptic_cone",
+            Light::Disk(DiskLight::new(0.5, up(0.5), DiskTechnique::EllipticCone).unwrap()),
+        ),
+        (
             "disk_polar_chord",
             Light::Disk(DiskLight::new(0.5, up(0.5), DiskTechnique::PolarChord).unwrap()),
         ),

@@ -180,7 +180,11 @@ fn rect_all_techniques() {
 
 #[test]
 fn disk_all_techniques() {
-    for t in [DiskTechnique::Area, DiskTechnique::PolarChord] {
+    for t in [
+        DiskTechnique::Area,
+        DiskTechnique::PolarChord,
+        DiskTechnique::EllipticCone,
+    ] {
         for m in [
             DMat4::IDENTITY,
             DMat4::from_scale(DVec3::new(2.0, 0.5, 1.0)),
@@ -286,6 +290,8 @@ fn cylinder_all_techniques() {
                 ("oblique", DVec3::new(0.8, 0.6, -0.7)),
                 ("past the end", DVec3::new(1.2, 0.0, -0.8)),
                 ("near", DVec3::new(0.1, 0.0, -0.55)),
+                // Past the end, barely outside the radius: the lateral surface is seen edge-on.
+                ("grazing", DVec3::new(1.5, 0.0, -0.52)),
                 ("far", DVec3::new(5.0, -4.0, 6.0)),
             ] {
                 let r = Reference::point(xf(m).point(pl));
@@ -333,6 +339,8 @@ fn mesh_all_techniques() {
             for (name, r) in [
                 ("near", DVec3::new(0.1, 0.2, 1.3)),
                 ("side", DVec3::new(2.0, 1.0, 0.2)),
+                // Just below the plane of the bottom face (z = −0.3): that face is seen edge-on.
+                ("grazing", DVec3::new(2.0, 0.3, -0.32)),
                 ("far", DVec3::new(-8.0, 5.0, 3.0)),
             ] {
                 let r = Reference::point(r);
@@ -510,6 +518,155 @@ fn pdfs_integrate_to_one() {
         let cap = Cap::around(r.p, c, rad, 200, 400);
         let m: f64 = cap.integrate(&|w| light.pdf(&r, w), 4).iter().sum();
         assert!((m - 1.0).abs() < 2e-3, "{name}: ∫pdf = {m}");
+    }
+}
+
+/// ∫ pdf dω over the sphere equals the probability that `sample` succeeds, for every light and
+/// every technique: 1 for the techniques that always return a sample, the visible fraction for
+/// the area techniques of spheres and cylinders (back-facing samples return `None`) and for
+/// one-sided meshes. Finite lights are integrated over their surface (pdf·cos θₗ/d² dA, the
+/// same integral without the grazing singularities of the direction pdf), lights at infinity
+/// over directions; the success probability is estimated from 200 000 samples.
+#[test]
+fn pdf_integral_equals_success_probability() {
+    let n = 200_000;
+    let success = |light: &Light, r: &Reference| {
+        let mut rng = SplitMix64::new(5);
+        (0..n)
+            .filter(|_| light.sample(r, rng.next_2d()).is_some())
+            .count() as f64
+            / n as f64
+    };
+    let check = |name: &str, light: &Light, r: &Reference, integral: f64| {
+        let p = success(light, r);
+        let sigma = (p * (1.0 - p) / n as f64).sqrt();
+        assert!(
+            (integral - p).abs() <= 4.0 * sigma + 3e-3,
+            "{name}: ∫pdf dω = {integral}, P(sample) = {p}"
+        );
+        if p == 1.0 {
+            assert!(
+                (integral - 1.0).abs() < 3e-3,
+                "{name}: ∫pdf dω = {integral}"
+            );
+        }
+    };
+    let whole = |r: &Reference| Cap::whole_sphere((DVec3::ZERO - r.p).normalize(), 20, 40);
+    let m = skewed(DVec3::new(0.1, -0.2, 0.3));
+    let r = Reference::surface(xf(m).point(DVec3::new(0.3, -0.2, -0.7)), DVec3::Z);
+    for t in [
+        RectTechnique::Area,
+        RectTechnique::SphericalRectangle,
+        RectTechnique::SphericalRectangleCosine,
+    ] {
+        let light = Light::Rect(RectLight::new(1.0, 0.7, xf(m), t).unwrap());
+        let e: f64 = expected_surface(&whole(&r), r.p, G, &rect_surface(1.0, 0.7, xf(m)), &|d| {
+            light.pdf(&r, d)
+        })
+        .iter()
+        .sum();
+        check(&format!("rect {t:?}"), &light, &r, e);
+    }
+    for t in [
+        DiskTechnique::Area,
+        DiskTechnique::PolarChord,
+        DiskTechnique::EllipticCone,
+    ] {
+        let light = Light::Disk(DiskLight::new(0.5, xf(m), t).unwrap());
+        let e: f64 = expected_surface(&whole(&r), r.p, G, &disk_surface(0.5, xf(m)), &|d| {
+            light.pdf(&r, d)
+        })
+        .iter()
+        .sum();
+        check(&format!("disk {t:?}"), &light, &r, e);
+    }
+    for t in [SphereTechnique::Area, SphereTechnique::Cone] {
+        for pl in [DVec3::new(0.3, -0.2, -0.7), DVec3::new(0.1, 0.05, -0.1)] {
+            let light = Light::Sphere(SphereLight::new(0.4, xf(m), t).unwrap());
+            let r = Reference::point(xf(m).point(pl));
+            let e: f64 =
+                expected_surface(&whole(&r), r.p, G, &sphere_surface(0.4, xf(m), r.p), &|d| {
+                    light.pdf(&r, d)
+                })
+                .iter()
+                .sum();
+            check(&format!("sphere {t:?} {pl}"), &light, &r, e);
+        }
+    }
+    for t in [
+        CylinderTechnique::Area,
+        CylinderTechnique::VisibleArea,
+        CylinderTechnique::SolidAngle,
+    ] {
+        let light = Light::Cylinder(CylinderLight::new(0.3, 1.0, xf(m), t).unwrap());
+        let r = Reference::point(xf(m).point(DVec3::new(0.3, -0.2, -0.7)));
+        let e: f64 = expected_surface(
+            &whole(&r),
+            r.p,
+            G,
+            &cylinder_surface(0.3, 1.0, xf(m), r.p),
+            &|d| light.pdf(&r, d),
+        )
+        .iter()
+        .sum();
+        check(&format!("cylinder {t:?}"), &light, &r, e);
+    }
+    let (p, i) = tetra();
+    for t in [MeshTechnique::Area, MeshTechnique::SphericalTriangle] {
+        for two_sided in [false, true] {
+            let mesh = MeshLight::new(&p, &i, Some(&[1.0, 2.0, 0.5, 3.0]), two_sided, t).unwrap();
+            let r = Reference::point(DVec3::new(0.4, 0.3, 1.1));
+            let mut e = 0.0;
+            for (k, tri) in i.iter().enumerate() {
+                let v = [p[tri[0] as usize], p[tri[1] as usize], p[tri[2] as usize]];
+                e += expected_surface(&whole(&r), r.p, G, &triangle_surface(v), &|d| {
+                    mesh.pdf_triangle(&r, k, d)
+                })
+                .iter()
+                .sum::<f64>();
+            }
+            check(
+                &format!("mesh {t:?} two_sided={two_sided}"),
+                &Light::Mesh(mesh),
+                &r,
+                e,
+            );
+        }
+    }
+    let r = Reference::point(DVec3::ZERO);
+    for angle in [10.0, 300.0] {
+        let d = DistantLight::new(angle, &xf(m)).unwrap();
+        let half = (0.5 * angle).to_radians() * 1.2;
+        let cap = Cap {
+            axis: d.direction(),
+            cos_min: if half < std::f64::consts::PI {
+                half.cos()
+            } else {
+                -1.0
+            },
+            nt: 200,
+            np: 400,
+        };
+        let light = Light::Distant(d);
+        let e: f64 = cap.integrate(&|d| light.pdf(&r, d), 4).iter().sum();
+        check(&format!("distant {angle}"), &light, &r, e);
+    }
+    let mut domes = vec![(
+        "dome uniform".to_string(),
+        Light::Dome(DomeLight::uniform(xf(m))),
+    )];
+    for t in [DomeTechnique::Texture, DomeTechnique::MisCompensated] {
+        domes.push((
+            format!("dome {t:?}"),
+            Light::Dome(DomeLight::new(&test_map(), xf(m), t).unwrap()),
+        ));
+    }
+    for (name, light) in domes {
+        let e: f64 = Cap::whole_sphere(DVec3::Y, 200, 400)
+            .integrate(&|d| light.pdf(&r, d), 4)
+            .iter()
+            .sum();
+        check(&name, &light, &r, e);
     }
 }
 

@@ -10,6 +10,7 @@ fn lights() -> Vec<Light> {
     vec![
         Light::Rect(RectLight::new(1.0, 2.0, xf, RectTechnique::SphericalRectangleCosine).unwrap()),
         Light::Disk(DiskLight::new(0.5, xf, DiskTechnique::PolarChord).unwrap()),
+        Light::Disk(DiskLight::new(0.5, xf, DiskTechnique::EllipticCone).unwrap()),
         Light::Sphere(SphereLight::new(0.5, xf, SphereTechnique::Cone).unwrap()),
         Light::Cylinder(CylinderLight::new(0.5, 1.0, xf, CylinderTechnique::SolidAngle).unwrap()),
         Light::Distant(DistantLight::new(5.0, &xf).unwrap()),

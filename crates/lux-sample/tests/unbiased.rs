@@ -77,7 +77,11 @@ fn ellipse_polygon(m: DMat4, r: f64, k: usize) -> Vec<DVec3> {
 
 #[test]
 fn disk_matches_on_axis_closed_form_and_polygon() {
-    for t in [DiskTechnique::Area, DiskTechnique::PolarChord] {
+    for t in [
+        DiskTechnique::Area,
+        DiskTechnique::PolarChord,
+        DiskTechnique::EllipticCone,
+    ] {
         // On axis: E = π r²/(r² + h²).
         let (r, h) = (0.5, 0.5);
         let light =

@@ -610,10 +610,16 @@ pub fn ratio_cases() -> Vec<RatioCase> {
         RatioCase {
             name: "disk r=0.5 at 0.5",
             area: Light::Disk(DiskLight::new(0.5, up(0.5), DiskTechnique::Area).unwrap()),
-            better: vec![(
-                "polar chord",
-                Light::Disk(DiskLight::new(0.5, up(0.5), DiskTechnique::PolarChord).unwrap()),
-            )],
+            better: vec![
+                (
+                    "elliptic cone",
+                    Light::Disk(DiskLight::new(0.5, up(0.5), DiskTechnique::EllipticCone).unwrap()),
+                ),
+                (
+                    "polar chord",
+                    Light::Disk(DiskLight::new(0.5, up(0.5), DiskTechnique::PolarChord).unwrap()),
+                ),
+            ],
         },
         RatioCase {
             name: "cylinder r=0.5 L=1 at 1",
