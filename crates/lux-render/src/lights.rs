@@ -23,7 +23,7 @@ use crate::image_io::Texture;
 use crate::physical;
 use crate::scene::{Light, PoleAxis, Scene, UpAxis};
 use glam::{DMat3, DMat4, DVec3};
-use lux_ies::{IesFile, PhotometricWeb};
+use lux_ies::{IesFile, ParseOptions, PhotometricWeb};
 use lux_math::{LightKind, LightShape, Profile};
 use lux_sample::{
     CylinderLight, CylinderTechnique, DiskLight, DiskTechnique, DistantLight, DomeLight,
@@ -511,25 +511,48 @@ pub fn luminance(c: DVec3) -> f64 {
     c.dot(DVec3::from(lux_math::REC709_LUMINANCE))
 }
 
+/// Loads and expands an IES profile (once per file). Real-world files are read leniently —
+/// integer fields written as decimals and trailing numbers are accepted with a warning — and
+/// a `TILT=<file>` is looked up next to the IES file.
 fn load_ies(
     cache: &mut HashMap<PathBuf, PhotometricWeb>,
     path: &Path,
     profile: Profile,
+    warnings: &mut Vec<String>,
 ) -> Result<PhotometricWeb, RenderError> {
     if let Some(w) = cache.get(path) {
         return Ok(w.clone());
     }
-    let text = std::fs::read(path).map_err(|e| RenderError::Asset {
+    let bytes = std::fs::read(path).map_err(|e| RenderError::Asset {
         file: path.to_path_buf(),
         message: e.to_string(),
     })?;
-    let text = String::from_utf8_lossy(&text);
+    let text = String::from_utf8_lossy(&bytes);
     let err = |e: lux_ies::IesError| RenderError::Asset {
         file: path.to_path_buf(),
         message: e.to_string(),
     };
-    let file = IesFile::parse(&text).map_err(err)?;
-    let web = PhotometricWeb::new(&file, profile).map_err(err)?;
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let resolver = move |name: &str| std::fs::read_to_string(dir.join(name)).ok();
+    let options = ParseOptions {
+        tilt_resolver: Some(&resolver),
+        lenient: true,
+        ..ParseOptions::default()
+    };
+    let parsed = IesFile::parse_with(&text, &options).map_err(err)?;
+    // Only what changes how the file is read is worth a render warning (missing keywords
+    // and stray text lines are `lux ies info`'s business).
+    for w in &parsed.warnings {
+        if matches!(
+            w,
+            lux_ies::Warning::TiltFileUnresolved { .. }
+                | lux_ies::Warning::IntegerWrittenAsDecimal { .. }
+                | lux_ies::Warning::TrailingData { .. }
+        ) {
+            warnings.push(format!("{}: {w}", path.display()));
+        }
+    }
+    let web = PhotometricWeb::new(&parsed.file, profile).map_err(err)?;
     cache.insert(path.to_path_buf(), web.clone());
     Ok(web)
 }
@@ -595,7 +618,7 @@ fn prepare(
             let ies = match s.ies_file.as_ref() {
                 None => None,
                 Some(a) => match &a.resolved {
-                    Some(p) => Some(load_ies(ies_cache, p, profile)?),
+                    Some(p) => Some(load_ies(ies_cache, p, profile, warnings)?),
                     None => {
                         return Err(RenderError::Asset {
                             file: PathBuf::from(&a.authored),
@@ -666,7 +689,7 @@ fn prepare(
         }
         LightShape::Disk { radius } => {
             let mk = |t| DiskLight::new(*radius, xf, t).map(lux_sample::Light::Disk);
-            match (mk(DiskTechnique::PolarChord), mk(DiskTechnique::Area)) {
+            match (mk(DiskTechnique::EllipticCone), mk(DiskTechnique::Area)) {
                 (Ok(a), Ok(b)) => (Geom::Disk { r: *radius }, a, b, false),
                 (Err(e), _) | (_, Err(e)) => return skip(warnings, e.to_string()),
             }

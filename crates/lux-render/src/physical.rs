@@ -261,27 +261,14 @@ pub fn stage_wavelength_unit(unit: Option<&str>) -> Result<WavelengthUnit, Strin
     }
 }
 
-/// G of lux-spectral for an area light: the shaping integral weighted by the colour of one
-/// nit (whose Rec.709 luminance is 1), so that Φ = L·A·G holds for the luminance.
+/// G of lux-spectral for an area light (`ShapingIntegral::from_shaping`).
 fn shaping_integral(
     l: &Light,
     shape: EmitterShape,
     shaping: &Shaping,
     rgb_per_nit: DVec3,
 ) -> Result<ShapingIntegral, RenderError> {
-    if shaping.is_identity() {
-        return Ok(ShapingIntegral::UNSHAPED);
-    }
-    let w = DVec3::from(lux_math::REC709_LUMINANCE) * rgb_per_nit;
-    let weigh = |g: [f64; 3]| w.dot(DVec3::from(g));
-    let g = match shape {
-        EmitterShape::Flat => ShapingIntegral::flat(weigh(shaping.integral_cos_hemisphere())),
-        EmitterShape::Sphere => ShapingIntegral::sphere(weigh(shaping.integral_sphere())),
-        EmitterShape::Cylinder => ShapingIntegral::cylinder(weigh(
-            shaping.integral_weighted(|d| (1.0 - d.x * d.x).max(0.0).sqrt()),
-        )),
-    };
-    g.map_err(|e| spectral_error(l, e))
+    ShapingIntegral::from_shaping(shape, shaping, rgb_per_nit).map_err(|e| spectral_error(l, e))
 }
 
 /// The base radiance of `l` (see the module docs for the precedence of the APIs).

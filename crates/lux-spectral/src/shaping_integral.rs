@@ -27,7 +27,8 @@ pub enum EmitterShape {
 /// - cylinder (axis X, no caps): A⊥ = 2 r ℓ √(1 − ω_x²), so G = (1/π) ∫_{S²} f(ω) √(1 − ω_x²) dω
 ///   — π when unshaped.
 ///
-/// lux-shaping (or the renderer) computes the integral; this type only validates and converts.
+/// [`ShapingIntegral::from_shaping`] takes the integrals from lux-shaping;
+/// [`ShapingIntegral::integrate`] evaluates any other factor by quadrature.
 /// For sphere and cylinder the forms assume a similarity transform (no non-uniform scale).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShapingIntegral(f64);
@@ -95,6 +96,35 @@ impl ShapingIntegral {
             }
         }
         Self::new(sum * dw)
+    }
+
+    /// G of a light shaped by the UsdLux ShapingAPI, from lux-shaping's integrals of the
+    /// [`lux_shaping::Shaping`] factor (focus, focusTint, cone, softness, IES):
+    /// - flat: ∫_{emitting hemisphere} f(ω) cos θ dω (`Shaping::integral_cos_hemisphere`);
+    /// - sphere: ¼ ∫_{S²} f(ω) dω (`Shaping::integral_sphere`);
+    /// - cylinder: (1/π) ∫_{S²} f(ω) √(1 − ω_x²) dω (`Shaping::integral_weighted`).
+    ///
+    /// The factor is RGB (focusTint); its channels are weighted by the luminance of the
+    /// light's colour of one nit, `rgb_per_nit` (Rec.709 luminance 1, see
+    /// [`crate::ResolvedIlluminant`]): G = Σ_c Y_c·rgb_c·G_c, so that Φ = L·A·G holds for the
+    /// luminous flux of the tinted emission. An identity shaping gives exactly π.
+    pub fn from_shaping(
+        shape: EmitterShape,
+        shaping: &lux_shaping::Shaping,
+        rgb_per_nit: DVec3,
+    ) -> Result<Self, SpectralError> {
+        if shaping.is_identity() {
+            return Ok(Self::UNSHAPED);
+        }
+        let w = DVec3::from(lux_math::REC709_LUMINANCE) * rgb_per_nit;
+        let weigh = |g: [f64; 3]| w.dot(DVec3::from(g));
+        match shape {
+            EmitterShape::Flat => Self::flat(weigh(shaping.integral_cos_hemisphere())),
+            EmitterShape::Sphere => Self::sphere(weigh(shaping.integral_sphere())),
+            EmitterShape::Cylinder => Self::cylinder(weigh(
+                shaping.integral_weighted(|d| (1.0 - d.x * d.x).max(0.0).sqrt()),
+            )),
+        }
     }
 
     /// The value of G, sr.

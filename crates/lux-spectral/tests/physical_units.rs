@@ -156,6 +156,55 @@ fn power_to_luminance_to_power_round_trip_by_quadrature() {
     }
 }
 
+/// The same round trip with a real ShapingAPI (lux-shaping): a soft, tinted, focused cone. The
+/// emitted luminous flux, integrated over the surface and all directions with the RGB shaping
+/// factor weighted by the light's colour of one nit, must give back the authored power.
+#[test]
+fn power_round_trip_with_lux_shaping() {
+    use lux_shaping::{Shaping, ShapingOptions, ShapingParams};
+    let params = ShapingParams {
+        focus: 2.0,
+        focus_tint: [0.2, 0.4, 1.0],
+        cone_angle_deg: 55.0,
+        cone_softness: 0.5,
+        ..ShapingParams::default()
+    };
+    let shaping = Shaping::new(&params, None, ShapingOptions::default()).unwrap();
+    let shapes = [
+        (Shape::Rect(2.0, 0.5), EmitterShape::Flat, 1.0),
+        (Shape::Disk(0.7), EmitterShape::Flat, PI * 0.49),
+        (Shape::Sphere(0.3), EmitterShape::Sphere, 4.0 * PI * 0.09),
+        (Shape::Cylinder(0.2, 1.5), EmitterShape::Cylinder, 2.0 * PI * 0.3),
+    ];
+    for illuminant in [IlluminantKind::White, IlluminantKind::Blackbody] {
+        let mut inputs = PhysicalLightInputs::new(PhysicalQuantity::PhotometricPower(1200.0));
+        inputs.illuminant = illuminant;
+        inputs.color_temperature = 2700.0;
+        let ill = resolve_illuminant(&inputs, ColorSpace::Rec709).unwrap();
+        let y = DVec3::from(lux_math::REC709_LUMINANCE) * ill.rgb_per_nit;
+        for (shape, emitter, area) in shapes {
+            let g = ShapingIntegral::from_shaping(emitter, &shaping, ill.rgb_per_nit).unwrap();
+            let geometry = LightGeometry::Area {
+                world_area: area,
+                shaping: g,
+            };
+            let e = emitted(&inputs, &geometry, ColorSpace::Rec709).unwrap();
+            let f = |w: DVec3| {
+                let c = shaping.factor(w);
+                y.x * c[0] as f64 + y.y * c[1] as f64 + y.z * c[2] as f64
+            };
+            let flux = flux_by_quadrature(shape, e.luminance, &f);
+            assert!(rel(flux, 1200.0) < 5e-3, "{illuminant:?} {shape:?}: {flux} lm");
+        }
+    }
+    // The identity shaping is exactly the unshaped π.
+    assert_eq!(
+        ShapingIntegral::from_shaping(EmitterShape::Flat, &Shaping::identity(), DVec3::ONE)
+            .unwrap(),
+        ShapingIntegral::UNSHAPED
+    );
+}
+
 #[test]
 fn dome_illuminance_round_trip_with_a_textured_sky() {
     // Texture luminance Y(ω) = 1 + 0.5 cos θ about up: m = (1/π)(π + π/3) = 4/3.
