@@ -319,3 +319,73 @@ fn reference_sampling_has_the_same_expectation() {
     );
     assert_eq!(read(&scene(l, 0.0, 0.0), 64), 0.0);
 }
+
+#[test]
+fn shadow_api_and_diffuse_multiplier() {
+    // A small sphere light 2 above the probed point (so every shadow ray meets the occluder at
+    // distance 1 within 5e-5), a one-sided occluder quad at height 1 between.
+    let light = || {
+        let mut l = Light::with_defaults(
+            "/Sphere",
+            LightShape::Sphere { radius: 0.02 },
+            DMat4::from_translation(DVec3::new(0.0, 2.0, 0.0)),
+        );
+        l.params.intensity = 10.0;
+        l
+    };
+    let open = read(&scene(light(), 0.0, 0.0), 256);
+    let want = 10.0 * (0.02f64 / 2.0).powi(2);
+    close(open, want, 1e-3, "unoccluded sphere");
+    let with_blocker = |l: Light| {
+        let mut s = scene(l, 0.0, 0.0);
+        s.meshes.push(Mesh::new(
+            "/Blocker",
+            vec![
+                DVec3::new(-1.0, 1.0, -1.0),
+                DVec3::new(1.0, 1.0, -1.0),
+                DVec3::new(1.0, 1.0, 1.0),
+                DVec3::new(-1.0, 1.0, 1.0),
+            ],
+            vec![[0, 1, 2], [0, 2, 3]],
+        ));
+        read(&s, 256)
+    };
+    // Default shadows: black. The blocker faces down (its back towards the light): it still
+    // occludes.
+    assert_eq!(with_blocker(light()), 0.0);
+    // shadow:enable = false: the light passes through.
+    let mut l = light();
+    l.shadow.applied = true;
+    l.shadow.enable = false;
+    close(with_blocker(l), want, 1e-3, "shadows disabled");
+    // shadow:color tints the shadowed light.
+    let mut l = light();
+    l.shadow.applied = true;
+    l.shadow.color = DVec3::splat(0.25);
+    close(with_blocker(l), 0.25 * want, 1e-3, "shadow colour 0.25");
+    // shadow:distance shorter than the occluder's distance (1): no shadow; longer: full.
+    let mut l = light();
+    l.shadow.applied = true;
+    l.shadow.distance = 0.5;
+    close(
+        with_blocker(l),
+        want,
+        1e-3,
+        "occluder beyond the shadow distance",
+    );
+    let mut l = light();
+    l.shadow.applied = true;
+    l.shadow.distance = 1.5;
+    l.shadow.falloff = 1.0;
+    // Falloff zone (0.5, 1.5]: the occluder at 1 is halfway, strength 0.5.
+    close(with_blocker(l), 0.5 * want, 1e-3, "falloff zone");
+    // inputs:diffuse scales the light's effect on the diffuse floor.
+    let mut l = light();
+    l.diffuse = 0.5;
+    close(
+        read(&scene(l, 0.0, 0.0), 256),
+        0.5 * want,
+        1e-3,
+        "diffuse multiplier",
+    );
+}

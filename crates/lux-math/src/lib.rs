@@ -30,6 +30,7 @@ mod emission;
 mod polar;
 mod profile;
 mod scalar;
+mod shadow;
 mod shape;
 mod size;
 mod transform;
@@ -46,6 +47,7 @@ pub use emission::{LightParams, emission, emitted_radiance};
 pub use polar::{Frame, azimuth_from_xy, light_direction, light_polar};
 pub use profile::{Profile, UnknownProfile};
 pub use scalar::{lerp, lerp_f32, smooth_step, smooth_step_f32};
+pub use shadow::{shadow_strength, shadowed};
 pub use shape::{LightKind, LightShape};
 pub use size::{
     cylinder_area, cylinder_area_reference, disk_area, disk_area_reference, distant_size_factor,

@@ -211,6 +211,16 @@ impl Geometry {
         })
     }
 
+    /// Distance to the closest triangle (either side) on `origin + t·dir`, `t ∈ (tmin, tmax)`:
+    /// the occluder distance of `ShadowAPI`'s shadow distance and falloff.
+    pub fn first_occluder(&self, origin: DVec3, dir: DVec3, tmin: f64, tmax: f64) -> Option<f64> {
+        let bvh = self.bvh.as_ref()?;
+        let ray = Self::ray(origin, dir, tmin, tmax)?;
+        let mut hit = RayHit::none();
+        bvh.ray_traverse(ray, &mut hit, |r, id| self.tris[id].intersect(r))
+            .then_some(hit.t as f64)
+    }
+
     /// True when any triangle (either side) lies on `origin + t·dir`, `t ∈ (tmin, tmax)`.
     pub fn occluded(&self, origin: DVec3, dir: DVec3, tmin: f64, tmax: f64) -> bool {
         let Some(bvh) = self.bvh.as_ref() else {

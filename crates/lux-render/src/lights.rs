@@ -21,7 +21,7 @@
 use crate::RenderError;
 use crate::image_io::Texture;
 use crate::physical;
-use crate::scene::{Light, PoleAxis, Scene, UpAxis};
+use crate::scene::{Light, PoleAxis, Scene, ShadowInputs, UpAxis};
 use glam::{DMat3, DMat4, DVec3};
 use lux_ies::{IesFile, ParseOptions, PhotometricWeb};
 use lux_math::{LightKind, LightShape, Profile};
@@ -116,6 +116,10 @@ pub struct RenderLight {
     pub camera_visible: bool,
     /// A delta light (DistantLight of angle 0): light sampling only.
     pub delta: bool,
+    /// `inputs:diffuse`: multiplier of the light's effect on diffuse surfaces (finite, ≥ 0).
+    pub diffuse: f64,
+    /// `ShadowAPI` inputs (`enable`, `color`, `distance`, `falloff`, `falloffGamma`).
+    pub shadow: ShadowInputs,
     geom: Geom,
     xf: LightTransform,
     /// World → light linear map, for emission directions.
@@ -138,6 +142,16 @@ pub struct LightHit {
 }
 
 impl RenderLight {
+    /// Whether the light's shadows are the physical default (enabled, black, no distance
+    /// limit). Lights with other `ShadowAPI` settings are estimated by light sampling alone,
+    /// since a BSDF ray stops at the first occluder.
+    #[inline]
+    pub fn plain_shadows(&self) -> bool {
+        self.shadow.enable
+            && self.shadow.color == DVec3::ZERO
+            && (self.shadow.distance.is_nan() || self.shadow.distance < 0.0)
+    }
+
     /// Emitted radiance (RGB) from light-space point `local` along the world direction `emit`
     /// (from the light towards the receiver). `lit_path` selects the texture orientation of
     /// the lit path (which the `HdEmbree` profile mirrors).
@@ -831,6 +845,12 @@ fn prepare(
         power: if power.is_finite() { power } else { 0.0 },
         camera_visible,
         delta,
+        diffuse: if l.diffuse.is_finite() {
+            l.diffuse.max(0.0)
+        } else {
+            0.0
+        },
+        shadow: l.shadow.clone(),
         geom,
         inv_linear: xf.linear().inverse(),
         xf,

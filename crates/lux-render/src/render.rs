@@ -20,7 +20,7 @@ use crate::RenderError;
 use crate::conformance::ResolvedProfile;
 use crate::geometry::{Geometry, offset_scale};
 use crate::image_io::ImageRgba;
-use crate::lights::{LightOptions, LightSelection, LightSet, SamplingMode};
+use crate::lights::{LightOptions, LightSelection, LightSet, RenderLight, SamplingMode};
 use crate::rng::SampleStream;
 use crate::scene::Scene;
 use crate::surface::{SurfacePoint, Surfaces};
@@ -464,18 +464,19 @@ impl<'s> Renderer<'s> {
             } else {
                 f64::INFINITY
             };
-            c.rays += 1;
-            c.shadow += 1;
-            if tmax <= 0.0 || self.geometry.occluded(origin, ls.wi, 0.0, tmax) {
+            if tmax <= 0.0 {
                 return;
             }
+            let Some(vis) = self.visibility(l, origin, ls.wi, tmax, c) else {
+                return;
+            };
             let pdf = pmf * ls.pdf;
-            let w = if ls.delta || !mis {
+            let w = if ls.delta || !mis || !l.plain_shadows() {
                 1.0
             } else {
                 power_heuristic(pdf, cos * FRAC_1_PI)
             };
-            let contrib = f * le * (cos * w / pdf);
+            let contrib = f * le * vis * (l.diffuse * cos * w / pdf);
             if contrib.is_finite() {
                 out += contrib;
             }
@@ -511,10 +512,10 @@ impl<'s> Renderer<'s> {
             .geometry
             .intersect(self.scene, origin, wi, 0.0, f64::INFINITY);
         let t_geo = hit.map_or(f64::INFINITY, |h| h.t);
-        let mut add = |le: DVec3, pdf_l: f64| {
-            if le != DVec3::ZERO {
+        let mut add = |l: &RenderLight, le: DVec3, pdf_l: f64| {
+            if le != DVec3::ZERO && l.plain_shadows() {
                 let w = power_heuristic(pdf_b, pdf_l);
-                let contrib = sp.albedo * le * w;
+                let contrib = sp.albedo * le * (w * l.diffuse);
                 if contrib.is_finite() {
                     out += contrib;
                 }
@@ -525,7 +526,7 @@ impl<'s> Renderer<'s> {
             if let Some(h) = l.intersect(origin, wi, 0.0, t_geo)
                 && h.front
             {
-                add(l.emitted(h.local, -wi, true), pmf(li) * l.pdf(&r, wi));
+                add(l, l.emitted(h.local, -wi, true), pmf(li) * l.pdf(&r, wi));
             }
         }
         match hit {
@@ -533,6 +534,7 @@ impl<'s> Renderer<'s> {
                 if let Some(li) = self.lights.mesh_light.get(h.mesh).copied().flatten() {
                     let l = &self.lights.lights[li];
                     add(
+                        l,
                         l.emitted(l.to_local(h.p), -wi, true),
                         pmf(li) * l.pdf_triangle(&r, h.tri, wi),
                     );
@@ -541,11 +543,40 @@ impl<'s> Renderer<'s> {
             None => {
                 for &li in &self.infinite {
                     let l = &self.lights.lights[li];
-                    add(l.infinite_radiance(wi), pmf(li) * l.pdf(&r, wi));
+                    add(l, l.infinite_radiance(wi), pmf(li) * l.pdf(&r, wi));
                 }
             }
         }
         out
+    }
+
+    /// Transmission of a shadow ray towards light `l` (`ShadowAPI`): `None` when fully
+    /// blocked, else the RGB multiplier (1 unoccluded; `lux_math::shadowed` of the occluder's
+    /// `shadow_strength` otherwise). Shadows disabled: no ray is traced.
+    #[inline]
+    fn visibility(
+        &self,
+        l: &RenderLight,
+        origin: DVec3,
+        dir: DVec3,
+        tmax: f64,
+        c: &mut Counters,
+    ) -> Option<DVec3> {
+        if !l.shadow.enable {
+            return Some(DVec3::ONE);
+        }
+        c.rays += 1;
+        c.shadow += 1;
+        if l.plain_shadows() {
+            return (!self.geometry.occluded(origin, dir, 0.0, tmax)).then_some(DVec3::ONE);
+        }
+        let Some(t) = self.geometry.first_occluder(origin, dir, 0.0, tmax) else {
+            return Some(DVec3::ONE);
+        };
+        let sh = &l.shadow;
+        let s = lux_math::shadow_strength(t, sh.distance, sh.falloff, sh.falloff_gamma);
+        let m = lux_math::shadowed(s, sh.color);
+        (m != DVec3::ZERO).then_some(m)
     }
 
     /// The conformance profile in use.
