@@ -41,3 +41,51 @@ fn missing_file_is_an_error_naming_it() {
     let e = info::report(&args).unwrap_err();
     assert!(e.contains("nope.usda") && e.contains("no such file"), "{e}");
 }
+
+#[test]
+fn physical_units_and_spectra_are_reported_with_their_converted_radiance() {
+    let args = info::InfoArgs {
+        scene: PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/physical_lights.usda"),
+        frame: 1.0,
+        json: true,
+    };
+    let v: serde_json::Value = serde_json::from_str(&info::report(&args).unwrap()).unwrap();
+    let light = |p: &str| {
+        v["lights"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|l| l["path"] == p)
+            .unwrap()
+            .clone()
+    };
+    let l = light("/World/Lumens");
+    assert_eq!(l["physical"]["photometric:power"], 800.0);
+    assert_eq!(l["physical"]["physical:illuminant"], "blackbody");
+    // 800 lm over 2 × 0.5 with G = π: luminance 800/π nits (the blackbody colour has
+    // Rec.709 luminance 1).
+    let rgb: Vec<f64> = l["profiles"]["spec"]["luminance_rgb"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_f64().unwrap())
+        .collect();
+    let y = 0.2126390058715104 * rgb[0] + 0.7151686787677559 * rgb[1] + 0.0721923153607337 * rgb[2];
+    assert!(
+        (y - 800.0 / std::f64::consts::PI).abs() < 1e-6 * y,
+        "{rgb:?}"
+    );
+    assert!(rgb[0] > rgb[2], "3000 K is warm: {rgb:?}");
+    let p = light("/World/Preset");
+    assert_eq!(
+        p["physical_metadata"]["wavelength:emission"]["illuminantPreset"],
+        "d65"
+    );
+    let text = info::report(&info::InfoArgs {
+        json: false,
+        ..args
+    })
+    .unwrap();
+    assert!(text.contains("photometric:power = 800"), "{text}");
+    assert!(text.contains("conformance profile"), "{text}");
+}
