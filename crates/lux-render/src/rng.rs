@@ -32,19 +32,37 @@ fn sobol0(i: u32) -> u32 {
     i.reverse_bits()
 }
 
-/// The second Sobol dimension (direction numbers vₖ = vₖ₋₁ ⊕ (vₖ₋₁ >> 1), v₀ = 2³¹).
+/// Direction numbers of the second Sobol dimension: v₀ = 2³¹, vₖ = vₖ₋₁ ⊕ (vₖ₋₁ >> 1).
+const SOBOL1_V: [u32; 32] = {
+    let mut v = [0u32; 32];
+    v[0] = 1 << 31;
+    let mut k = 1;
+    while k < 32 {
+        v[k] = v[k - 1] ^ (v[k - 1] >> 1);
+        k += 1;
+    }
+    v
+};
+
+/// The second Sobol dimension: the XOR of the direction numbers of the set bits of `i`.
 #[inline(always)]
 fn sobol1(mut i: u32) -> u32 {
-    let mut v = 1u32 << 31;
     let mut r = 0u32;
     while i != 0 {
-        if i & 1 != 0 {
-            r ^= v;
-        }
-        i >>= 1;
-        v ^= v >> 1;
+        r ^= SOBOL1_V[i.trailing_zeros() as usize];
+        i &= i - 1;
     }
     r
+}
+
+/// A 32-bit integer hash with low bias (Wellons' `lowbias32`).
+#[inline(always)]
+fn hash32(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7FEB_352D);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846C_A68B);
+    x ^ (x >> 16)
 }
 
 /// Owen scrambling of a 32-bit fraction (Burley 2020): each bit is flipped by a hash of the
@@ -127,11 +145,12 @@ impl SampleStream {
         }
     }
 
+    /// The permutation seed and the two scrambling seeds of dimension (pair) `dim`.
     #[inline(always)]
     fn hashes(&self, dim: u32) -> (u32, u32, u32) {
         let h = mix64(self.key ^ (dim as u64 + 1).wrapping_mul(0xD6E8_FEB8_6659_FD93));
-        let h2 = mix64(h);
-        (h as u32, (h >> 32) as u32, h2 as u32)
+        let (lo, hi) = (h as u32, (h >> 32) as u32);
+        (lo, hi, hash32(lo ^ hi.rotate_left(16) ^ 0x5BD1_E995))
     }
 
     /// The 2D point of dimension pair `dim` (any number identifying the pair): both
@@ -165,6 +184,15 @@ mod tests {
         assert_ne!(a.u2(3), SampleStream::new(7, 1235, 5, 16).u2(3));
         assert_ne!(a.u2(3), SampleStream::new(7, 1234, 6, 16).u2(3));
         assert_ne!(a.u2(3), a.u2(4));
+    }
+
+    #[test]
+    fn sobol_second_dimension_known_values() {
+        // The first points of Sobol's second dimension: 0, 1/2, 3/4, 1/4, 5/8, 1/8, 3/8, 7/8.
+        let want = [0.0, 0.5, 0.75, 0.25, 0.625, 0.125, 0.375, 0.875];
+        for (i, w) in want.iter().enumerate() {
+            assert_eq!(unit(sobol1(i as u32)), *w, "point {i}");
+        }
     }
 
     #[test]
