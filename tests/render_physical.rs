@@ -2,12 +2,15 @@
 //! reads the attributes and their metadata, the renderer emits lux-spectral's conversion, and
 //! rendered irradiance matches the authored physical quantity.
 
+mod common;
+
+use common::{probe, probe_scene};
 use glam::{DMat4, DQuat, DVec3};
 use lux::math::{LightShape, Profile};
 use lux::render::conformance::{ProfileSource, ResolvedProfile};
 use lux::render::lights::{LightOptions, LightSelection, LightSet};
 use lux::render::render::{RenderOptions, Renderer};
-use lux::render::scene::{Camera, Light, Mesh, Projection, RawValue, Scene, load_stage};
+use lux::render::scene::{Light, RawValue, Scene, load_stage};
 use lux::shaping::{Shaping, ShapingOptions, ShapingParams};
 use lux::spectral::{
     ColorSpace, IlluminantKind, PhysicalLightInputs, PhysicalQuantity, resolve_illuminant,
@@ -153,40 +156,7 @@ fn renderer_emits_the_converted_radiance() {
 }
 
 fn floor_probe_scene(light: Light, x: f64, z: f64) -> Scene {
-    let mut s = Scene::empty("code.usda");
-    s.meshes.push(Mesh::new(
-        "/Floor",
-        vec![
-            DVec3::new(-100.0, 0.0, -100.0),
-            DVec3::new(-100.0, 0.0, 100.0),
-            DVec3::new(100.0, 0.0, 100.0),
-            DVec3::new(100.0, 0.0, -100.0),
-        ],
-        vec![[0, 1, 2], [0, 2, 3]],
-    ));
-    let mut c = Camera::with_defaults(
-        "/Probe",
-        DMat4::from_cols_array(&[
-            1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 1.0, 0.0, 0.0, x, 10.0, z, 1.0,
-        ]),
-    );
-    c.projection = Projection::Orthographic;
-    c.horizontal_aperture = 1e-3;
-    c.vertical_aperture = 1e-3;
-    c.clipping_range = glam::DVec2::new(0.0, 1e6);
-    s.cameras.push(c);
-    s.lights.push(light);
-    s
-}
-
-fn probe(s: &Scene, spp: u32) -> f64 {
-    let mut o = RenderOptions::new(ResolvedProfile {
-        profile: Profile::Spec,
-        source: ProfileSource::CommandLine,
-    });
-    o.spp = spp;
-    o.resolution = Some([1, 1]);
-    Renderer::new(s, o).unwrap().pixel_value(0, 0).x
+    probe_scene(vec![light], x, z)
 }
 
 #[test]

@@ -2,27 +2,19 @@
 //! for 1 and 2 threads, the RectLight texture orientation of each profile, and the light
 //! selection strategies agreeing with sampling every light.
 
+mod common;
+
+use common::{options, probe_scene};
 use glam::{DMat4, DVec3};
 use lux::math::{LightShape, Profile};
-use lux::render::conformance::{ProfileSource, ResolvedProfile};
 use lux::render::image_io::{ImageRgba, write_png};
 use lux::render::lights::{LightOptions, LightSelection, LightSet};
-use lux::render::render::{RenderOptions, Renderer};
-use lux::render::scene::{AssetRef, Camera, Light, Mesh, Projection, Scene, load_stage};
+use lux::render::render::Renderer;
+use lux::render::scene::{AssetRef, Camera, Light, Projection, Scene, load_stage};
 use std::path::PathBuf;
 
 fn luxtest() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("crates/lux-render/tests/data/luxtest/usd")
-}
-
-fn options(profile: Profile, spp: u32, resolution: [u32; 2]) -> RenderOptions {
-    let mut o = RenderOptions::new(ResolvedProfile {
-        profile,
-        source: ProfileSource::CommandLine,
-    });
-    o.spp = spp;
-    o.resolution = Some(resolution);
-    o
 }
 
 #[test]
@@ -213,28 +205,7 @@ fn camera_sees_the_texture_upright_and_unmirrored() {
 #[test]
 fn light_selection_strategies_agree_with_sampling_every_light() {
     // 24 small sphere lights of varied power over a floor, probed at one point.
-    let mut s = Scene::empty("code.usda");
-    s.meshes.push(Mesh::new(
-        "/Floor",
-        vec![
-            DVec3::new(-50.0, 0.0, -50.0),
-            DVec3::new(-50.0, 0.0, 50.0),
-            DVec3::new(50.0, 0.0, 50.0),
-            DVec3::new(50.0, 0.0, -50.0),
-        ],
-        vec![[0, 1, 2], [0, 2, 3]],
-    ));
-    let mut c = Camera::with_defaults(
-        "/Probe",
-        DMat4::from_cols_array(&[
-            1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.3, 10.0, 0.2, 1.0,
-        ]),
-    );
-    c.projection = Projection::Orthographic;
-    c.horizontal_aperture = 1e-3;
-    c.vertical_aperture = 1e-3;
-    c.clipping_range = glam::DVec2::new(0.0, 1e6);
-    s.cameras.push(c);
+    let mut s = probe_scene(vec![], 0.3, 0.2);
     for i in 0..24 {
         let a = i as f64 * 2.399;
         let rad = 0.5 + 0.25 * i as f64;
