@@ -28,6 +28,7 @@
 
 #![warn(missing_docs)]
 
+pub mod assets;
 pub mod conformance;
 pub mod geometry;
 pub mod image_io;

@@ -537,7 +537,7 @@ fn load_ies(
     if let Some(w) = cache.get(path) {
         return Ok(w.clone());
     }
-    let bytes = std::fs::read(path).map_err(|e| RenderError::Asset {
+    let bytes = crate::assets::read_asset(path).map_err(|e| RenderError::Asset {
         file: path.to_path_buf(),
         message: e.to_string(),
     })?;
@@ -546,8 +546,13 @@ fn load_ies(
         file: path.to_path_buf(),
         message: e.to_string(),
     };
-    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    let resolver = move |name: &str| std::fs::read_to_string(dir.join(name)).ok();
+    // TILT=<file>: next to the IES file (inside the same package for a packaged profile).
+    let ies_path = path.to_path_buf();
+    let resolver = move |name: &str| {
+        crate::assets::read_asset(&crate::assets::sibling(&ies_path, name))
+            .ok()
+            .map(|b| String::from_utf8_lossy(&b).into_owned())
+    };
     let options = ParseOptions {
         tilt_resolver: Some(&resolver),
         lenient: true,
@@ -578,10 +583,12 @@ fn load_texture(
     if let Some(t) = cache.get(path) {
         return Ok(t.clone());
     }
-    let t = Arc::new(Texture::load(path).map_err(|e| RenderError::Asset {
-        file: path.to_path_buf(),
-        message: e.to_string(),
-    })?);
+    let t = Arc::new(
+        crate::assets::load_texture(path).map_err(|e| RenderError::Asset {
+            file: path.to_path_buf(),
+            message: e.to_string(),
+        })?,
+    );
     cache.insert(path.to_path_buf(), t.clone());
     Ok(t)
 }

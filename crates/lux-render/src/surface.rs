@@ -254,10 +254,13 @@ fn texture_shader(
     let tex = match cache.get(path) {
         Some(t) => t.clone(),
         None => {
-            let t = Arc::new(Texture::load(path).map_err(|e| RenderError::Asset {
-                file: path.clone(),
-                message: e.to_string(),
-            })?);
+            let t =
+                Arc::new(
+                    crate::assets::load_texture(path).map_err(|e| RenderError::Asset {
+                        file: path.clone(),
+                        message: e.to_string(),
+                    })?,
+                );
             cache.insert(path.clone(), t.clone());
             t
         }

@@ -1,7 +1,7 @@
 //! Decoding image files into linear RGBA `f32` texels (row 0 = top).
 
 use std::fs::File;
-use std::io::{Seek, SeekFrom};
+use std::io::{Cursor, Read, Seek, SeekFrom};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::Path;
 
@@ -14,15 +14,55 @@ use super::{ImageError, MAX_DIMENSION, MAX_PIXELS, check_dimensions, srgb_to_lin
 const EXPECTED_EXR: &str =
     "an OpenEXR file with a flat layer holding R, G and B channels (A optional)";
 
+/// A readable, seekable, sendable byte stream (what both decoders accept).
+pub(crate) trait ReadSeek: Read + Seek + Send {}
+impl<T: Read + Seek + Send> ReadSeek for T {}
+
+/// Where an image's bytes come from: a file, or memory (an entry of a `.usdz` package). `path`
+/// names it in errors and gives the format by its extension.
+#[derive(Clone, Copy)]
+pub(crate) struct Source<'a> {
+    path: &'a Path,
+    bytes: Option<&'a [u8]>,
+}
+
+impl<'a> Source<'a> {
+    /// The file at `path`.
+    pub(crate) fn file(path: &'a Path) -> Self {
+        Source { path, bytes: None }
+    }
+
+    /// In-memory `bytes`, named `path`.
+    pub(crate) fn memory(path: &'a Path, bytes: &'a [u8]) -> Self {
+        Source {
+            path,
+            bytes: Some(bytes),
+        }
+    }
+
+    fn open(&self) -> std::io::Result<Box<dyn ReadSeek + 'a>> {
+        Ok(match self.bytes {
+            Some(b) => Box::new(Cursor::new(b)),
+            None => Box::new(File::open(self.path)?),
+        })
+    }
+}
+
 /// Loads `path` by extension; returns `(width, height, texels)`. Non-finite values are left to
 /// the caller.
 pub(crate) fn load_rgba(path: &Path) -> Result<(usize, usize, Vec<[f32; 4]>), ImageError> {
+    load_rgba_from(Source::file(path))
+}
+
+/// [`load_rgba`] from any [`Source`].
+pub(crate) fn load_rgba_from(src: Source<'_>) -> Result<(usize, usize, Vec<[f32; 4]>), ImageError> {
+    let path = src.path;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     let (format, expected) = match ext.as_deref() {
-        Some("exr") => return guarded(path, EXPECTED_EXR, || load_exr(path)),
+        Some("exr") => return guarded(path, EXPECTED_EXR, || load_exr(src)),
         Some("png") => (ImageFormat::Png, "a PNG image"),
         Some("jpg" | "jpeg") => (ImageFormat::Jpeg, "a JPEG image"),
         Some("hdr") => (ImageFormat::Hdr, "a Radiance HDR (RGBE) image"),
@@ -32,7 +72,7 @@ pub(crate) fn load_rgba(path: &Path) -> Result<(usize, usize, Vec<[f32; 4]>), Im
             });
         }
     };
-    guarded(path, expected, || load_with_image(path, format, expected))
+    guarded(path, expected, || load_with_image(src, format, expected))
 }
 
 /// Runs a decoder, turning a panic inside it into [`ImageError::Decode`].
@@ -96,8 +136,9 @@ fn exr_error(path: &Path, error: exr::error::Error) -> ImageError {
     }
 }
 
-fn load_exr(path: &Path) -> Result<(usize, usize, Vec<[f32; 4]>), ImageError> {
-    let mut file = File::open(path).map_err(|e| io_read_error(path, e))?;
+fn load_exr(src: Source<'_>) -> Result<(usize, usize, Vec<[f32; 4]>), ImageError> {
+    let path = src.path;
+    let mut file = src.open().map_err(|e| io_read_error(path, e))?;
 
     // Check every layer's size from the header before the reader allocates anything.
     let meta = exr::meta::MetaData::read_from_unbuffered(&mut file, false)
@@ -189,10 +230,10 @@ fn image_error(path: &Path, expected: &'static str, error: image::ImageError) ->
 
 /// The width and height in a PNG's IHDR chunk, or `None` if the file does not start with a PNG
 /// signature followed by an IHDR chunk (the decoder then reports the problem).
-fn png_ihdr_dimensions(path: &Path) -> Result<Option<(u32, u32)>, ImageError> {
-    use std::io::Read;
+fn png_ihdr_dimensions(src: Source<'_>) -> Result<Option<(u32, u32)>, ImageError> {
     const SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', 0x0D, 0x0A, 0x1A, 0x0A];
-    let file = File::open(path).map_err(|e| io_read_error(path, e))?;
+    let path = src.path;
+    let file = src.open().map_err(|e| io_read_error(path, e))?;
     let mut head = Vec::with_capacity(24);
     file.take(24)
         .read_to_end(&mut head)
@@ -206,12 +247,15 @@ fn png_ihdr_dimensions(path: &Path) -> Result<Option<(u32, u32)>, ImageError> {
 
 /// Opens `path` for decoding as `format`; with `limits`, the decoder refuses images beyond
 /// the size limits (without them it is only fit for reading the header).
-fn open_reader(
-    path: &Path,
+fn open_reader<'a>(
+    src: Source<'a>,
     format: ImageFormat,
     limits: bool,
-) -> Result<ImageReader<std::io::BufReader<File>>, ImageError> {
-    let mut reader = ImageReader::open(path).map_err(|e| io_read_error(path, e))?;
+) -> Result<ImageReader<std::io::BufReader<Box<dyn ReadSeek + 'a>>>, ImageError> {
+    let path = src.path;
+    let mut reader = ImageReader::new(std::io::BufReader::new(
+        src.open().map_err(|e| io_read_error(path, e))?,
+    ));
     reader.set_format(format);
     if !limits {
         reader.no_limits();
@@ -227,24 +271,25 @@ fn open_reader(
 }
 
 fn load_with_image(
-    path: &Path,
+    src: Source<'_>,
     format: ImageFormat,
     expected: &'static str,
 ) -> Result<(usize, usize, Vec<[f32; 4]>), ImageError> {
+    let path = src.path;
     // Header first: reject absurd sizes (with our own error) before the decoder allocates the
     // pixel buffer. PNG's IHDR is read directly, since the decoder refuses (with a less
     // specific error) sizes it deems too large even for reading the header.
     if format == ImageFormat::Png
-        && let Some((w, h)) = png_ihdr_dimensions(path)?
+        && let Some((w, h)) = png_ihdr_dimensions(src)?
     {
         check_dimensions(path, u64::from(w), u64::from(h))?;
     }
-    let (w, h) = open_reader(path, format, false)?
+    let (w, h) = open_reader(src, format, false)?
         .into_dimensions()
         .map_err(|e| image_error(path, expected, e))?;
     check_dimensions(path, u64::from(w), u64::from(h))?;
 
-    let image = open_reader(path, format, true)?
+    let image = open_reader(src, format, true)?
         .decode()
         .map_err(|e| image_error(path, expected, e))?;
     let (width, height) = (image.width() as usize, image.height() as usize);

@@ -44,6 +44,14 @@ impl Texture {
         Self::build(path, width, height, texels)
     }
 
+    /// Decodes an image held in memory (e.g. an entry of a `.usdz` package); `name` gives the
+    /// format by its extension, as for [`Texture::load`], and names the image in errors.
+    pub fn from_bytes(name: &Path, bytes: &[u8]) -> Result<Texture, ImageError> {
+        let (width, height, texels) =
+            super::read::load_rgba_from(super::read::Source::memory(name, bytes))?;
+        Self::build(name, width, height, texels)
+    }
+
     /// Builds a texture from `width × height` linear texels (row-major, row 0 = top).
     ///
     /// Errors ([`ImageError::InvalidDimensions`], [`ImageError::PixelCountMismatch`], naming the

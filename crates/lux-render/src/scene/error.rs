@@ -6,14 +6,14 @@ use std::path::PathBuf;
 /// prim path and attribute.
 #[derive(Debug, thiserror::Error)]
 pub enum LoadError {
-    /// The root layer does not exist.
+    /// The root layer does not exist (or is not a file).
     #[error("{file}: no such file")]
     NotFound {
         /// The path given to the loader.
         file: PathBuf,
     },
     /// The root layer exists but could not be read or parsed (malformed `.usda`, corrupt
-    /// `.usdc`/`.usdz`, unreadable sublayer).
+    /// `.usdc`/`.usdz`). No prim is involved: the message carries the parser's position.
     #[error("{file}: cannot open stage: {message}")]
     Malformed {
         /// The root layer.
@@ -22,14 +22,18 @@ pub enum LoadError {
         message: String,
     },
     /// A composition arc failed: unresolved or malformed reference/payload/sublayer, a reference
-    /// to a missing prim, or a composition cycle.
-    #[error("{file}: composition error at <{prim}>: {message}")]
+    /// to a missing prim or to a layer without a usable `defaultPrim`, or a composition cycle
+    /// (reference, payload, inherit or sublayer).
+    #[error("{file}: composition error at <{prim}> (arc authored in {layer}): {message}")]
     Composition {
         /// The root layer.
         file: PathBuf,
+        /// The layer that authored the failing arc (for a cycle, the layer the cycle was
+        /// entered from).
+        layer: String,
         /// The prim whose arc failed (`/` for layer-stack errors).
         prim: String,
-        /// The composition engine's diagnostic (names the asset).
+        /// The composition engine's diagnostic (names the asset path that failed).
         message: String,
     },
     /// An attribute holds a value of the wrong type (e.g. a string `inputs:intensity`).

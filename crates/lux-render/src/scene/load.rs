@@ -15,12 +15,34 @@ use super::xform::local_transform;
 use super::{Scene, UpAxis};
 use glam::DMat4;
 use lux_math::LightKind;
+use openusd::sdf::Path as SdfPath;
 use openusd::usd::{Prim, Stage};
 use std::collections::HashMap;
 use std::path::Path;
 
-/// Deepest namespace nesting walked (guards the recursion against absurd inputs).
-const MAX_DEPTH: usize = 256;
+/// Limits of a load: inputs beyond them are a [`LoadError::TooLarge`], never an allocation
+/// failure or a stack overflow. `Default` gives the limits [`load_stage`] uses.
+#[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct LoadOptions {
+    /// Largest array the loader copies (points, indices, primvars) and largest triangulation
+    /// of one mesh, in elements (default 2^27).
+    pub max_array_len: usize,
+    /// Deepest prim namespace nesting walked (default 256).
+    pub max_depth: usize,
+}
+
+impl Default for LoadOptions {
+    fn default() -> LoadOptions {
+        LoadOptions {
+            max_array_len: super::reader::MAX_ARRAY_LEN,
+            max_depth: 256,
+        }
+    }
+}
+
+/// The identifier of the in-memory root layer of [`load_usda_str`] (also its `Scene::source`).
+pub const MEMORY_LAYER: &str = "/__lux_memory__/stage.usda";
 
 /// Inherited state of the walk.
 #[derive(Clone)]
@@ -28,6 +50,9 @@ struct Inherited {
     world: DMat4,
     visible: bool,
     purpose: String,
+    /// Whether `purpose` was authored on this prim or an ancestor (UsdGeomImageable
+    /// `PurposeInfo::isInheritable`): children without their own purpose inherit it.
+    purpose_inheritable: bool,
     binding: Option<String>,
 }
 
@@ -38,13 +63,23 @@ struct Walk<'s> {
 }
 
 /// Loads the USD stage at `path` (`.usda`, `.usdc` or `.usdz`) and evaluates it at time code
-/// `frame` into a plain [`Scene`].
+/// `frame` into a plain [`Scene`], with the default [`LoadOptions`].
 ///
-/// Composition (sublayers, references, payloads, inherits, variants, `over`s) is `openusd`'s;
-/// any arc that fails to compose (missing file, missing prim, malformed layer, cycle) is a
-/// [`LoadError::Composition`]. Everything that is merely ignored or unsupported becomes a
-/// [`Warning`] in `Scene::warnings`.
+/// Composition (sublayers, references, payloads, inherits, variants, `over`s, layer offsets) is
+/// `openusd`'s; an arc that fails to compose (missing file, missing prim, malformed layer,
+/// cycle) is a [`LoadError::Composition`] naming the prim and the layer that authored the arc.
+/// Everything that is merely ignored or unsupported becomes a [`Warning`] in
+/// `Scene::warnings`; renderer-specific attributes and unknown prim types are skipped silently.
 pub fn load_stage(path: impl AsRef<Path>, frame: f64) -> Result<Scene, LoadError> {
+    load_stage_with(path, frame, &LoadOptions::default())
+}
+
+/// [`load_stage`] with explicit [`LoadOptions`].
+pub fn load_stage_with(
+    path: impl AsRef<Path>,
+    frame: f64,
+    options: &LoadOptions,
+) -> Result<Scene, LoadError> {
     let path = path.as_ref();
     if !frame.is_finite() {
         return Err(LoadError::InvalidFrame { frame });
@@ -55,13 +90,44 @@ pub fn load_stage(path: impl AsRef<Path>, frame: f64) -> Result<Scene, LoadError
         });
     }
     let path_str = path.to_string_lossy().into_owned();
+    load_with(LuxResolver::new(), &path_str, path, frame, options)
+}
+
+/// Loads a stage whose root layer is the `.usda` text `text` (no file involved), evaluated at
+/// `frame`. Its `Scene::source` is [`MEMORY_LAYER`]; relative asset paths in it resolve
+/// against that non-existent directory, so external arcs fail as unresolved (absolute paths
+/// still work). Used by the fuzz target.
+pub fn load_usda_str(text: &str, frame: f64, options: &LoadOptions) -> Result<Scene, LoadError> {
+    if !frame.is_finite() {
+        return Err(LoadError::InvalidFrame { frame });
+    }
+    let resolver = LuxResolver::with_memory_layer(MEMORY_LAYER, text.as_bytes().to_vec());
+    load_with(
+        resolver,
+        MEMORY_LAYER,
+        Path::new(MEMORY_LAYER),
+        frame,
+        options,
+    )
+}
+
+fn load_with(
+    resolver: LuxResolver,
+    identifier: &str,
+    path: &Path,
+    frame: f64,
+    options: &LoadOptions,
+) -> Result<Scene, LoadError> {
     let stage = Stage::builder()
-        .resolver(LuxResolver::new())
-        .open(&path_str)
+        .resolver(resolver)
+        .open(identifier)
         .map_err(|e| LoadError::Malformed {
             file: path.to_path_buf(),
             message: format!("{e:#}"),
         })?;
+    // Layer-stack errors (a missing or malformed sublayer, a sublayer cycle) are known once the
+    // stage is open; report them before walking.
+    composition_errors(&stage, path)?;
     let up_axis = match stage
         .stage_metadata("upAxis")
         .ok()
@@ -90,6 +156,7 @@ pub fn load_stage(path: impl AsRef<Path>, frame: f64) -> Result<Scene, LoadError
             file: path.to_path_buf(),
             time: frame,
             warnings: Vec::new(),
+            limits: options.clone(),
         },
         scene: Scene {
             source: path.to_path_buf(),
@@ -114,6 +181,7 @@ pub fn load_stage(path: impl AsRef<Path>, frame: f64) -> Result<Scene, LoadError
         world: DMat4::IDENTITY,
         visible: true,
         purpose: "default".into(),
+        purpose_inheritable: false,
         binding: None,
     };
     let roots = stage.root_prims().map_err(|e| LoadError::Usd {
@@ -128,6 +196,13 @@ pub fn load_stage(path: impl AsRef<Path>, frame: f64) -> Result<Scene, LoadError
     composition_errors(&stage, path)?;
     let mut scene = walk.scene;
     scene.warnings = walk.r.warnings;
+    for e in stage.composition_errors() {
+        scene.warnings.push(Warning {
+            prim: "/".into(),
+            kind: WarningKind::Ignored,
+            message: format!("composition: {e}"),
+        });
+    }
     for s in &scene.render_settings {
         let targets =
             std::iter::once(&s.base.camera).chain(s.products.iter().map(|p| &p.base.camera));
@@ -146,20 +221,43 @@ pub fn load_stage(path: impl AsRef<Path>, frame: f64) -> Result<Scene, LoadError
     Ok(scene)
 }
 
-/// Turns the composition errors `openusd` collected into a `LoadError` (the first fatal one).
+/// Turns the first fatal composition error `openusd` collected into a
+/// [`LoadError::Composition`]: unresolved or malformed layers (sublayer, reference, payload),
+/// references to missing prims or missing/invalid `defaultPrim`s, and cycles. Other,
+/// recoverable diagnostics (e.g. inconsistent property types) are left for the caller to
+/// record as warnings.
 fn composition_errors(stage: &Stage, file: &Path) -> Result<(), LoadError> {
     use openusd::pcp::Error as E;
-    if let Some(e) = stage.composition_errors().into_iter().next() {
-        let prim = match &e {
-            E::UnresolvedLayer { site_path, .. }
-            | E::MalformedLayer { site_path, .. }
-            | E::InvalidPrimPath { site_path, .. }
-            | E::UnresolvedPrimPath { site_path, .. } => site_path.to_string(),
-            E::ArcCycle(chain) => chain.composing.to_string(),
-            _ => "/".to_owned(),
+    let root = || file.to_string_lossy().into_owned();
+    for e in stage.composition_errors() {
+        let (prim, layer) = match &e {
+            E::UnresolvedLayer {
+                site_path,
+                introduced_by,
+                ..
+            }
+            | E::MalformedLayer {
+                site_path,
+                introduced_by,
+                ..
+            }
+            | E::UnresolvedPrimPath {
+                site_path,
+                introduced_by,
+                ..
+            } => (site_path.to_string(), introduced_by.clone()),
+            E::InvalidPrimPath { site_path, .. }
+            | E::MissingDefaultPrim { site_path, .. }
+            | E::InvalidDefaultPrim { site_path, .. } => (site_path.to_string(), root()),
+            E::ArcCycle(chain) => (chain.composing.to_string(), chain.root_layer.clone()),
+            E::UnresolvedSublayer { introduced_by, .. }
+            | E::MalformedSublayer { introduced_by, .. } => ("/".to_owned(), introduced_by.clone()),
+            E::SublayerCycle { root_layer, .. } => ("/".to_owned(), root_layer.clone()),
+            _ => continue,
         };
         return Err(LoadError::Composition {
             file: file.to_path_buf(),
+            layer,
             prim,
             message: e.to_string(),
         });
@@ -167,20 +265,124 @@ fn composition_errors(stage: &Stage, file: &Path) -> Result<(), LoadError> {
     Ok(())
 }
 
+/// Whether the prim `path` has a spec in the layer `id` or (recursively, a few levels) in one
+/// of its sublayers; `None` when the layer is not loaded on the stage.
+fn layer_stack_has_prim(stage: &Stage, id: &str, path: &SdfPath, depth: usize) -> Option<bool> {
+    use openusd::ar::{DefaultResolver, ResolvedPath, Resolver};
+    let layer = stage.layer(id)?;
+    if layer.prim(path.clone()).is_some() {
+        return Some(true);
+    }
+    if depth == 0 {
+        return Some(false);
+    }
+    let subs = layer
+        .pseudo_root()
+        .and_then(|r| r.sublayers())
+        .unwrap_or_default();
+    drop(layer);
+    let resolver = DefaultResolver::new();
+    Some(subs.iter().any(|sub| {
+        let sub_id = resolver.create_identifier(sub, Some(&ResolvedPath::new(id)));
+        layer_stack_has_prim(stage, &sub_id, path, depth - 1) == Some(true)
+    }))
+}
+
 impl Walk<'_> {
     fn usd<T, E: std::fmt::Display>(&self, prim: &Prim, r: Result<T, E>) -> Result<T, LoadError> {
         r.map_err(|e| self.r.usd_error(prim, e))
     }
 
+    /// Added check: `openusd` 0.6 reports a reference whose target prim does not exist only
+    /// for payloads; the prim then silently composes without the referenced opinions. Every
+    /// `references` entry authored on this prim's specs is checked here: the target layer
+    /// (anchored at the authoring layer; an unresolvable layer is reported by `openusd`
+    /// itself) must hold a spec at the target path (its `defaultPrim` when none is given);
+    /// an internal reference's target must exist on the stage.
+    fn check_reference_targets(&self, prim: &Prim) -> Result<(), LoadError> {
+        use openusd::ar::{DefaultResolver, ResolvedPath, Resolver};
+        use openusd::sdf::Value;
+        let stage = self.r.stage;
+        let resolver = DefaultResolver::new();
+        for (layer_id, spec_path) in self.usd(prim, prim.prim_stack())? {
+            let refs = {
+                let Some(layer) = stage.layer(&layer_id) else {
+                    continue;
+                };
+                let Some(spec) = layer.prim(spec_path.clone()) else {
+                    continue;
+                };
+                match spec.field("references") {
+                    Ok(Some(Value::ReferenceListOp(op))) => op
+                        .explicit_items
+                        .into_iter()
+                        .chain(op.prepended_items)
+                        .chain(op.appended_items)
+                        .chain(op.added_items)
+                        .collect::<Vec<_>>(),
+                    _ => continue,
+                }
+            };
+            for r in refs {
+                let target = r.prim_path.as_str();
+                let missing = if !target.is_empty() && !super::reader::is_prim_path(target) {
+                    true
+                } else if r.asset_path.is_empty() {
+                    !target.is_empty()
+                        && !self.usd(prim, stage.prim(r.prim_path.clone()).is_valid())?
+                } else {
+                    let id = resolver
+                        .create_identifier(&r.asset_path, Some(&ResolvedPath::new(&layer_id)));
+                    let target = if r.prim_path.is_empty() {
+                        let default = stage
+                            .layer(&id)
+                            .and_then(|l| l.pseudo_root().and_then(|p| p.default_prim()));
+                        match default.and_then(|d| SdfPath::new(&format!("/{}", d.as_str())).ok()) {
+                            Some(p) => p,
+                            None => continue, // reported by openusd (missing defaultPrim)
+                        }
+                    } else {
+                        r.prim_path.clone()
+                    };
+                    layer_stack_has_prim(stage, &id, &target, 8) == Some(false)
+                };
+                if missing {
+                    return Err(LoadError::Composition {
+                        file: self.r.file.clone(),
+                        layer: layer_id.clone(),
+                        prim: prim.path().to_string(),
+                        message: format!(
+                            "unresolved reference prim path @{}@<{}>: the target prim does not exist",
+                            r.asset_path, r.prim_path
+                        ),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
     fn visit(&mut self, prim: &Prim, parent: &Inherited, depth: usize) -> Result<(), LoadError> {
-        if depth > MAX_DEPTH {
+        if depth >= self.r.limits.max_depth {
             return Err(LoadError::TooLarge {
                 file: self.r.file.clone(),
                 prim: prim.path().to_string(),
                 what: "namespace depth",
-                count: depth,
-                limit: MAX_DEPTH,
+                count: depth + 1,
+                limit: self.r.limits.max_depth,
             });
+        }
+        // `openusd` 0.6 accepts prim names that are not identifiers (`"a b"`, `"c}d"`) and
+        // then recurses without end when composing them: such prims (and everything below)
+        // are skipped before any other query.
+        let path = prim.path().to_string();
+        if !super::reader::is_prim_path(&path) {
+            self.r.warnings.push(Warning {
+                prim: path,
+                kind: WarningKind::InvalidValue,
+                message: "prim name is not a USD identifier; prim and descendants skipped".into(),
+            });
+            return Ok(());
         }
         let active = self.usd(prim, prim.is_active())?;
         let defined = self.usd(prim, prim.is_defined())?;
@@ -188,6 +390,7 @@ impl Walk<'_> {
         if !active || !defined || abstract_ {
             return Ok(());
         }
+        self.check_reference_targets(prim)?;
         self.scene.prim_count += 1;
         let type_name = self
             .usd(prim, prim.type_name())?
@@ -208,12 +411,13 @@ impl Walk<'_> {
         let world = if reset { local } else { parent.world * local };
         let visible =
             parent.visible && self.r.text(prim, "visibility")?.as_deref() != Some("invisible");
-        let purpose = if parent.purpose != "default" {
-            parent.purpose.clone()
-        } else {
-            self.r
-                .text(prim, "purpose")?
-                .unwrap_or_else(|| "default".to_owned())
+        // UsdGeomImageable purpose (PurposeInfo): the prim's own authored purpose; else the
+        // nearest ancestor's authored purpose (inherited by children without their own);
+        // else the fallback "default".
+        let (purpose, purpose_inheritable) = match self.r.text(prim, "purpose")? {
+            Some(p) => (p, true),
+            None if parent.purpose_inheritable => (parent.purpose.clone(), true),
+            None => ("default".to_owned(), false),
         };
         let binding = {
             let full = self.r.targets(prim, "material:binding:full")?;
@@ -227,6 +431,7 @@ impl Walk<'_> {
             world,
             visible,
             purpose,
+            purpose_inheritable,
             binding,
         };
         let drawn = here.visible && matches!(here.purpose.as_str(), "default" | "render");
@@ -374,7 +579,8 @@ impl Walk<'_> {
                     .map(|c| mirror_corners(c, mirror));
             }
         }
-        let double_sided = self.r.bool_or(prim, "doubleSided", false)?;
+        // UsdGeomPlane overrides the Gprim fallback: planes are double-sided unless authored.
+        let double_sided = self.r.bool_or(prim, "doubleSided", type_name == "Plane")?;
         let spectral = super::light::read_spectral_attributes(
             &mut self.r,
             prim,

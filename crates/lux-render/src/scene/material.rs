@@ -2,7 +2,7 @@
 
 use super::error::{LoadError, WarningKind};
 use super::light::{SURFACE_NAMESPACES, SpectralAttributes, read_spectral_attributes};
-use super::reader::{AssetRef, Reader};
+use super::reader::{AssetRef, Reader, is_prim_path, is_property_name};
 use glam::{DVec3, DVec4};
 use openusd::usd::Prim;
 
@@ -72,6 +72,9 @@ fn follow(r: &Reader<'_>, prim_path: &str, attr: &str) -> Result<(String, String
         let Some((p, a)) = src.split_once('.') else {
             return Ok(cur);
         };
+        if !is_prim_path(p) || !is_property_name(a) {
+            return Ok(cur);
+        }
         cur = (p.to_owned(), a.to_owned());
         if cur.1.starts_with("outputs:") {
             return Ok(cur);

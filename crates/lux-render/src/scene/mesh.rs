@@ -1,7 +1,7 @@
 //! `UsdGeomMesh` triangulation and primvar expansion into world-space triangle meshes.
 
 use super::error::{LoadError, WarningKind};
-use super::reader::{MAX_ARRAY_LEN, Reader};
+use super::reader::Reader;
 use glam::{DMat3, DMat4, DVec2, DVec3};
 use openusd::usd::Prim;
 
@@ -24,7 +24,7 @@ pub struct Mesh {
     pub colors: Option<Vec<[DVec3; 3]>>,
     /// Texture coordinates per triangle corner from the primvar the bound material reads.
     pub uvs: Option<Vec<[DVec2; 3]>>,
-    /// `doubleSided` (default false).
+    /// `doubleSided` (Gprim fallback false; UsdGeomPlane's fallback true).
     pub double_sided: bool,
     /// Index into `Scene::materials` of the bound material.
     pub material: Option<usize>,
@@ -75,7 +75,10 @@ pub fn mesh_topology(r: &mut Reader<'_>, prim: &Prim) -> Result<Option<Topology>
     let indices = r.int_array(prim, "faceVertexIndices")?.unwrap_or_default();
     let holes = r.int_array(prim, "holeIndices")?.unwrap_or_default();
     let left = r.text(prim, "orientation")?.as_deref() == Some("leftHanded");
-    let total: i64 = counts.iter().map(|c| (*c).max(0)).sum();
+    // Saturating: absurd counts (int64 arrays of huge values) must not overflow.
+    let total = counts
+        .iter()
+        .fold(0i64, |acc, c| acc.saturating_add((*c).max(0)));
     if total != indices.len() as i64 || counts.iter().any(|c| *c < 0) {
         r.warn(
             prim,
@@ -87,19 +90,21 @@ pub fn mesh_topology(r: &mut Reader<'_>, prim: &Prim) -> Result<Option<Topology>
         );
         return Ok(None);
     }
+    // `total` equals the index count here, so every count is ≤ MAX_ARRAY_LEN and the sum fits.
     let tri_count: usize = counts.iter().map(|c| (*c as usize).saturating_sub(2)).sum();
-    if tri_count > MAX_ARRAY_LEN {
+    if tri_count > r.limits.max_array_len {
         return Err(LoadError::TooLarge {
             file: r.file.clone(),
             prim: prim.path().to_string(),
             what: "triangulation",
             count: tri_count,
-            limit: MAX_ARRAY_LEN,
+            limit: r.limits.max_array_len,
         });
     }
     let mut triangles = Vec::with_capacity(tri_count);
     let mut corners = Vec::with_capacity(tri_count);
     let mut bad_faces = 0usize;
+    let holes: std::collections::HashSet<i64> = holes.into_iter().collect();
     let mut start = 0usize;
     for (face, &n) in counts.iter().enumerate() {
         let n = n as usize;
@@ -161,6 +166,16 @@ pub fn expand_primvar<T: Copy>(
         Some(v) => super::value::as_int_array(&v),
         None => None,
     };
+    let longest = values.len().max(indices.as_ref().map_or(0, Vec::len));
+    if longest > r.limits.max_array_len {
+        return Err(LoadError::TooLarge {
+            file: r.file.clone(),
+            prim: prim.path().to_string(),
+            what: "primvar",
+            count: longest,
+            limit: r.limits.max_array_len,
+        });
+    }
     let lookup = |i: usize| -> Option<T> {
         let j = match &indices {
             Some(ix) => usize::try_from(*ix.get(i)?).ok()?,

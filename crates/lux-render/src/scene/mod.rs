@@ -5,8 +5,12 @@
 //! `ShadowAPI` inputs. See the crate README for what is supported.
 //!
 //! What `openusd` 0.6 lacks and the loader adds: scalar asset-path time samples in `.usda`
-//! (rewritten before parsing, [`usda_fix`]); schema defaults; transform-op evaluation in f64
-//! ([`xform`]); triangulation, primvar expansion and implicit-gprim tessellation.
+//! (rewritten before parsing, [`usda_fix`]); interpolation of scalar time samples the `.usda`
+//! parser reads type-blind ([`reader::Reader::raw`]); resolution of asset paths held in time
+//! samples against their authoring layer ([`reader::Reader::asset`]); an error for references
+//! to prims that do not exist; schema defaults; transform-op evaluation in f64 ([`xform`]);
+//! triangulation, primvar expansion and implicit-gprim tessellation. [`load_usda_str`] loads
+//! `.usda` text from memory.
 
 pub mod camera;
 pub mod error;
@@ -24,7 +28,7 @@ pub mod xform;
 pub use camera::{Camera, Projection, RenderBase, RenderProduct, RenderSettings};
 pub use error::{LoadError, Warning, WarningKind};
 pub use light::{Light, PoleAxis, RawValue, ShadowInputs, ShapingInputs, SpectralAttributes};
-pub use load::load_stage;
+pub use load::{LoadOptions, MEMORY_LAYER, load_stage, load_stage_with, load_usda_str};
 pub use material::{Diffuse, Material, TextureInput};
 pub use mesh::Mesh;
 pub use reader::AssetRef;

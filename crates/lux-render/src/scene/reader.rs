@@ -3,14 +3,18 @@
 use super::error::{LoadError, Warning, WarningKind};
 use super::value;
 use glam::{DMat4, DVec2, DVec3, DVec4};
-use openusd::sdf::Value;
+use openusd::sdf::{FieldKey, Value};
 use openusd::usd::{Prim, Stage, TimeCode};
 use std::path::PathBuf;
 
-/// Upper bound on any array the loader copies (points, indices, primvars): 2^27 elements.
+/// Default upper bound on any array the loader copies (points, indices, primvars) and on one
+/// mesh's triangulation: 2^27 elements ([`super::LoadOptions::max_array_len`]).
 pub const MAX_ARRAY_LEN: usize = 1 << 27;
 
-/// Reads attributes of a composed stage at one time code. Time samples are evaluated by
+/// Reads attributes of a composed stage at one time code. A property name that is not a USD
+/// property name ([`is_property_name`]; e.g. an `xformOpOrder` entry or a primvar name taken
+/// from authored text) reads as unauthored: `openusd` 0.6 does not validate such names and can
+/// loop without end resolving them. Time samples are evaluated by
 /// `openusd` (AOUSD §12.5): linear interpolation for numbers, vectors, matrices and quaternions
 /// (slerp), held for everything else, clamped before the first and after the last sample.
 pub struct Reader<'s> {
@@ -22,6 +26,8 @@ pub struct Reader<'s> {
     pub time: f64,
     /// Collected warnings.
     pub warnings: Vec<Warning>,
+    /// Size limits of this load.
+    pub limits: super::LoadOptions,
 }
 
 impl<'s> Reader<'s> {
@@ -54,15 +60,89 @@ impl<'s> Reader<'s> {
     }
 
     /// The raw composed value of `name` at the load time; `None` when unauthored or blocked.
+    ///
+    /// Scalar floating-point time samples are re-evaluated here (see
+    /// [`Reader::typed_scalar_sample`]), so a `.usda` and a `.usdc` of the same stage give the
+    /// same value at every time.
     pub fn raw(&self, prim: &Prim, name: &str) -> Result<Option<Value>, LoadError> {
-        prim.attribute(name)
+        if !is_property_name(name) {
+            return Ok(None);
+        }
+        let attr = prim.attribute(name);
+        let v = attr
             .get_at::<Value>(TimeCode::new(self.time))
-            .map_err(|e| self.usd_error(prim, format_args!("attribute {name}: {e:#}")))
+            .map_err(|e| self.usd_error(prim, format_args!("attribute {name}: {e:#}")))?;
+        match v {
+            Some(v @ (Value::Int64(_) | Value::Double(_))) => {
+                self.typed_scalar_sample(prim, &attr, name, v).map(Some)
+            }
+            other => Ok(other),
+        }
+    }
+
+    /// Work-around for `openusd` 0.6's text parser, which reads scalar time samples type-blind:
+    /// `float inputs:intensity.timeSamples = { 1: 10, 3: 20 }` holds `Int64` samples (and
+    /// `0.5` a `Double`), which its evaluator does not interpolate (nor a mix of the two), so
+    /// frame 2 would read 10 instead of 15. For an attribute declared `half`, `float` or
+    /// `double`, the bracketing samples are read back and interpolated in the declared
+    /// precision, exactly as the evaluator does for typed samples (`a + (b − a)·t`, `f32`
+    /// arithmetic for `float`/`half`); a value at or outside the samples is converted to the
+    /// declared type. Any other declared type (`int`, `bool`…) keeps the evaluator's held value,
+    /// as USD prescribes.
+    fn typed_scalar_sample(
+        &self,
+        prim: &Prim,
+        attr: &openusd::usd::Attribute,
+        name: &str,
+        v: Value,
+    ) -> Result<Value, LoadError> {
+        let err = |e: &dyn std::fmt::Display| {
+            self.usd_error(prim, format_args!("attribute {name}: {e:#}"))
+        };
+        let declared = attr.type_name().map_err(|e| err(&e))?;
+        let Some(declared) = declared.as_ref().map(|t| t.as_str()) else {
+            return Ok(v);
+        };
+        if !matches!(declared, "half" | "float" | "double") {
+            return Ok(v);
+        }
+        let Some(x) = value::as_f64(&v) else {
+            return Ok(v);
+        };
+        let mut x = x;
+        if let Some((lo, hi)) = attr
+            .bracketing_time_samples(self.time)
+            .map_err(|e| err(&e))?
+            && lo < hi
+        {
+            let at = |t: f64| -> Result<Option<f64>, LoadError> {
+                Ok(attr
+                    .get_at::<Value>(TimeCode::new(t))
+                    .map_err(|e| err(&e))?
+                    .as_ref()
+                    .and_then(value::as_f64))
+            };
+            if let (Some(a), Some(b)) = (at(lo)?, at(hi)?) {
+                let t = (self.time - lo) / (hi - lo);
+                x = match declared {
+                    "double" => openusd::gf::lerp(a, b, t),
+                    _ => f64::from(openusd::gf::lerp(a as f32, b as f32, t as f32)),
+                };
+            }
+        }
+        Ok(match declared {
+            "half" => Value::Half(openusd::gf::f16::from_f64(x)),
+            "float" => Value::Float(x as f32),
+            _ => Value::Double(x),
+        })
     }
 
     /// The raw composed value of `name`'s default (for `uniform` attributes and metadata-like
     /// reads), ignoring time samples.
     pub fn raw_default(&self, prim: &Prim, name: &str) -> Result<Option<Value>, LoadError> {
+        if !is_property_name(name) {
+            return Ok(None);
+        }
         prim.attribute(name)
             .get::<Value>()
             .map_err(|e| self.usd_error(prim, format_args!("attribute {name}: {e:#}")))
@@ -71,6 +151,9 @@ impl<'s> Reader<'s> {
     /// A string/token metadata field `key` of attribute `name`, if authored (any failure to
     /// read it counts as unauthored).
     pub fn metadata_text(&self, prim: &Prim, name: &str, key: &str) -> Option<String> {
+        if !is_property_name(name) {
+            return None;
+        }
         prim.attribute(name)
             .get_metadata::<Value>(key)
             .ok()
@@ -184,8 +267,10 @@ impl<'s> Reader<'s> {
     /// An asset path with its resolution; `None` when unauthored or empty (`@@`).
     ///
     /// `openusd` 0.6 does not resolve asset paths held in time samples (nor in the arrays the
-    /// `.usda` fix produces); those are resolved here against the directory of the strongest
-    /// layer that authors the attribute (its property stack), when that layer is a plain file.
+    /// `.usda` fix produces); those are resolved here against the strongest layer of the
+    /// attribute's property stack that authors a value (a weaker-than-value, metadata-only
+    /// opinion does not re-anchor it), with `openusd`'s own anchoring rules: the layer's
+    /// directory, or inside the package for a `.usdz` layer (`pkg.usdz[assets/a.ies]`).
     pub fn asset(&self, prim: &Prim, name: &str) -> Result<Option<AssetRef>, LoadError> {
         let Some((authored, resolved)) = self
             .typed(prim, name, "an asset path", value::as_asset)?
@@ -201,28 +286,40 @@ impl<'s> Reader<'s> {
     }
 
     fn resolve_fallback(&self, prim: &Prim, name: &str, authored: &str) -> Option<PathBuf> {
-        let candidate = std::path::Path::new(authored);
-        if candidate.is_absolute() {
-            return candidate.is_file().then(|| candidate.to_path_buf());
-        }
+        use openusd::ar::{DefaultResolver, ResolvedPath, Resolver};
         let stack = prim.attribute(name).property_stack().ok()?;
-        let (layer, _) = stack.first()?;
-        if layer.contains('[') {
-            return None; // inside a package: left unresolved
-        }
-        let dir = std::path::Path::new(layer).parent()?;
-        let p = dir.join(candidate);
-        p.is_file().then(|| p.canonicalize().unwrap_or(p))
+        // The strongest layer whose spec holds a value (a default or time samples); a weaker
+        // spec that only adds metadata does not author the path.
+        let (layer, _) = stack
+            .iter()
+            .find(|(layer, spec)| {
+                self.stage.layer(layer).is_some_and(|l| {
+                    l.attribute(spec.clone()).is_some_and(|a| {
+                        a.has_field(FieldKey::Default.as_str())
+                            || a.has_field(FieldKey::TimeSamples.as_str())
+                    })
+                })
+            })
+            .or(stack.first())?;
+        // Anchor and resolve exactly as `openusd` does for the asset paths it resolves itself:
+        // relative to the layer's directory, or inside the package for a `.usdz` layer
+        // (`pkg.usdz[assets/a.ies]`, only when the package has that entry).
+        let resolver = DefaultResolver::new();
+        let id = resolver.create_identifier(authored, Some(&ResolvedPath::new(layer)));
+        let resolved = resolver.resolve(&id)?;
+        let path = PathBuf::from(resolved.to_string_lossy().into_owned());
+        let packaged = openusd::ar::is_package_relative_path(&path.to_string_lossy());
+        (packaged || path.is_file()).then_some(path)
     }
 
     fn capped<T>(&self, prim: &Prim, name: &'static str, v: Vec<T>) -> Result<Vec<T>, LoadError> {
-        if v.len() > MAX_ARRAY_LEN {
+        if v.len() > self.limits.max_array_len {
             return Err(LoadError::TooLarge {
                 file: self.file.clone(),
                 prim: prim.path().to_string(),
                 what: name,
                 count: v.len(),
-                limit: MAX_ARRAY_LEN,
+                limit: self.limits.max_array_len,
             });
         }
         Ok(v)
@@ -266,6 +363,9 @@ impl<'s> Reader<'s> {
 
     /// A string metadata field of an attribute (e.g. a primvar's `interpolation`).
     pub fn attr_metadata_text(&self, prim: &Prim, name: &str, key: &str) -> Option<String> {
+        if !is_property_name(name) {
+            return None;
+        }
         prim.attribute(name)
             .get_metadata::<Value>(key)
             .ok()
@@ -273,21 +373,68 @@ impl<'s> Reader<'s> {
             .and_then(|v| value::as_text(&v))
     }
 
-    /// Targets of a relationship (empty when unauthored).
-    pub fn targets(&self, prim: &Prim, name: &str) -> Result<Vec<String>, LoadError> {
-        prim.relationship(name)
+    /// Prim-path targets of a relationship (empty when unauthored). A target that is not a
+    /// plain prim path ([`is_prim_path`]) is dropped with an `InvalidValue` warning.
+    pub fn targets(&mut self, prim: &Prim, name: &str) -> Result<Vec<String>, LoadError> {
+        if !is_property_name(name) {
+            return Ok(Vec::new());
+        }
+        let all: Vec<String> = prim
+            .relationship(name)
             .targets()
             .map(|t| t.iter().map(|p| p.to_string()).collect())
-            .map_err(|e| self.usd_error(prim, format_args!("relationship {name}: {e:#}")))
+            .map_err(|e| self.usd_error(prim, format_args!("relationship {name}: {e:#}")))?;
+        let mut out = Vec::with_capacity(all.len());
+        for t in all {
+            if is_prim_path(&t) {
+                out.push(t);
+            } else {
+                self.warn(
+                    prim,
+                    WarningKind::InvalidValue,
+                    format!("{name}: target {t:?} is not a prim path; ignored"),
+                );
+            }
+        }
+        Ok(out)
     }
 
     /// Connection sources of an attribute (empty when unauthored).
     pub fn connections(&self, prim: &Prim, name: &str) -> Result<Vec<String>, LoadError> {
+        if !is_property_name(name) {
+            return Ok(Vec::new());
+        }
         prim.attribute(name)
             .connections()
             .map(|t| t.iter().map(|p| p.to_string()).collect())
             .map_err(|e| self.usd_error(prim, format_args!("connection {name}: {e:#}")))
     }
+}
+
+/// Whether `name` is a USD identifier (a prim name, or one namespace segment of a property
+/// name): a letter or `_` followed by letters, digits or `_`.
+fn is_identifier(name: &str) -> bool {
+    let mut chars = name.chars();
+    chars.next().is_some_and(|c| c.is_alphabetic() || c == '_')
+        && chars.all(|c| c.is_alphanumeric() || c == '_')
+}
+
+/// Whether `path` is a plain absolute prim path (`/A/B`, no variant selections or
+/// properties).
+///
+/// `openusd` 0.6 accepts any text between `<` and `>` as a path (newlines, spaces and braces
+/// included), and looking such a path up on the stage recurses without end in its instancing
+/// code (a stack overflow found by the `usda` fuzz target). Every authored path the loader
+/// looks up (relationship targets, connection sources, reference targets) is checked here
+/// first.
+pub fn is_prim_path(path: &str) -> bool {
+    path.strip_prefix('/')
+        .is_some_and(|rest| rest.split('/').all(is_identifier))
+}
+
+/// Whether `name` is a (possibly namespaced) property name: identifiers joined by `:`.
+pub fn is_property_name(name: &str) -> bool {
+    name.split(':').all(is_identifier)
 }
 
 /// An asset-valued attribute: the path as authored and, when it names an existing file, the

@@ -6,9 +6,13 @@ use std::io;
 
 /// `DefaultResolver` (filesystem paths relative to the authoring layer, `.usdz` packages) that
 /// rewrites scalar asset time samples in `.usda` layers before `openusd` parses them.
+///
+/// It can also serve one in-memory `.usda` layer under a fixed identifier (for loading a stage
+/// from a string).
 #[derive(Default)]
 pub struct LuxResolver {
     inner: DefaultResolver,
+    memory: Option<(String, Vec<u8>)>,
 }
 
 impl LuxResolver {
@@ -16,6 +20,23 @@ impl LuxResolver {
     pub fn new() -> LuxResolver {
         LuxResolver {
             inner: DefaultResolver::new(),
+            memory: None,
+        }
+    }
+
+    /// A resolver that also serves `bytes` as the layer `identifier` (which must end in
+    /// `.usda`).
+    pub fn with_memory_layer(identifier: &str, bytes: Vec<u8>) -> LuxResolver {
+        LuxResolver {
+            inner: DefaultResolver::new(),
+            memory: Some((identifier.to_owned(), bytes)),
+        }
+    }
+
+    fn memory(&self, path: &str) -> Option<&[u8]> {
+        match &self.memory {
+            Some((id, bytes)) if id == path => Some(bytes),
+            _ => None,
         }
     }
 }
@@ -31,10 +52,16 @@ fn is_text_layer(path: &str) -> bool {
 
 impl Resolver for LuxResolver {
     fn create_identifier(&self, asset_path: &str, anchor: Option<&ResolvedPath>) -> String {
+        if anchor.is_none() && self.memory(asset_path).is_some() {
+            return asset_path.to_owned();
+        }
         self.inner.create_identifier(asset_path, anchor)
     }
 
     fn resolve(&self, asset_path: &str) -> Option<ResolvedPath> {
+        if self.memory(asset_path).is_some() {
+            return Some(ResolvedPath::new(asset_path));
+        }
         self.inner.resolve(asset_path)
     }
 
@@ -43,12 +70,16 @@ impl Resolver for LuxResolver {
     }
 
     fn open_asset(&self, resolved_path: &ResolvedPath) -> io::Result<Box<dyn Asset>> {
-        let mut asset = self.inner.open_asset(resolved_path)?;
         let name = resolved_path.to_string_lossy();
-        if !is_text_layer(&name) {
-            return Ok(asset);
-        }
-        let bytes = asset.read_all()?;
+        let bytes = if let Some(b) = self.memory(&name) {
+            b.to_vec()
+        } else {
+            let mut asset = self.inner.open_asset(resolved_path)?;
+            if !is_text_layer(&name) {
+                return Ok(asset);
+            }
+            asset.read_all()?
+        };
         let fixed = std::str::from_utf8(&bytes)
             .ok()
             .and_then(super::usda_fix::rewrite_asset_time_samples);
@@ -63,6 +94,9 @@ impl Resolver for LuxResolver {
     }
 
     fn get_asset_info(&self, asset_path: &str, resolved_path: &ResolvedPath) -> ar::AssetInfo {
+        if self.memory(asset_path).is_some() {
+            return ar::AssetInfo::default();
+        }
         self.inner.get_asset_info(asset_path, resolved_path)
     }
 
@@ -71,11 +105,17 @@ impl Resolver for LuxResolver {
         asset_path: &str,
         resolved_path: &ResolvedPath,
     ) -> Option<std::time::SystemTime> {
+        if self.memory(asset_path).is_some() {
+            return None;
+        }
         self.inner
             .get_modification_timestamp(asset_path, resolved_path)
     }
 
     fn identity(&self) -> String {
-        format!("lux:{}", self.inner.identity())
+        match &self.memory {
+            Some((id, _)) => format!("lux:{}:memory:{id}", self.inner.identity()),
+            None => format!("lux:{}", self.inner.identity()),
+        }
     }
 }
