@@ -88,3 +88,8 @@ pub enum RenderError {
     #[error(transparent)]
     Image(#[from] image_io::ImageError),
 }
+
+/// The README's example, compiled and run as a doctest.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -69,19 +69,15 @@ const SCHEMA: &[(&str, &str, V)] = &[
     ("PortalLight", "inputs:height", V::F(1.0)),
 ];
 
-/// The UsdLux 26.11 schema text, when the shared spec folder is beside the repository.
-fn schema_file() -> Option<PathBuf> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/spec/usdLux-schema-26.11.usda");
-    p.is_file().then_some(p)
+/// The UsdLux 26.11 schema text (the copy kept with lux-math's test data, with its notice).
+fn schema_file() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../lux-math/tests/data/usdLux-schema-26.11.usda")
 }
 
 #[test]
 fn the_default_table_matches_the_schema_text() {
-    let Some(path) = schema_file() else {
-        eprintln!("shared/spec not found beside the repository: table not cross-checked");
-        return;
-    };
+    let path = schema_file();
     let text = std::fs::read_to_string(&path).unwrap();
     let data = openusd::usda::parse(&text).expect("schema parses");
     let layer_value = |class: &str, attr: &str| -> openusd::sdf::Value {
