@@ -1,5 +1,7 @@
 //! lux-ies lookup benchmarks: `ies_lookup_bilinear` (target ≤ 10 ns) and `ies_lookup_bicubic`
-//! (target ≤ 25 ns) on bega_omni001_1238lm.ies at random directions, plus
+//! (target ≤ 25 ns) on bega_omni001_1238lm.ies at random directions (evenly spaced angles: the
+//! interval is found by arithmetic), and on test_vstripes_hquadrants_nonuniform.ies (uneven
+//! vertical angles: the interval is found with the bin table), plus
 //! `ies_parse_throughput` of lux-ies on the whole corpus (the comparison with lidrs lives in
 //! crates/lux-ies/benches/parse_vs_lidrs.rs).
 
@@ -36,8 +38,12 @@ fn data(rel: &str) -> String {
 }
 
 fn lookup(c: &mut Criterion) {
-    let file = IesFile::parse(&data("luxtest/bega_omni001_1238lm.ies")).unwrap();
-    let web = PhotometricWeb::new(&file, Profile::Spec).unwrap();
+    let web = |rel: &str| {
+        let file = IesFile::parse(&data(rel)).unwrap();
+        PhotometricWeb::new(&file, Profile::Spec).unwrap()
+    };
+    let omni = web("luxtest/bega_omni001_1238lm.ies");
+    let uneven = web("luxtest/test_vstripes_hquadrants_nonuniform.ies");
     let dirs = directions();
     for (name, interp) in [
         ("ies_lookup_bilinear", Interpolation::Bilinear),
@@ -45,15 +51,20 @@ fn lookup(c: &mut Criterion) {
     ] {
         let mut g = c.benchmark_group(name);
         g.throughput(Throughput::Elements(N as u64));
-        g.bench_function("bega_omni001_random_dirs", |b| {
-            b.iter(|| {
-                let mut acc = 0.0;
-                for &(t, p) in &dirs {
-                    acc += web.intensity_with(black_box(t), black_box(p), interp);
-                }
-                black_box(acc)
-            })
-        });
+        for (id, web) in [
+            ("bega_omni001_random_dirs", &omni),
+            ("nonuniform_random_dirs", &uneven),
+        ] {
+            g.bench_function(id, |b| {
+                b.iter(|| {
+                    let mut acc = 0.0;
+                    for &(t, p) in &dirs {
+                        acc += web.intensity_with(black_box(t), black_box(p), interp);
+                    }
+                    black_box(acc)
+                })
+            });
+        }
         g.finish();
     }
 }

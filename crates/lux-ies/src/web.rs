@@ -4,7 +4,7 @@
 
 use crate::error::IesError;
 use crate::file::{IesFile, PhotometricType};
-use crate::interp::{IntervalTable, hermite};
+use crate::interp::Axis;
 use core::f64::consts::{FRAC_PI_2, PI, TAU};
 use lux_math::Profile;
 
@@ -55,10 +55,9 @@ pub struct PhotometricWeb {
     h: Vec<f64>,
     /// `h.len()` rows of `v.len()` values.
     values: Vec<f64>,
-    vtab: IntervalTable,
-    htab: IntervalTable,
+    vaxis: Axis,
+    haxis: Axis,
     constant_h: bool,
-    periodic: bool,
     max_cd: f64,
     max_at: (f64, f64),
     flux_exact: f64,
@@ -191,8 +190,8 @@ impl PhotometricWeb {
         h: Vec<f64>,
         values: Vec<f64>,
     ) -> PhotometricWeb {
-        let vtab = IntervalTable::new(&v);
-        let htab = IntervalTable::new(&h);
+        let vaxis = Axis::new(&v, None);
+        let haxis = Axis::new(&h, (ptype == PhotometricType::C).then_some(TAU));
         let nv = v.len();
         let mut max_cd = 0.0;
         let mut max_idx = (0, 0);
@@ -207,12 +206,11 @@ impl PhotometricWeb {
             symmetry,
             profile,
             constant_h: symmetry == Symmetry::Axial,
-            periodic: ptype == PhotometricType::C,
             v,
             h,
             values,
-            vtab,
-            htab,
+            vaxis,
+            haxis,
             max_cd,
             max_at: (0.0, 0.0),
             flux_exact: 0.0,
@@ -328,7 +326,9 @@ impl PhotometricWeb {
     }
 
     /// Converts light-space (θ, φ) to native (vertical, horizontal) radians (types A/B; type C is
-    /// the identity with φ wrapped into [0, 2π)).
+    /// the identity with φ wrapped into [0, 2π)). The inverse trigonometry is
+    /// [`lux_math::fastmath`]'s (within a few ulp of libm's).
+    #[inline]
     pub fn light_to_native(&self, theta: f64, phi: f64) -> (f64, f64) {
         match self.ptype {
             PhotometricType::C => (theta, phi.rem_euclid(TAU)),
@@ -340,7 +340,10 @@ impl PhotometricWeb {
                     (-d.y, d.x, -d.z)
                 };
                 // x = cos V sin H, y = sin V, z = cos V cos H
-                (y.clamp(-1.0, 1.0).asin(), x.atan2(z))
+                (
+                    lux_math::fastmath::asin(y.clamp(-1.0, 1.0)),
+                    lux_math::fastmath::atan2(x, z),
+                )
             }
         }
     }
@@ -351,6 +354,12 @@ impl PhotometricWeb {
     /// vertical angle (interpolated in φ); otherwise θ outside the vertical range gives 0. φ is
     /// taken modulo 2π. Types A/B: the direction is converted to (V, H); outside the measured
     /// range gives 0.
+    ///
+    /// Constant time and allocation-free: on evenly spaced angles the interval is found by
+    /// arithmetic, otherwise with a bin table (one load and one comparison); the fraction is a
+    /// multiplication by the interval's precomputed reciprocal width, and the bicubic weights'
+    /// tangent coefficients are precomputed per interval. The values equal those of the direct
+    /// evaluation (bisection, division, the Hermite formula) up to rounding.
     #[inline]
     pub fn intensity(&self, theta: f64, phi: f64) -> f64 {
         self.intensity_with(theta, phi, Interpolation::Bilinear)
@@ -371,8 +380,7 @@ impl PhotometricWeb {
                 return 0.0;
             };
             if theta >= PI {
-                let nv = self.v.len();
-                return self.eval_at(nv - 2, 1.0, self.v[nv - 1], phi, interp);
+                return self.eval_at(self.v.len() - 2, 1.0, phi, interp);
             }
             self.native(theta, phi, interp)
         } else {
@@ -384,71 +392,74 @@ impl PhotometricWeb {
     /// Intensity at native (vertical, horizontal) radians; 0 outside the measured range.
     #[inline]
     pub fn native(&self, v: f64, h: f64, interp: Interpolation) -> f64 {
-        let nv = self.v.len();
-        if !(v >= self.v[0] && v <= self.v[nv - 1]) {
+        if !(v >= self.vaxis.lo && v <= self.vaxis.hi) {
             return 0.0;
         }
-        let vi = self.vtab.find(&self.v, v);
-        let vt = (v - self.v[vi]) / (self.v[vi + 1] - self.v[vi]);
-        self.eval_at(vi, vt, v, h, interp)
+        let (vi, vt) = self.vaxis.locate(&self.v, v);
+        self.eval_at(vi, vt, h, interp)
     }
 
+    /// The interpolant in vertical interval `vi` at fraction `vt`, horizontal angle `h`.
     #[inline(always)]
-    fn eval_at(&self, vi: usize, vt: f64, v: f64, h: f64, interp: Interpolation) -> f64 {
-        let nv = self.v.len();
-        let nh = self.h.len();
+    fn eval_at(&self, vi: usize, vt: f64, h: f64, interp: Interpolation) -> f64 {
         if interp == Interpolation::Bicubic {
-            return self.bicubic(vi, v, h);
+            return self.bicubic(vi, vt, h);
         }
+        let nv = self.v.len();
         if self.constant_h {
-            let r = &self.values[..nv];
-            return r[vi] + vt * (r[vi + 1] - r[vi]);
+            let r = &self.values[vi..vi + 2];
+            return r[0] + vt * (r[1] - r[0]);
         }
-        if !(h >= self.h[0] && h <= self.h[nh - 1]) {
+        if !(h >= self.haxis.lo && h <= self.haxis.hi) {
             return 0.0;
         }
-        let hi = self.htab.find(&self.h, h);
-        let ht = (h - self.h[hi]) / (self.h[hi + 1] - self.h[hi]);
-        let r0 = &self.values[hi * nv..hi * nv + nv];
-        let r1 = &self.values[(hi + 1) * nv..(hi + 1) * nv + nv];
-        let a = r0[vi] + vt * (r0[vi + 1] - r0[vi]);
-        let b = r1[vi] + vt * (r1[vi + 1] - r1[vi]);
+        let (hi, ht) = self.haxis.locate(&self.h, h);
+        // the four corners: rows hi and hi + 1, columns vi and vi + 1
+        let k = hi * nv + vi;
+        let r = &self.values[k..k + nv + 2];
+        let a = r[0] + vt * (r[1] - r[0]);
+        let b = r[nv] + vt * (r[nv + 1] - r[nv]);
         a + ht * (b - a)
     }
 
-    fn bicubic(&self, vi: usize, v: f64, h: f64) -> f64 {
-        let nv = self.v.len();
-        let nh = self.h.len();
-        let vidx = [vi.saturating_sub(1), vi, vi + 1, (vi + 2).min(nv - 1)];
-        let vx = vidx.map(|k| self.v[k]);
-        let row = |hk: usize| {
-            let r = &self.values[hk * nv..hk * nv + nv];
-            hermite(v, vx, vidx.map(|k| r[k])).max(0.0)
-        };
+    /// Bicubic: the Hermite weights of the vertical segment (shared by the four rows), each row
+    /// clamped at 0, then the horizontal segment's weights, clamped at 0.
+    #[inline]
+    fn bicubic(&self, vi: usize, vt: f64, h: f64) -> f64 {
+        // the neighbours of `hermite`, computed (not loaded) from `vi`
+        let c = self.vaxis.neighbours(vi);
+        let wv = self.vaxis.segment(vi).weights(vt);
+        // away from the ends the four columns are consecutive: one slice per row
+        let inner = c[0] + 3 == c[3];
         if self.constant_h {
-            return row(0);
+            return self.cubic_row(0, c, inner, &wv);
         }
-        if !(h >= self.h[0] && h <= self.h[nh - 1]) {
+        if !(h >= self.haxis.lo && h <= self.haxis.hi) {
             return 0.0;
         }
-        let hi = self.htab.find(&self.h, h);
-        // neighbours in h: periodic for type C (h[0] = 0 and h[nh-1] = 2π are the same plane)
-        let (i0, x0) = if hi > 0 {
-            (hi - 1, self.h[hi - 1])
-        } else if self.periodic && nh > 2 {
-            (nh - 2, self.h[nh - 2] - TAU)
+        let (hi, ht) = self.haxis.locate(&self.h, h);
+        let wh = self.haxis.segment(hi).weights(ht);
+        let [k0, k1, k2, k3] = self.haxis.neighbours(hi);
+        let r0 = self.cubic_row(k0, c, inner, &wv);
+        let r1 = self.cubic_row(k1, c, inner, &wv);
+        let r2 = self.cubic_row(k2, c, inner, &wv);
+        let r3 = self.cubic_row(k3, c, inner, &wv);
+        ((wh[0] * r0 + wh[1] * r1) + (wh[2] * r2 + wh[3] * r3)).max(0.0)
+    }
+
+    /// Row `hk` interpolated in the vertical with weights `w` on columns `c` (each < nv;
+    /// consecutive when `inner`), clamped at 0.
+    #[inline(always)]
+    fn cubic_row(&self, hk: usize, c: [usize; 4], inner: bool, w: &[f64; 4]) -> f64 {
+        let nv = self.v.len();
+        let p = if inner {
+            let k = hk * nv + c[0];
+            let r: &[f64; 4] = self.values[k..k + 4].try_into().unwrap();
+            *r
         } else {
-            (hi, self.h[hi])
+            let r = &self.values[hk * nv..hk * nv + nv];
+            c.map(|k| r[k])
         };
-        let (i3, x3) = if hi + 2 < nh {
-            (hi + 2, self.h[hi + 2])
-        } else if self.periodic && nh > 2 {
-            (1, self.h[1] + TAU)
-        } else {
-            (hi + 1, self.h[hi + 1])
-        };
-        let hx = [x0, self.h[hi], self.h[hi + 1], x3];
-        let p = [row(i0), row(hi), row(hi + 1), row(i3)];
-        hermite(h, hx, p).max(0.0)
+        ((w[0] * p[0] + w[1] * p[1]) + (w[2] * p[2] + w[3] * p[3])).max(0.0)
     }
 }

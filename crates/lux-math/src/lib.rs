@@ -27,6 +27,7 @@
 mod blackbody;
 mod elliptic;
 mod emission;
+pub mod fastmath;
 mod polar;
 mod profile;
 mod scalar;
@@ -44,7 +45,10 @@ pub use elliptic::{
     ellipsoid_area, ellipsoid_area_thomsen,
 };
 pub use emission::{LightParams, emission, emitted_radiance};
-pub use polar::{Frame, azimuth_from_xy, light_direction, light_polar};
+pub use polar::{
+    Frame, azimuth_from_xy, azimuth_from_xy_fast, light_direction, light_polar, light_polar_fast,
+    polar_angle_fast, polar_angles_fast,
+};
 pub use profile::{Profile, UnknownProfile};
 pub use scalar::{lerp, lerp_f32, smooth_step, smooth_step_f32};
 pub use shadow::{shadow_strength, shadowed};

@@ -7,20 +7,49 @@
 
 use glam::DVec3;
 
-/// Light-space direction → `(θ, φ)` in radians: θ = acos(−z/|d|) ∈ \[0, π\], φ ∈ \[0, 2π).
+/// Light-space direction → `(θ, φ)` in radians: θ ∈ \[0, π\] the angle from −Z
+/// (`acos(−z/|d|)`), φ ∈ \[0, 2π).
 ///
+/// θ is evaluated as `atan2(√(x² + y²), −z)`, which unlike `acos` of the rounded cosine keeps
+/// full relative accuracy near the axis (acos loses up to √(2⁻⁵²) ≈ 1.5·10⁻⁸ rad there).
 /// φ = atan2(y, x) + π wrapped to \[0, 2π): 0 towards −X, π/2 towards −Y (the IES horizontal angle).
 /// On the axis (x = y = 0) φ is 0. A zero or non-finite direction gives `None`.
 #[inline]
 pub fn light_polar(dir: DVec3) -> Option<(f64, f64)> {
-    let len = dir.length();
-    if !(len > 0.0 && len.is_finite()) {
+    let len2 = dir.length_squared();
+    if !(len2 > 0.0 && len2.is_finite()) {
         return None;
     }
-    let cos_theta = (-dir.z / len).clamp(-1.0, 1.0);
-    let theta = cos_theta.acos();
+    let rho = (dir.x * dir.x + dir.y * dir.y).sqrt();
+    let theta = rho.atan2(-dir.z);
     let phi = azimuth_from_xy(dir.x, dir.y);
     Some((theta, phi))
+}
+
+/// [`light_polar`] with the fast inverse trigonometry of [`crate::fastmath`]: the same formulas
+/// and `None` cases, each angle within a few ulp of [`light_polar`]'s (libm) value (θ
+/// relatively, φ within 2 ulp of π absolutely).
+#[inline]
+pub fn light_polar_fast(dir: DVec3) -> Option<(f64, f64)> {
+    let len2 = dir.length_squared();
+    if !(len2 > 0.0 && len2.is_finite()) {
+        return None;
+    }
+    Some(polar_angles_fast(dir))
+}
+
+/// The `(θ, φ)` of [`light_polar_fast`] without its check of the direction (a zero direction
+/// gives (0, 0), a NaN one NaN): θ by [`polar_angle_fast`], φ by [`azimuth_from_xy_fast`].
+#[inline]
+pub fn polar_angles_fast(dir: DVec3) -> (f64, f64) {
+    (polar_angle_fast(dir), azimuth_from_xy_fast(dir.x, dir.y))
+}
+
+/// The θ of [`light_polar_fast`] alone: `atan2(√(x² + y²), −z)` by [`crate::fastmath::atan2`]
+/// (no check of the direction: 0 for a zero one, NaN for a NaN one).
+#[inline]
+pub fn polar_angle_fast(dir: DVec3) -> f64 {
+    crate::fastmath::atan2_upper((dir.x * dir.x + dir.y * dir.y).sqrt(), -dir.z)
 }
 
 /// The IES azimuth of a light-space direction's XY components: atan2(y, x) + π wrapped to \[0, 2π).
@@ -37,6 +66,13 @@ pub fn azimuth_from_xy(x: f64, y: f64) -> f64 {
         phi = 0.0;
     }
     phi
+}
+
+/// [`azimuth_from_xy`] by [`crate::fastmath::azimuth`]: the same wrap rules (0 on the axis,
+/// `atan2(y, x) + π` folded into \[0, 2π)), within 2 ulp of π of its value.
+#[inline]
+pub fn azimuth_from_xy_fast(x: f64, y: f64) -> f64 {
+    crate::fastmath::azimuth(x, y)
 }
 
 /// Inverse of [`light_polar`]: the unit light-space direction with polar angle θ (from −Z) and
@@ -113,7 +149,57 @@ mod tests {
         assert!(light_polar(DVec3::new(f64::NAN, 0.0, 1.0)).is_none());
     }
 
+    #[test]
+    fn fast_polar_agrees_with_libm_polar_on_the_edges() {
+        let tiny = 1e-300;
+        for d in [
+            DVec3::new(-1.0, 0.0, 0.0),
+            DVec3::new(-1.0, -0.0, 0.0),
+            DVec3::new(-1.0, tiny, 0.0),
+            DVec3::new(-1.0, -tiny, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(1.0, -0.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(0.0, -1.0, 0.0),
+            DVec3::new(-0.0, 0.0, -2.0),
+            DVec3::new(0.0, 0.0, 3.0),
+            DVec3::new(1e-9, -1e-9, -1.0),
+            DVec3::new(-1e-200, 1e-200, 1.0),
+            DVec3::ZERO,
+            DVec3::new(f64::NAN, 0.0, 1.0),
+            DVec3::new(f64::INFINITY, 0.0, 1.0),
+        ] {
+            let (a, b) = (light_polar_fast(d), light_polar(d));
+            match (a, b) {
+                (None, None) => {}
+                (Some((t, p)), Some((t0, p0))) => {
+                    assert!((t - t0).abs() <= 2.0 * f64::EPSILON * t0, "{d}");
+                    // φ = atan2 + π: its absolute error is that of a value near π
+                    assert!((p - p0).abs() <= 4.0 * f64::EPSILON * PI, "{d}");
+                    assert!((0.0..core::f64::consts::TAU).contains(&p), "{d}");
+                }
+                _ => panic!("{d}: {a:?} vs {b:?}"),
+            }
+        }
+    }
+
     proptest! {
+        #[test]
+        fn fast_polar_agrees_with_libm_polar(
+            x in prop_oneof![-2.0f64..2.0, -1e-8f64..1e-8, Just(0.0)],
+            y in prop_oneof![-2.0f64..2.0, -1e-8f64..1e-8, Just(-0.0)],
+            z in prop_oneof![-2.0f64..2.0, Just(-1.0), Just(1.0)],
+        ) {
+            let d = DVec3::new(x, y, z);
+            let (a, b) = (light_polar_fast(d), light_polar(d));
+            prop_assert_eq!(a.is_some(), b.is_some());
+            if let (Some((t, p)), Some((t0, p0))) = (a, b) {
+                prop_assert!((t - t0).abs() <= 2.0 * f64::EPSILON * t0, "θ {} vs {}", t, t0);
+                prop_assert!((p - p0).abs() <= 4.0 * f64::EPSILON * PI, "φ {} vs {}", p, p0);
+                prop_assert!((0.0..core::f64::consts::TAU).contains(&p));
+            }
+        }
+
         #[test]
         fn polar_round_trip(theta in 0.001f64..3.1, phi in 0.0f64..6.2) {
             let d = light_direction(theta, phi);

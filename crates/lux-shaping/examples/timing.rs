@@ -1,4 +1,5 @@
-//! CPU time per `Shaping::factor` call for the cases of `benches/shaping.rs`, measured with the
+//! CPU time per `Shaping::factor` call for the cases of `benches/shaping.rs`, and per
+//! `PhotometricWeb::intensity_with` call in the loop of `benches/ies.rs`, measured with the
 //! thread's on-CPU time (`/proc/thread-self/schedstat`), which unlike a wall-clock benchmark is
 //! not inflated when the machine is shared. Linux only; falls back to wall-clock time elsewhere.
 //!
@@ -28,6 +29,34 @@ fn measure(name: &str, dirs: &[DVec3], f: impl Fn(DVec3) -> [f32; 3]) {
         let mut acc = 0.0f32;
         for i in 0..n {
             acc += f(black_box(dirs[i & (N - 1)]))[0];
+        }
+        black_box(acc);
+        let wall = t0.elapsed().as_nanos() as f64 / n as f64;
+        let cpu = match (c0, cpu_ns()) {
+            (Some(a), Some(b)) => (b - a) as f64 / n as f64,
+            _ => wall,
+        };
+        best = (best.0.min(cpu), best.1.min(wall));
+    }
+    println!(
+        "{name:<40} {:>7.1} ns/call CPU  ({:>7.1} wall)",
+        best.0, best.1
+    );
+}
+
+/// Best of 5 runs of 2¹⁰ passes over `pairs`, as `benches/ies.rs` does: the sum of
+/// `f(θ, φ)`; per call.
+fn measure_lookup(name: &str, pairs: &[(f64, f64)], f: impl Fn(f64, f64) -> f64) {
+    let passes = 1usize << 10;
+    let n = passes * pairs.len();
+    let mut best = (f64::INFINITY, f64::INFINITY);
+    for _ in 0..5 {
+        let (c0, t0) = (cpu_ns(), Instant::now());
+        let mut acc = 0.0;
+        for _ in 0..passes {
+            for &(t, p) in pairs {
+                acc += f(black_box(t), black_box(p));
+            }
         }
         black_box(acc);
         let wall = t0.elapsed().as_nanos() as f64 / n as f64;
@@ -79,9 +108,28 @@ fn main() {
         let (t, p) = lux_math::light_polar(d).unwrap();
         [(t + p) as f32; 3]
     });
-    measure("calibration: web.intensity(light_polar)", &sphere, |d| {
+    measure("calibration: light_polar_fast", &sphere, |d| {
+        let (t, p) = lux_math::light_polar_fast(d).unwrap();
+        [(t + p) as f32; 3]
+    });
+    measure("calibration: intensity(light_polar)", &sphere, |d| {
         let (t, p) = lux_math::light_polar(d).unwrap();
         [web.intensity(t, p) as f32; 3]
+    });
+    measure("calibration: intensity(light_polar_fast)", &sphere, |d| {
+        let (t, p) = lux_math::light_polar_fast(d).unwrap();
+        [web.intensity(t, p) as f32; 3]
+    });
+    // the loop of benches/ies.rs: (θ, φ) uniform on the sphere, summed
+    let pairs: Vec<(f64, f64)> = sphere
+        .iter()
+        .map(|&d| lux_math::light_polar(d).unwrap())
+        .collect();
+    measure_lookup("lux-ies lookup, bilinear", &pairs, |t, p| {
+        web.intensity_with(t, p, Interpolation::Bilinear)
+    });
+    measure_lookup("lux-ies lookup, bicubic", &pairs, |t, p| {
+        web.intensity_with(t, p, Interpolation::Bicubic)
     });
     let id = Shaping::identity();
     measure("identity", &sphere, |d| id.factor(d));

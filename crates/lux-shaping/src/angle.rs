@@ -51,15 +51,18 @@ pub fn apply_angle_scale(theta: f64, angle_scale: f64, formula: AngleScaleFormul
     }
 }
 
-/// The prepared map θ → θies. Every branch is affine in θ.
+/// The prepared map θ → θies: `(θ − c)·m + c` (or `(θ − c)/d + c`) with centre `c` = 0 for a
+/// positive two-branch scale (θ/s) and π for the others ((θ − π)/d + π). The division of the
+/// formulas is a multiplication by the reciprocal (within an ulp of the quotient) unless the
+/// divisor is subnormal, whose reciprocal would overflow or lose precision.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum AngleMap {
     /// θies = θ.
     Identity,
-    /// θies = θ / s (two-branch, s > 0).
-    Div(f64),
-    /// θies = (θ − π) / d + π (two-branch with d = −s, or legacy with d = 1 + s).
-    Flip(f64),
+    /// θies = (θ − c)·m + c.
+    Scale { c: f64, m: f64 },
+    /// θies = (θ − c)/d + c (subnormal d).
+    Divide { c: f64, d: f64 },
 }
 
 impl AngleMap {
@@ -71,20 +74,21 @@ impl AngleMap {
                 expected: "a finite number",
             });
         }
-        Ok(match formula {
+        // (centre, divisor)
+        let (c, d) = match formula {
             AngleScaleFormula::TwoBranch => {
                 if s == 0.0 || s == 1.0 {
-                    AngleMap::Identity
+                    return Ok(AngleMap::Identity);
                 } else if s > 0.0 {
-                    AngleMap::Div(s)
+                    (0.0, s)
                 } else {
-                    AngleMap::Flip(-s)
+                    (PI, -s)
                 }
             }
             AngleScaleFormula::Legacy => {
                 let d = 1.0 + s;
                 if s == 0.0 {
-                    AngleMap::Identity
+                    return Ok(AngleMap::Identity);
                 } else if d == 0.0 {
                     return Err(ShapingError::InvalidParameter {
                         attribute: "inputs:shaping:ies:angleScale",
@@ -92,9 +96,14 @@ impl AngleMap {
                         expected: "a finite number other than -1 (the legacy formula divides by 1 + angleScale)",
                     });
                 } else {
-                    AngleMap::Flip(d)
+                    (PI, d)
                 }
             }
+        };
+        Ok(if d.is_normal() {
+            AngleMap::Scale { c, m: 1.0 / d }
+        } else {
+            AngleMap::Divide { c, d }
         })
     }
 
@@ -103,8 +112,8 @@ impl AngleMap {
     pub(crate) fn apply(self, theta: f64) -> f64 {
         match self {
             AngleMap::Identity => theta,
-            AngleMap::Div(s) => theta / s,
-            AngleMap::Flip(d) => (theta - PI) / d + PI,
+            AngleMap::Scale { c, m } => (theta - c) * m + c,
+            AngleMap::Divide { c, d } => (theta - c) / d + c,
         }
     }
 
@@ -112,8 +121,8 @@ impl AngleMap {
     pub(crate) fn inverse(self, t: f64) -> f64 {
         match self {
             AngleMap::Identity => t,
-            AngleMap::Div(s) => t * s,
-            AngleMap::Flip(d) => (t - PI) * d + PI,
+            AngleMap::Scale { c, m } => (t - c) / m + c,
+            AngleMap::Divide { c, d } => (t - c) * d + c,
         }
     }
 }
@@ -155,5 +164,16 @@ mod tests {
         assert!(AngleMap::new(f64::INFINITY, TwoBranch).is_err());
         assert!(AngleMap::new(f64::NAN, Legacy).is_err());
         assert_eq!(AngleMap::new(1.0, TwoBranch).unwrap(), AngleMap::Identity);
+        // subnormal divisors keep the division
+        let div = |c: f64, d: f64| AngleMap::Divide { c, d };
+        assert_eq!(AngleMap::new(1e-310, TwoBranch).unwrap(), div(0.0, 1e-310));
+        assert_eq!(AngleMap::new(-1e-310, TwoBranch).unwrap(), div(PI, 1e-310));
+        let scale = |c: f64, m: f64| AngleMap::Scale { c, m };
+        assert_eq!(AngleMap::new(0.5, TwoBranch).unwrap(), scale(0.0, 2.0));
+        assert_eq!(AngleMap::new(1.0, Legacy).unwrap(), scale(PI, 0.5));
+        assert_eq!(AngleMap::new(-4.0, TwoBranch).unwrap(), scale(PI, 0.25));
+        let m = AngleMap::new(1e-310, TwoBranch).unwrap();
+        assert_eq!(m.apply(1e-300), 1e-300 / 1e-310);
+        assert_eq!(m.apply(0.0), 0.0);
     }
 }

@@ -75,26 +75,32 @@ impl Cone {
         }
     }
 
-    /// The factor for cos θ = `c` (in \[−1, 1\]), and θ when it had to be computed.
+    /// Where the direction with `w = −z` (cos θ·|d|) and `len2 = |d|²` falls: the cosines are
+    /// compared on squares, so no square root or division is taken.
     #[inline(always)]
-    pub(crate) fn at_cos(&self, c: f64) -> (f64, Option<f64>) {
+    pub(crate) fn hit(&self, w: f64, len2: f64) -> ConeHit {
         match *self {
-            Cone::Open => (1.0, None),
-            Cone::Closed => (0.0, None),
-            Cone::Hard { cos_cut, .. } => (if c >= cos_cut { 1.0 } else { 0.0 }, None),
+            Cone::Open => ConeHit::Full,
+            Cone::Closed => ConeHit::Dark,
+            Cone::Hard { cos_cut, .. } => {
+                if cos_below(w, len2, cos_cut) {
+                    ConeHit::Dark
+                } else {
+                    ConeHit::Full
+                }
+            }
             Cone::Soft {
                 start,
                 cut,
                 cos_start,
                 cos_cut,
             } => {
-                if c < cos_cut {
-                    (0.0, None)
-                } else if c >= cos_start {
-                    (1.0, None)
+                if cos_below(w, len2, cos_cut) {
+                    ConeHit::Dark
+                } else if !cos_below(w, len2, cos_start) {
+                    ConeHit::Full
                 } else {
-                    let t = c.acos();
-                    (1.0 - smooth_step(t, start, cut), Some(t))
+                    ConeHit::Ramp { start, cut }
                 }
             }
         }
@@ -138,6 +144,39 @@ impl Cone {
             Cone::Hard { cut, .. } => [cut, f64::NAN],
             Cone::Soft { start, cut, .. } => [start, cut],
         }
+    }
+}
+
+/// What the cone does to one direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum ConeHit {
+    /// Factor 0.
+    Dark,
+    /// Factor 1.
+    Full,
+    /// Factor `1 − smoothStep(θ, start, cut)`.
+    Ramp { start: f64, cut: f64 },
+}
+
+impl ConeHit {
+    /// The factor, given the polar angle θ (only used on the ramp).
+    #[inline(always)]
+    pub(crate) fn factor(self, theta: impl FnOnce() -> f64) -> f64 {
+        match self {
+            ConeHit::Dark => 0.0,
+            ConeHit::Full => 1.0,
+            ConeHit::Ramp { start, cut } => 1.0 - smooth_step(theta(), start, cut),
+        }
+    }
+}
+
+/// `w/√len2 < k` (cos θ below the cosine `k`) without the square root; `k` may be ±∞.
+#[inline(always)]
+pub(crate) fn cos_below(w: f64, len2: f64, k: f64) -> bool {
+    if k > 0.0 {
+        w < 0.0 || w * w < k * k * len2
+    } else {
+        w < 0.0 && w * w > k * k * len2
     }
 }
 
@@ -196,8 +235,10 @@ mod tests {
                 {
                     continue;
                 }
-                let (v, _) = c.at_cos(th.cos());
-                assert!((v - c.at_theta(th)).abs() < 1e-7, "{a} {s} {th}");
+                for len in [1.0, 1e-3, 7.5e4] {
+                    let v = c.hit(th.cos() * len, len * len).factor(|| th);
+                    assert!((v - c.at_theta(th)).abs() < 1e-7, "{a} {s} {th}");
+                }
             }
         }
     }

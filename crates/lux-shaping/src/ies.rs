@@ -5,12 +5,11 @@ use crate::angle::AngleMap;
 use core::f64::consts::{FRAC_PI_2, PI, TAU};
 use lux_ies::{Interpolation, PhotometricType, PhotometricWeb, Symmetry};
 
-/// How a candela sample becomes a factor.
+/// How a candela sample becomes a factor (three cases, so a chain of comparisons rather than a
+/// jump table): `ies:normalize` off is `Mul(1)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Scale {
-    /// Raw candela (`ies:normalize` off).
-    Raw,
-    /// Multiply by 1 / normalizer.
+    /// Multiply by 1 / normalizer (or by 1: raw candela).
     Mul(f64),
     /// Divide by the normalizer (only when its reciprocal overflows).
     Div(f64),
@@ -22,7 +21,6 @@ impl Scale {
     #[inline(always)]
     pub(crate) fn apply(self, cd: f64) -> f64 {
         match self {
-            Scale::Raw => cd,
             Scale::Mul(s) => cd * s,
             Scale::Div(m) => cd / m,
             Scale::Zero => 0.0,
@@ -65,7 +63,7 @@ impl IesPart {
     ) -> IesPart {
         let normalizer = normalize.then(|| web.mean_intensity(profile));
         let scale = match normalizer {
-            None => Scale::Raw,
+            None => Scale::Mul(1.0),
             Some(m) if m > 0.0 && m.is_finite() => {
                 let inv = 1.0 / m;
                 if inv.is_finite() {

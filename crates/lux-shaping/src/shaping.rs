@@ -1,7 +1,7 @@
 //! The prepared shaping of one light: evaluation, bounds and integrals.
 
 use crate::angle::AngleMap;
-use crate::cone::Cone;
+use crate::cone::{Cone, ConeHit};
 use crate::error::ShapingError;
 use crate::ies::IesPart;
 use crate::params::{ShapingOptions, ShapingParams};
@@ -9,7 +9,7 @@ use crate::quad;
 use core::f64::consts::{FRAC_PI_2, PI, TAU};
 use glam::DVec3;
 use lux_ies::PhotometricWeb;
-use lux_math::{azimuth_from_xy, lerp, smooth_step};
+use lux_math::{lerp, polar_angle_fast, polar_angles_fast};
 
 /// Relative accuracy requested from the outer (θ) quadrature.
 const REL_OUTER: f64 = 1e-10;
@@ -243,9 +243,11 @@ impl Shaping {
     /// Focus colour × cone × IES factor as described on [`Shaping`]. A zero, NaN or infinite
     /// direction gives `[0, 0, 0]`; the result is never NaN, never negative and never infinite
     /// (values beyond `f32::MAX` saturate). Allocation-free; the cone is tested on the cosine
-    /// (no `acos` unless the direction is inside a soft ramp or an IES profile is looked up, no
-    /// square root without IES outside the ramp), an integer focus uses multiplications only,
-    /// and the azimuth is computed only for IES profiles that depend on it.
+    /// (no square root or angle unless the direction is inside a soft ramp or an IES profile is
+    /// looked up), an integer focus uses multiplications only, the azimuth is computed only for
+    /// IES profiles that depend on it, and the angles are those of
+    /// [`lux_math::light_polar_fast`] (θ = atan2(√(x² + y²), −z), φ the IES azimuth, by the
+    /// libm-free [`lux_math::fastmath`], within a few ulp of [`lux_math::light_polar`]).
     #[inline]
     pub fn factor(&self, dir_light_space: DVec3) -> [f32; 3] {
         let mut d = dir_light_space;
@@ -274,57 +276,36 @@ impl Shaping {
     #[inline(always)]
     fn factor_no_ies(&self, d: DVec3, len2: f64) -> [f32; 3] {
         let w = -d.z;
-        let cone = match self.cone {
-            Cone::Open => 1.0,
-            Cone::Closed => return [0.0; 3],
-            Cone::Hard { cos_cut, .. } => {
-                if cos_below(w, len2, cos_cut) {
-                    return [0.0; 3];
-                }
-                1.0
-            }
-            Cone::Soft {
-                start,
-                cut,
-                cos_start,
-                cos_cut,
-            } => {
-                if cos_below(w, len2, cos_cut) {
-                    return [0.0; 3];
-                }
-                if !cos_below(w, len2, cos_start) {
-                    1.0
-                } else {
-                    let c = (w / len2.sqrt()).clamp(-1.0, 1.0);
-                    1.0 - smooth_step(c.acos(), start, cut)
-                }
-            }
-        };
+        let cone = self.cone.hit(w, len2).factor(|| polar_angle_fast(d));
+        if cone == 0.0 {
+            return [0.0; 3];
+        }
         match &self.focus {
             None => [to_f32(cone); 3],
             Some(f) => f.color_cos2(w * w / len2).map(|x| to_f32(x * cone)),
         }
     }
 
-    /// With an IES profile: θ = acos(−z/|d|) and φ exactly as [`lux_math::light_polar`]
-    /// (φ is not computed for an axially symmetric type C profile).
+    /// With an IES profile: θ = atan2(√(x² + y²), −z) and φ as [`lux_math::light_polar`]
+    /// (by [`lux_math::fastmath`]; φ is not computed for an axially symmetric type C profile),
+    /// the cone tested on the cosine as without IES.
     #[inline(always)]
     fn factor_ies(&self, d: DVec3, len2: f64, ies: &IesPart) -> [f32; 3] {
-        let c = (-d.z / len2.sqrt()).clamp(-1.0, 1.0);
-        let (cone, theta) = self.cone.at_cos(c);
-        if cone == 0.0 {
+        let w = -d.z;
+        let hit = self.cone.hit(w, len2);
+        if hit == ConeHit::Dark {
             return [0.0; 3];
         }
-        let theta = theta.unwrap_or_else(|| c.acos());
-        let phi = if ies.axial_c {
-            0.0
+        let (theta, phi) = if ies.axial_c {
+            (polar_angle_fast(d), 0.0)
         } else {
-            azimuth_from_xy(d.x, d.y)
+            polar_angles_fast(d)
         };
+        let cone = hit.factor(|| theta);
         let s = cone * ies.sample(theta, phi);
         match &self.focus {
             None => [to_f32(s); 3],
-            Some(f) => f.color(c).map(|x| to_f32(x * s)),
+            Some(f) => f.color_cos2(w * w / len2).map(|x| to_f32(x * s)),
         }
     }
 
@@ -710,16 +691,6 @@ impl Shaping {
     }
 }
 
-/// `w/√len2 < k` (cos θ below the cosine `k`) without the square root; `k` may be ±∞.
-#[inline(always)]
-fn cos_below(w: f64, len2: f64, k: f64) -> bool {
-    if k > 0.0 {
-        w < 0.0 || w * w < k * k * len2
-    } else {
-        w < 0.0 && w * w > k * k * len2
-    }
-}
-
 /// A direction whose squared length under- or overflows, scaled by its largest component;
 /// `None` for zero or non-finite directions.
 #[cold]
@@ -802,5 +773,86 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The fast path of `factor` (cone on the cosine, θ and φ by `lux_math::fastmath`) against
+    /// the polar path with libm angles (`light_polar`) and the cone on θ, with IES profiles of
+    /// types C and B, bilinear and bicubic, with and without angleScale, cone and focus.
+    #[test]
+    fn ies_factor_agrees_with_the_libm_polar_path() {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/ies/");
+        let mut next = {
+            let mut s = 0x9E3779B97F4A7C15u64;
+            move || {
+                s ^= s << 13;
+                s ^= s >> 7;
+                s ^= s << 17;
+                (s >> 11) as f64 / (1u64 << 53) as f64
+            }
+        };
+        let mut worst = 0.0f64;
+        for name in [
+            "luxtest/bega_omni001_1238lm.ies",
+            "luxtest/test_vstripes_hquadrants_nonuniform.ies",
+            "luxtest/bega_84693k4.ies",
+            "appleseed/test_iesparser_2.ies",
+            "mdl-sdk/test.ies",
+        ] {
+            let text = String::from_utf8_lossy(&std::fs::read(format!("{dir}{name}")).unwrap())
+                .into_owned();
+            let file = lux_ies::IesFile::parse(&text).unwrap();
+            let web = PhotometricWeb::new(&file, lux_math::Profile::Spec).unwrap();
+            for (params, interpolation) in [
+                (ShapingParams::NO_SHAPING, lux_ies::Interpolation::Bilinear),
+                (ShapingParams::NO_SHAPING, lux_ies::Interpolation::Bicubic),
+                (
+                    ShapingParams {
+                        focus: 2.0,
+                        focus_tint: [0.2, 0.5, 1.0],
+                        cone_angle_deg: 100.0,
+                        cone_softness: 0.5,
+                        ies_angle_scale: 0.7,
+                        ies_normalize: true,
+                    },
+                    lux_ies::Interpolation::Bilinear,
+                ),
+                (
+                    ShapingParams {
+                        ies_angle_scale: -0.6,
+                        ..ShapingParams::NO_SHAPING
+                    },
+                    lux_ies::Interpolation::Bilinear,
+                ),
+            ] {
+                let options = ShapingOptions {
+                    interpolation,
+                    ..Default::default()
+                };
+                let s = Shaping::new(&params, Some(web.clone()), options).unwrap();
+                let m = s.max_factor() as f64;
+                for _ in 0..4000 {
+                    let z = 2.0 * next() - 1.0;
+                    let r = (1.0 - z * z).sqrt();
+                    let p = TAU * next();
+                    let d = DVec3::new(r * p.cos(), r * p.sin(), z) * (0.5 + 3.0 * next());
+                    let (t, p) = lux_math::light_polar(d).unwrap();
+                    let a = s.factor(d);
+                    let b = s.eval_polar(t, p);
+                    for k in 0..3 {
+                        let err = (a[k] as f64 - b[k]).abs();
+                        // f32 rounding of the result, and the cone edge taken on the cosine
+                        assert!(
+                            err <= 1e-6 * b[k].abs() + 1e-9 * m,
+                            "{name} {params:?} {d}: {a:?} vs {b:?}"
+                        );
+                        if b[k].abs() > 1e-6 * m {
+                            worst = worst.max(err / b[k].abs());
+                        }
+                    }
+                }
+            }
+        }
+        // f32 output: half an ulp is 6·10⁻⁸
+        assert!(worst <= 1e-7, "{worst}");
     }
 }

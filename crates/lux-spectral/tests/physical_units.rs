@@ -174,7 +174,11 @@ fn power_round_trip_with_lux_shaping() {
         (Shape::Rect(2.0, 0.5), EmitterShape::Flat, 1.0),
         (Shape::Disk(0.7), EmitterShape::Flat, PI * 0.49),
         (Shape::Sphere(0.3), EmitterShape::Sphere, 4.0 * PI * 0.09),
-        (Shape::Cylinder(0.2, 1.5), EmitterShape::Cylinder, 2.0 * PI * 0.3),
+        (
+            Shape::Cylinder(0.2, 1.5),
+            EmitterShape::Cylinder,
+            2.0 * PI * 0.3,
+        ),
     ];
     for illuminant in [IlluminantKind::White, IlluminantKind::Blackbody] {
         let mut inputs = PhysicalLightInputs::new(PhysicalQuantity::PhotometricPower(1200.0));
@@ -194,7 +198,10 @@ fn power_round_trip_with_lux_shaping() {
                 y.x * c[0] as f64 + y.y * c[1] as f64 + y.z * c[2] as f64
             };
             let flux = flux_by_quadrature(shape, e.luminance, &f);
-            assert!(rel(flux, 1200.0) < 5e-3, "{illuminant:?} {shape:?}: {flux} lm");
+            assert!(
+                rel(flux, 1200.0) < 5e-3,
+                "{illuminant:?} {shape:?}: {flux} lm"
+            );
         }
     }
     // The identity shaping is exactly the unshaped π.
