@@ -3,7 +3,7 @@
 
 use crate::error::{SampleError, positive};
 use crate::spherical::SphericalRectangle;
-use crate::transform::{LightTransform, finish_sample, local_direction};
+use crate::transform::{LightTransform, finish_sample_with_normal, local_direction};
 use crate::warp::{bilinear_pdf, sample_bilinear};
 use crate::{LightSample, MIN_SOLID_ANGLE, Reference};
 use glam::DVec3;
@@ -30,6 +30,8 @@ pub struct RectLight {
     height: f64,
     xf: LightTransform,
     technique: RectTechnique,
+    /// The world normal, `xf.normal(−Z)` (fixed for a planar light).
+    normal: DVec3,
 }
 
 impl RectLight {
@@ -46,6 +48,7 @@ impl RectLight {
             height: positive("height", height)?,
             xf,
             technique,
+            normal: xf.normal(DVec3::NEG_Z),
         })
     }
 
@@ -98,7 +101,6 @@ impl RectLight {
         if pl.z.is_nan() || pl.z >= 0.0 {
             return None;
         }
-        let normal = DVec3::NEG_Z;
         let area = self.width * self.height;
         let area_sample = |u: [f64; 2]| {
             let q = DVec3::new((u[0] - 0.5) * self.width, (u[1] - 0.5) * self.height, 0.0);
@@ -121,7 +123,7 @@ impl RectLight {
                 }
             }
         };
-        finish_sample(&self.xf, r.p, pl, q, normal, pdf)
+        finish_sample_with_normal(&self.xf, r.p, pl, q, self.normal, pdf)
     }
 
     /// Solid-angle density with which [`Self::sample`] produces direction `wi` (unit, world)

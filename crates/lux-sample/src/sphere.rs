@@ -3,12 +3,12 @@
 //! sphere (see [`crate::transform`]).
 
 use crate::error::{SampleError, positive};
-use crate::transform::{LightTransform, finish_sample, local_direction};
+use crate::transform::{LightTransform, finish_sample, finish_sample_dir, local_direction};
 use crate::warp::sample_uniform_sphere;
 use crate::{LightSample, Reference};
 use core::f64::consts::{PI, TAU};
 use glam::DVec3;
-use lux_math::Frame;
+use lux_math::{Frame, fastmath};
 
 /// How a [`SphereLight`] chooses its points from outside (inside, both use area sampling).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -26,6 +26,9 @@ pub enum SphereTechnique {
 #[derive(Clone, Copy, Debug)]
 pub struct SphereLight {
     radius: f64,
+    /// 1/radius and 1/(2π·radius²), so that sampling needs no divisions by them.
+    inv_radius: f64,
+    inv_tau_r2: f64,
     xf: LightTransform,
     technique: SphereTechnique,
 }
@@ -52,8 +55,11 @@ impl SphereLight {
         xf: LightTransform,
         technique: SphereTechnique,
     ) -> Result<Self, SampleError> {
+        let radius = positive("radius", radius)?;
         Ok(Self {
-            radius: positive("radius", radius)?,
+            radius,
+            inv_radius: 1.0 / radius,
+            inv_tau_r2: 1.0 / (TAU * radius * radius),
             xf,
             technique,
         })
@@ -83,20 +89,37 @@ impl SphereLight {
             let pdf = dist2 / (cos.abs() * 4.0 * PI * rad * rad);
             return finish_sample(&self.xf, r.p, pl, q, n, pdf);
         }
+        // With e = √(d² − r²) (so cos α = e/d): 1 − cos α = r²/(d·(d + e)), whose reciprocal also
+        // gives 1/d = (d + e)/(d·(d + e)) and the density 1/(2π(1 − cos α)) = d·(d + e)/(2π r²).
+        // One division (besides the frame's), and the two square roots independent: square root
+        // and division share one unit on current CPUs and their latency dominates this sampler.
         let d = d2.sqrt();
-        let sin2 = rad * rad / d2;
-        let cos_max = (1.0 - sin2).max(0.0).sqrt();
-        let omc = sin2 / (1.0 + cos_max);
-        let axis = -pl / d;
-        let frame = Frame::from_normal(axis);
-        let w = frame.to_world(crate::warp::sample_uniform_cone(u, omc));
-        let (t, _) = hit(pl, w, rad).unwrap_or_else(|| {
-            // Grazing the silhouette: round-off put the ray a hair outside; take the tangent point.
-            let b = -pl.dot(w);
-            (b, b)
-        });
-        let q = pl + t * w;
-        finish_sample(&self.xf, r.p, pl, q, q / rad, 1.0 / (TAU * omc))
+        let e = (d2 - rad * rad).max(0.0).sqrt();
+        let dde = d * (d + e);
+        let inv_dde = 1.0 / dde;
+        let cos_max = e * (d + e) * inv_dde;
+        let omc = rad * rad * inv_dde;
+        let pdf = dde * self.inv_tau_r2;
+        let frame = Frame::from_normal(pl * -((d + e) * inv_dde));
+        // The direction of `warp::sample_uniform_cone(u, omc)` with its pieces kept:
+        // cos θ = 1 − u₀·(1 − cos θmax), sin²θ = (1 − cos θ)(1 + cos θ).
+        let omc_u = u[0] * omc;
+        let cos_t = 1.0 - omc_u;
+        let sin2_t = (omc_u * (2.0 - omc_u)).max(0.0);
+        let sin_t = sin2_t.sqrt();
+        let (sp, cp) = fastmath::sin_cos_turns(u[1]);
+        let wc = DVec3::new(sin_t * cp, sin_t * sp, cos_t);
+        // Nearest hit along wc from the reference point, which sits at (0, 0, −d) in the cone
+        // frame: t = d·(cos θ − g) with g² = sin²α − sin²θ = cos²θ − cos²α
+        // = (1 − u₀)(1 − cos α)·(cos θ + cos α), a product without cancellation (g = 0 on the
+        // silhouette). The hit point relative to the centre, (t·wc.x, t·wc.y, −d + t·cos θ),
+        // has −d + t·cos θ = −d·(sin²θ + cos θ·g): no cancellation, unlike p + t·w.
+        let g = ((1.0 - u[0]) * omc * (cos_t + cos_max)).max(0.0).sqrt();
+        let t = d * (cos_t - g);
+        let qc = DVec3::new(t * wc.x, t * wc.y, -d * (sin2_t + cos_t * g));
+        let q = frame.to_world(qc);
+        let w = frame.to_world(wc);
+        finish_sample_dir(&self.xf, q, q * self.inv_radius, w, t, pdf)
     }
 
     /// Solid-angle density of [`Self::sample`] producing `wi` from `r`.

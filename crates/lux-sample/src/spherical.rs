@@ -2,11 +2,15 @@
 //! 2013, "An area-preserving parametrization for spherical rectangles") and the spherical
 //! triangle (Arvo 1995, "Stratified sampling of spherical triangles").
 
-use core::f64::consts::TAU;
 use glam::DVec3;
+use lux_math::fastmath;
 
 /// A rectangle seen from a point, prepared for uniform solid-angle sampling (Ureña et al. 2013,
 /// §3–4). The rectangle is `corner + s·ex + t·ey`, s, t ∈ \[0,1\], with `ex ⟂ ey`.
+///
+/// The set-up follows the paper in its own local frame, with the trigonometry replaced by
+/// algebra (same quantities up to rounding, see `new`): the solid angle from one arctangent,
+/// and the paper's angle k = 2π − γ₂ − γ₃ kept as the unit complex number e^{ik}.
 #[derive(Clone, Copy, Debug)]
 pub struct SphericalRectangle {
     o: DVec3,
@@ -18,10 +22,58 @@ pub struct SphericalRectangle {
     y0: f64,
     x1: f64,
     y1: f64,
+    /// n₀·ẑ and n₂·ẑ of the paper (its b0 and b1).
     b0: f64,
     b1: f64,
-    k: f64,
+    /// 1 − b0² = z0²/(z0² + y0²), without the cancellation.
+    nb: f64,
+    /// cos k and sin k.
+    cos_k: f64,
+    sin_k: f64,
     solid_angle: f64,
+}
+
+/// 2^−e for the binary exponent e of `m` (`m·2^−e` ∈ \[½, 1)), clamped so that the result is a
+/// normal number: multiplying by it is exact, and it brings lengths near 1 so that sixth
+/// powers of them can neither overflow nor underflow.
+#[inline(always)]
+fn pow2_scale(m: f64) -> f64 {
+    let e = ((m.to_bits() >> 52) & 0x7ff).clamp(1, 2044);
+    f64::from_bits((2045 - e) << 52)
+}
+
+/// Solid angle of the rectangle \[x0, x1\] × \[y0, y1\] in the plane z = z0 ≤ 0 seen from the
+/// origin, and the four corner distances `[r00, r10, r11, r01]` (`rij` at (xi, yj)).
+///
+/// The rectangle is split along its diagonal (x0, y0)–(x1, y1) into two triangles, each by
+/// Van Oosterom & Strackee (1983) with unnormalised vertices:
+/// `tan(Ω/2) = |A·(B×C)| / (abc + (A·B)c + (A·C)b + (B·C)a)`; both triple products are
+/// |z0|·(x1 − x0)·(y1 − y0). The two half-angles are added as the argument of the product of
+/// the two complex numbers `denominator + i·numerator`, so that S = 2·atan2(…) needs one
+/// arctangent. S/2 ∈ \[0, π\]: a negative imaginary part can only be round-off (at S ≈ 0 or
+/// S ≈ 2π) and is taken as 0. Inputs must be pre-scaled to magnitudes near 1 (sixth powers).
+#[inline(always)]
+fn rect_solid_angle(x0: f64, x1: f64, y0: f64, y1: f64, z0: f64) -> (f64, [f64; 4]) {
+    let z02 = z0 * z0;
+    let (xx0, xx1, yy0, yy1) = (x0 * x0, x1 * x1, y0 * y0, y1 * y1);
+    let (lx0, lx1) = (z02 + xx0, z02 + xx1);
+    let r00 = (lx0 + yy0).sqrt();
+    let r10 = (lx1 + yy0).sqrt();
+    let r11 = (lx1 + yy1).sqrt();
+    let r01 = (lx0 + yy1).sqrt();
+    // dot products of the corner vectors
+    let (x01, y01) = (x0 * x1 + z02, y0 * y1);
+    let d00_10 = x01 + yy0;
+    let d00_11 = x01 + y01;
+    let d10_11 = xx1 + z02 + y01;
+    let d00_01 = xx0 + z02 + y01;
+    let d11_01 = x01 + yy1;
+    let n = -z0 * ((x1 - x0) * (y1 - y0));
+    let den1 = r00 * r10 * r11 + d00_10 * r11 + d00_11 * r10 + d10_11 * r00;
+    let den2 = r00 * r11 * r01 + d00_11 * r01 + d00_01 * r11 + d11_01 * r00;
+    let re = den1 * den2 - n * n;
+    let im = n * (den1 + den2);
+    (2.0 * fastmath::atan2(im.max(0.0), re), [r00, r10, r11, r01])
 }
 
 impl SphericalRectangle {
@@ -31,6 +83,11 @@ impl SphericalRectangle {
     /// rectangle lies at z0 < 0. The four great-circle planes through `o` and the edges have
     /// normals n0..n3; the interior angles are γᵢ = acos(−nᵢ·nᵢ₊₁) and the solid angle is
     /// S = Σγᵢ − 2π.
+    ///
+    /// Evaluated without trigonometry: S by [`rect_solid_angle`] (one arctangent), and
+    /// e^{ik} = e^{−i(γ₂+γ₃)} from the corners of the x = x0 edge, where
+    /// `e^{iγ}·|…| = (±x·y, |z0|·r)` at the corner (x, y) at distance r, of modulus
+    /// √(z0² + x²)·√(z0² + y²).
     #[inline]
     pub fn new(o: DVec3, corner: DVec3, ex: DVec3, ey: DVec3) -> Self {
         let exl = ex.length();
@@ -46,35 +103,7 @@ impl SphericalRectangle {
         }
         let x0 = d.dot(x);
         let y0 = d.dot(y);
-        let x1 = x0 + exl;
-        let y1 = y0 + eyl;
-        // z components of the unit plane normals n0 = (0, z0, −y0)/., n1 = (−z0, 0, x1)/.,
-        // n2 = (0, −z0, y1)/., n3 = (z0, 0, −x0)/.
-        let n0z = -y0 / (z0 * z0 + y0 * y0).sqrt();
-        let n1z = x1 / (z0 * z0 + x1 * x1).sqrt();
-        let n2z = y1 / (z0 * z0 + y1 * y1).sqrt();
-        let n3z = -x0 / (z0 * z0 + x0 * x0).sqrt();
-        let g0 = (-n0z * n1z).clamp(-1.0, 1.0).acos();
-        let g1 = (-n1z * n2z).clamp(-1.0, 1.0).acos();
-        let g2 = (-n2z * n3z).clamp(-1.0, 1.0).acos();
-        let g3 = (-n3z * n0z).clamp(-1.0, 1.0).acos();
-        let k = TAU - g2 - g3;
-        let solid_angle = g0 + g1 - k;
-        Self {
-            o,
-            x,
-            y,
-            z,
-            z0,
-            x0,
-            y0,
-            x1,
-            y1,
-            b0: n0z,
-            b1: n2z,
-            k,
-            solid_angle,
-        }
+        Self::from_local(o, x, y, z, [x0, y0, x0 + exl, y0 + eyl], z0)
     }
 
     /// The axis-aligned rectangle \[−a, a\] × \[−b, b\] in the plane z = 0 seen from `o`
@@ -86,31 +115,51 @@ impl SphericalRectangle {
         } else {
             (DVec3::Z, -o.z)
         };
-        let (x0, y0, x1, y1) = (-a - o.x, -b - o.y, a - o.x, b - o.y);
-        let z02 = z0 * z0;
-        let n0z = -y0 / (z02 + y0 * y0).sqrt();
-        let n1z = x1 / (z02 + x1 * x1).sqrt();
-        let n2z = y1 / (z02 + y1 * y1).sqrt();
-        let n3z = -x0 / (z02 + x0 * x0).sqrt();
-        let g0 = (-n0z * n1z).clamp(-1.0, 1.0).acos();
-        let g1 = (-n1z * n2z).clamp(-1.0, 1.0).acos();
-        let g2 = (-n2z * n3z).clamp(-1.0, 1.0).acos();
-        let g3 = (-n3z * n0z).clamp(-1.0, 1.0).acos();
-        let k = TAU - g2 - g3;
-        let solid_angle = g0 + g1 - k;
+        let c = [-a - o.x, -b - o.y, a - o.x, b - o.y];
+        Self::from_local(o, DVec3::X, DVec3::Y, z, c, z0)
+    }
+
+    /// The set-up from the rectangle's coordinates `[x0, y0, x1, y1]` and z0 ≤ 0 in the frame
+    /// (x̂, ŷ, ẑ) centred at `o`.
+    #[inline(always)]
+    fn from_local(o: DVec3, x: DVec3, y: DVec3, z: DVec3, c: [f64; 4], z0: f64) -> Self {
+        let [x0, y0, x1, y1] = c;
+        // Everything below is a ratio of equal powers of lengths: compute it on lengths scaled
+        // by a power of two (exact) to keep the sixth powers in range.
+        let m = x0
+            .abs()
+            .max(x1.abs())
+            .max(y0.abs())
+            .max(y1.abs())
+            .max(z0.abs());
+        let k = pow2_scale(m);
+        let (sx0, sy0, sx1, sy1, sz0) = (x0 * k, y0 * k, x1 * k, y1 * k, z0 * k);
+        let (solid_angle, [r00, _, _, r01]) = rect_solid_angle(sx0, sx1, sy0, sy1, sz0);
+        let z02 = sz0 * sz0;
+        let (ly0, ly1) = (z02 + sy0 * sy0, z02 + sy1 * sy1);
+        let (sly0, sly1) = (ly0.sqrt(), ly1.sqrt());
+        // e^{iγ₂}·|…| = (x0·y1, |z0|·r01), e^{iγ₃}·|…| = (−x0·y0, |z0|·r00);
+        // e^{ik} = conj(product) / (√(z0²+x0²)²·√(z0²+y0²)·√(z0²+y1²))
+        let (a2, c2) = (sx0 * sy1, -sz0 * r01);
+        let (a3, c3) = (-sx0 * sy0, -sz0 * r00);
+        let inv = 1.0 / ((z02 + sx0 * sx0) * (sly0 * sly1));
+        let cos_k = (a2 * a3 - c2 * c3) * inv;
+        let sin_k = -(a2 * c3 + c2 * a3) * inv;
         Self {
             o,
-            x: DVec3::X,
-            y: DVec3::Y,
+            x,
+            y,
             z,
             z0,
             x0,
             y0,
             x1,
             y1,
-            b0: n0z,
-            b1: n2z,
-            k,
+            b0: -sy0 / sly0,
+            b1: sy1 / sly1,
+            nb: z02 / ly0,
+            cos_k,
+            sin_k,
             solid_angle,
         }
     }
@@ -124,20 +173,34 @@ impl SphericalRectangle {
     /// The point of the rectangle for `u ∈ [0,1]²`; directions from `o` to it are uniform in
     /// solid angle (density 1/S). `u[0]` sweeps the sub-rectangle area along x̂ (paper eq. 11–13),
     /// `u[1]` is uniform in h = y/√(d² + y²) along the chosen vertical line (eq. 15–17).
+    ///
+    /// The paper's angle au = u₀·S + k enters only through cos au and sin au, obtained by
+    /// rotating e^{ik} by u₀·S; and its
+    /// `xu = −cu·z0/√(1 − cu²)`, `cu = sign(fu)/√(fu² + b0²)`, `fu = (cos au·b0 − b1)/sin au`
+    /// is evaluated as `xu = −sign(N)·D·z0/√(N² − (1 − b0²)·D²)` with `fu = N/D` (the same
+    /// value, one square root and one division fewer, and 1 − b0² without cancellation).
     #[inline]
     pub fn sample(&self, u: [f64; 2]) -> DVec3 {
-        let au = u[0] * self.solid_angle + self.k;
-        let (sau, cau) = au.sin_cos();
-        let fu = (cau * self.b0 - self.b1) / sau;
-        let cu = (fu.signum() / (fu * fu + self.b0 * self.b0).sqrt()).clamp(-1.0, 1.0);
-        let xu = (-(cu * self.z0) / (1.0 - cu * cu).max(1e-300).sqrt()).clamp(self.x0, self.x1);
+        let (s, c) = fastmath::sin_cos(u[0] * self.solid_angle);
+        let cau = c * self.cos_k - s * self.sin_k;
+        let sau = s * self.cos_k + c * self.sin_k;
+        let n = cau * self.b0 - self.b1;
+        let num = -(n.signum() * sau) * self.z0;
+        let den2 = n * n - self.nb * (sau * sau);
+        // fu² + b0² ≤ 1 (cu clamped to ±1 in the paper's form): the edge on fu's side
+        let xu = if den2 > 0.0 {
+            num / den2.sqrt()
+        } else {
+            f64::INFINITY.copysign(num)
+        };
+        let xu = xu.clamp(self.x0, self.x1);
         let d2 = xu * xu + self.z0 * self.z0;
         let h0 = self.y0 / (d2 + self.y0 * self.y0).sqrt();
         let h1 = self.y1 / (d2 + self.y1 * self.y1).sqrt();
         let hv = h0 + u[1] * (h1 - h0);
         let hv2 = hv * hv;
         let yv = if hv2 < 1.0 - 1e-12 {
-            hv * d2.sqrt() / (1.0 - hv2).sqrt()
+            hv * (d2 / (1.0 - hv2)).sqrt()
         } else {
             self.y1
         };
@@ -153,10 +216,16 @@ impl SphericalRectangle {
         let xu = d.dot(self.x).clamp(self.x0, self.x1);
         let yv = d.dot(self.y).clamp(self.y0, self.y1);
         let z0 = self.z0;
-        let n1z = xu / (z0 * z0 + xu * xu).sqrt();
-        let g0 = (-self.b0 * n1z).clamp(-1.0, 1.0).acos();
-        let g1 = (-n1z * self.b1).clamp(-1.0, 1.0).acos();
-        let u0 = ((g0 + g1 - self.k) / self.solid_angle).clamp(0.0, 1.0);
+        let m = self
+            .x0
+            .abs()
+            .max(self.x1.abs())
+            .max(self.y0.abs())
+            .max(self.y1.abs())
+            .max(z0.abs());
+        let k = pow2_scale(m);
+        let (sub, _) = rect_solid_angle(self.x0 * k, xu * k, self.y0 * k, self.y1 * k, z0 * k);
+        let u0 = (sub / self.solid_angle).clamp(0.0, 1.0);
         let d2 = xu * xu + z0 * z0;
         let h0 = self.y0 / (d2 + self.y0 * self.y0).sqrt();
         let h1 = self.y1 / (d2 + self.y1 * self.y1).sqrt();

@@ -31,6 +31,9 @@ pub struct LightTransform {
     abs_det: f64,
     /// True when L is a rotation times a uniform scale, so the measure change is 1.
     similarity: bool,
+    /// 1/s when L is s times an orthogonal matrix to within a few ulp (so that `L w / s` is a
+    /// unit vector to that accuracy for any unit w); 0 otherwise.
+    inv_scale: f64,
 }
 
 impl Default for LightTransform {
@@ -48,6 +51,7 @@ impl LightTransform {
         translation: DVec3::ZERO,
         abs_det: 1.0,
         similarity: true,
+        inv_scale: 1.0,
     };
 
     /// Validates `m`: finite, affine (bottom row 0 0 0 1 in glam terms) and invertible with a
@@ -73,11 +77,15 @@ impl LightTransform {
         let inverse = linear.inverse();
         let lx = linear.x_axis.length_squared();
         let tol = 1e-12 * lx;
-        let similarity = (linear.y_axis.length_squared() - lx).abs() < tol
-            && (linear.z_axis.length_squared() - lx).abs() < tol
-            && linear.x_axis.dot(linear.y_axis).abs() < tol
-            && linear.x_axis.dot(linear.z_axis).abs() < tol
-            && linear.y_axis.dot(linear.z_axis).abs() < tol;
+        let dev = (linear.y_axis.length_squared() - lx)
+            .abs()
+            .max((linear.z_axis.length_squared() - lx).abs())
+            .max(linear.x_axis.dot(linear.y_axis).abs())
+            .max(linear.x_axis.dot(linear.z_axis).abs())
+            .max(linear.y_axis.dot(linear.z_axis).abs());
+        let similarity = dev < tol;
+        // orthogonal to a few ulp: the columns' Gram matrix is s²·I within 8ε·s²
+        let tight = dev <= 8.0 * f64::EPSILON * lx;
         Ok(Self {
             linear,
             inverse,
@@ -85,6 +93,7 @@ impl LightTransform {
             translation: m.w_axis.truncate(),
             abs_det: det.abs(),
             similarity,
+            inv_scale: if tight { 1.0 / lx.sqrt() } else { 0.0 },
         })
     }
 
@@ -174,22 +183,105 @@ pub(crate) fn finish_sample(
     n_local: DVec3,
     pdf_local: f64,
 ) -> Option<crate::LightSample> {
+    finish(xf, p_world, p_local, q_local, pdf_local, || {
+        xf.normal(n_local)
+    })
+}
+
+/// [`finish_sample`] for a light whose world normal is fixed (a planar light: computed once,
+/// at construction, as `xf.normal(n_local)`).
+#[inline]
+pub(crate) fn finish_sample_with_normal(
+    xf: &LightTransform,
+    p_world: DVec3,
+    p_local: DVec3,
+    q_local: DVec3,
+    normal: DVec3,
+    pdf_local: f64,
+) -> Option<crate::LightSample> {
+    finish(xf, p_world, p_local, q_local, pdf_local, || normal)
+}
+
+#[inline(always)]
+fn finish(
+    xf: &LightTransform,
+    p_world: DVec3,
+    p_local: DVec3,
+    q_local: DVec3,
+    pdf_local: f64,
+    normal: impl FnOnce() -> DVec3,
+) -> Option<crate::LightSample> {
     let q = xf.point(q_local);
     let d = q - p_world;
     let distance = d.length();
-    let dl = (q_local - p_local).length();
-    if !(distance > 0.0 && dl > 0.0 && pdf_local > 0.0 && pdf_local.is_finite()) {
+    if !(distance > 0.0 && pdf_local > 0.0 && pdf_local.is_finite()) {
         return None;
     }
-    let w_local = (q_local - p_local) / dl;
-    let pdf = pdf_local * xf.pdf_to_world(w_local);
+    // A similarity leaves solid angle unchanged: the local direction is not needed.
+    let pdf = if xf.similarity {
+        pdf_local
+    } else {
+        let dl = (q_local - p_local).length();
+        if dl.is_nan() || dl <= 0.0 {
+            return None;
+        }
+        let w_local = (q_local - p_local) / dl;
+        pdf_local * xf.pdf_to_world(w_local)
+    };
     if !pdf.is_finite() {
         return None;
     }
     Some(crate::LightSample {
         point: q,
-        normal: xf.normal(n_local),
-        wi: d / distance,
+        normal: normal(),
+        wi: d * (1.0 / distance),
+        distance,
+        pdf,
+        delta: false,
+    })
+}
+
+/// Maps a local sample given by its **direction** back to world space: the sampler found the
+/// light point `q_local = p_local + t_local·w_local` (unit `w_local`) and its unit local
+/// normal. The world direction is `L w / |L w|` and the distance `t·|L w|` (for a similarity
+/// `L = s·R`, orthogonal R to a few ulp: `L w / s` and `t·s`, no square root), rather than the
+/// normalised difference of the two world points: the same values up to rounding, without the
+/// cancellation of `q − p` far from the light. The density is converted as by
+/// [`LightTransform::pdf_to_world`] at `w_local`; the world normal of such a similarity is
+/// `L n / s` (= `R n`, what `normal` gives for a unit n), otherwise [`LightTransform::normal`].
+#[inline]
+pub(crate) fn finish_sample_dir(
+    xf: &LightTransform,
+    q_local: DVec3,
+    n_local: DVec3,
+    w_local: DVec3,
+    t_local: f64,
+    pdf_local: f64,
+) -> Option<crate::LightSample> {
+    if !(t_local > 0.0 && pdf_local > 0.0 && pdf_local.is_finite()) {
+        return None;
+    }
+    let v = xf.linear * w_local;
+    let (wi, distance, pdf, normal) = if xf.inv_scale > 0.0 {
+        // s times an orthogonal matrix (to a few ulp): a similarity, measure change 1
+        let k = xf.inv_scale;
+        (v * k, t_local / k, pdf_local, (xf.linear * n_local) * k)
+    } else {
+        let l = v.length();
+        let pdf = if xf.similarity {
+            pdf_local
+        } else {
+            pdf_local * (l * l * l / xf.abs_det)
+        };
+        (v * (1.0 / l), t_local * l, pdf, xf.normal(n_local))
+    };
+    if !(distance > 0.0 && pdf.is_finite()) {
+        return None;
+    }
+    Some(crate::LightSample {
+        point: xf.point(q_local),
+        normal,
+        wi,
         distance,
         pdf,
         delta: false,
