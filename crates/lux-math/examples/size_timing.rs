@@ -119,6 +119,16 @@ fn main() {
     measure("cylinder_circular", || {
         size_factor(black_box(&cyl), black_box(&circular), Profile::Spec)
     });
+    // the two stages of the exact sphere: the Gram eigenvalues and the ellipsoid area
+    let lin = glam::DMat3::from_mat4(m);
+    measure("  stage: gram_eigenvalues", || {
+        lux_math::gram_eigenvalues(black_box(&lin))[0]
+    });
+    let [l1, l2, l3] = lux_math::gram_eigenvalues(&lin);
+    let (sa, sb, sc) = (0.5 * l1.sqrt(), 0.5 * l2.sqrt(), 0.5 * l3.sqrt());
+    measure("  stage: ellipsoid_area", || {
+        lux_math::ellipsoid_area(black_box(sa), black_box(sb), black_box(sc))
+    });
     // the floor: a dependent chain of two square roots and a division (the least any exact
     // elliptic perimeter from a 2×2 Gram matrix needs after the projection)
     let mut x = 1.5f64;

