@@ -223,8 +223,10 @@ pub fn gram_eigenvalues(a: &DMat3) -> [f64; 3] {
     }
     let p = (p2 / 6.0).sqrt();
     // B = (G − qI)/p; r = det(B)/2.
-    let (b00, b11, b22) = ((g00 - q) / p, (g11 - q) / p, (g22 - q) / p);
-    let (b01, b02, b12) = (g01 / p, g02 / p, g12 / p);
+    // (one division: B's entries stay O(1), so det(B) cannot overflow)
+    let inv_p = 1.0 / p;
+    let (b00, b11, b22) = ((g00 - q) * inv_p, (g11 - q) * inv_p, (g22 - q) * inv_p);
+    let (b01, b02, b12) = (g01 * inv_p, g02 * inv_p, g12 * inv_p);
     let det_b = b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02)
         + b02 * (b01 * b12 - b11 * b02);
     let r = (0.5 * det_b).clamp(-1.0, 1.0);
