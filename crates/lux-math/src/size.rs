@@ -17,7 +17,7 @@
 //! Bad input: a non-finite transform or size, a negative size, or a singular transform gives a
 //! size factor of 0 for area lights ("a zero-area light"); [`crate::emission`] then emits 0.
 
-use crate::elliptic::{ellipse_perimeter, ellipse_perimeter_ramanujan, ellipsoid_area_thomsen};
+use crate::elliptic::{ellipse_perimeter_ramanujan, ellipsoid_area_thomsen};
 use crate::{LightShape, Profile};
 use core::f64::consts::{FRAC_PI_2, PI};
 use glam::{DMat3, DMat4, DVec3};
@@ -145,12 +145,33 @@ pub fn cylinder_area(a: &DMat3, radius: f64, length: f64) -> f64 {
     if axis_len == 0.0 || radius == 0.0 || length == 0.0 {
         return 0.0;
     }
-    let u = axis / axis_len;
+    let u = axis * (1.0 / axis_len);
     let w1 = (a.y_axis - u * a.y_axis.dot(u)) * radius;
     let w2 = (a.z_axis - u * a.z_axis.dot(u)) * radius;
+    length * axis_len * cross_section_perimeter(w1, w2)
+}
+
+/// Perimeter of the ellipse `{w1·cos t + w2·sin t}` without its semi-axes a ≥ b: from the Gram
+/// entries `g11 = |w1|², g22 = |w2|², g12 = w1·w2` and `ab = |w1 × w2|` (no cancellation),
+/// `(a + b)² = g11 + g22 + 2ab` and `(a² − b²)² = (g11 − g22)² + 4g12²`, hence
+/// `h = ((a − b)/(a + b))² = (a² − b²)²/(a + b)⁴` and `P = π(a + b)·GK(h)` by the piecewise
+/// polynomial of [`crate::elliptic`] (two square roots and one division in all). Cross-sections
+/// flatter than b/a = 0.0406 go through the eigenvalues and the AGM.
+fn cross_section_perimeter(w1: DVec3, w2: DVec3) -> f64 {
     let (g11, g22, g12) = (w1.length_squared(), w2.length_squared(), w1.dot(w2));
+    let ab = w1.cross(w2).length();
+    let s = g11 + g22 + 2.0 * ab;
+    if s.is_nan() || s <= 0.0 {
+        return 0.0;
+    }
+    let inv_s = 1.0 / s;
+    let d = g11 - g22;
+    let h = ((d * d + 4.0 * g12 * g12) * inv_s) * inv_s;
+    if let Some(gk) = crate::elliptic::gauss_kummer(h) {
+        return PI * s.sqrt() * gk;
+    }
     let (big, small) = sym2_eigenvalues(g11, g22, g12);
-    length * axis_len * ellipse_perimeter(big.sqrt(), small.sqrt())
+    crate::elliptic::ellipse_perimeter_agm(big.sqrt(), small.sqrt())
 }
 
 /// Cylinder as the hdEmbree reference computes it: `‖L·A x̂‖ ×` Ramanujan's perimeter of the
@@ -163,13 +184,22 @@ pub fn cylinder_area_reference(a: &DMat3, radius: f64, length: f64) -> f64 {
 
 /// Mesh light: Σ ½‖(B−A)×(C−A)‖ over the world-space images of the local triangles.
 /// Non-finite triangles are skipped.
+///
+/// Evaluated without transforming any point: for the linear part `A` (columns c₀, c₁, c₂),
+/// `(A u) × (A v) = cof(A)·(u × v)` with the cofactor matrix `cof(A) = [c₁×c₂, c₂×c₀, c₀×c₁]`
+/// (= det A · A⁻ᵀ), so each triangle costs one local cross product, one matrix–vector product
+/// and one square root; the translation cancels in the edge vectors.
 pub fn mesh_area(xf: &DMat4, triangles: &[[DVec3; 3]]) -> f64 {
+    let a = DMat3::from_mat4(*xf);
+    let cof = DMat3::from_cols(
+        a.y_axis.cross(a.z_axis),
+        a.z_axis.cross(a.x_axis),
+        a.x_axis.cross(a.y_axis),
+    );
     let mut sum = 0.0;
     for t in triangles {
-        let p0 = xf.transform_point3(t[0]);
-        let p1 = xf.transform_point3(t[1]);
-        let p2 = xf.transform_point3(t[2]);
-        let area = 0.5 * (p1 - p0).cross(p2 - p0).length();
+        let n = (t[1] - t[0]).cross(t[2] - t[0]);
+        let area = 0.5 * (cof * n).length();
         if area.is_finite() {
             sum += area;
         }
@@ -321,6 +351,47 @@ mod tests {
     }
 
     #[test]
+    fn mesh_area_equals_transformed_triangles() {
+        // A sheared, non-uniformly scaled, rotated, translated map; triangles of every
+        // orientation, one degenerate. Compare with transforming the points themselves.
+        let m = DMat4::from_rotation_translation(
+            DQuat::from_euler(glam::EulerRot::XYZ, 0.4, -1.2, 2.0),
+            DVec3::new(-3.0, 7.0, 0.5),
+        ) * DMat4::from_scale(DVec3::new(0.3, 2.5, 1.7))
+            * crate::usd_matrix([
+                [1.0, 0.2, 0.0, 0.0],
+                [0.7, 1.0, -0.4, 0.0],
+                [0.0, 0.3, 1.0, 0.0],
+                [0.0, 0.0, 0.0, 1.0],
+            ]);
+        let tris = vec![
+            [DVec3::ZERO, DVec3::X, DVec3::Y],
+            [
+                DVec3::new(1.0, 2.0, 3.0),
+                DVec3::new(-2.0, 0.5, 1.0),
+                DVec3::new(0.0, -1.0, 4.0),
+            ],
+            [
+                DVec3::new(0.1, 0.1, 0.1),
+                DVec3::new(0.2, 0.2, 0.2),
+                DVec3::new(0.3, 0.3, 0.3),
+            ],
+            [DVec3::Z, DVec3::ZERO, DVec3::new(5.0, 0.0, 1.0)],
+        ];
+        let want: f64 = tris
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|p| m.transform_point3(p));
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .sum();
+        let got = mesh_area(&m, &tris);
+        assert!(rel(got, want) < 1e-14, "{got} vs {want}");
+        let tri = LightShape::Mesh { triangles: tris };
+        assert_eq!(size_factor(&tri, &m, Profile::Spec), got);
+    }
+
+    #[test]
     fn sheared_disk_exact_vs_reference() {
         // USD rows: x ↦ (1,0,0), y ↦ (1,1,0) (shear of y along x by 1).
         let m = crate::usd_matrix([
@@ -366,10 +437,50 @@ mod tests {
         assert!(rel(size_factor(&c, &m, Profile::Spec), 2.0 * PI * 0.5 * 3.0) < 1e-14);
         // Non-uniform radial scale: ellipse 2r × 0.5r, exact perimeter.
         let s = DMat4::from_scale(DVec3::new(1.0, 2.0, 0.5));
-        let expect = 3.0 * ellipse_perimeter(1.0, 0.25);
+        let expect = 3.0 * crate::ellipse_perimeter(1.0, 0.25);
         assert!(rel(size_factor(&c, &s, Profile::Spec), expect) < 1e-14);
         let approx = 3.0 * ellipse_perimeter_ramanujan(1.0, 0.25);
         assert!(rel(size_factor(&c, &s, Profile::HdEmbree), approx) < 1e-14);
+    }
+
+    #[test]
+    fn cylinder_cross_section_matches_eigenvalues_and_agm() {
+        // The Gram/Gauss–Kummer evaluation against the textbook route: semi-axes from the
+        // eigenvalues of the projected radial axes' Gram matrix, perimeter by the AGM. Oblique,
+        // sheared and rotated maps, cross-sections from circular to needle-flat (AGM fallback).
+        let mut worst = 0.0f64;
+        for i in 0..400 {
+            let f = i as f64;
+            let m = DMat4::from_quat(DQuat::from_euler(
+                glam::EulerRot::XYZ,
+                0.37 * f,
+                -0.21 * f,
+                0.13 * f,
+            )) * DMat4::from_scale(DVec3::new(
+                0.5 + (f * 0.7).sin().abs(),
+                0.01 + 3.0 * (f * 1.3).cos().abs(),
+                0.01 + 2.0 * (f * 0.9).sin().abs(),
+            )) * crate::usd_matrix([
+                [1.0, 0.3 * (f * 0.5).sin(), 0.0, 0.0],
+                [0.6 * (f * 0.4).cos(), 1.0, 0.0, 0.0],
+                [0.2, -0.5 * (f * 0.3).sin(), 1.0, 0.0],
+                [0.0, 0.0, 0.0, 1.0],
+            ]);
+            let a = DMat3::from_mat4(m);
+            let (r, len) = (0.7, 2.5);
+            let axis = a.x_axis;
+            let u = axis / axis.length();
+            let w1 = (a.y_axis - u * a.y_axis.dot(u)) * r;
+            let w2 = (a.z_axis - u * a.z_axis.dot(u)) * r;
+            let (big, small) =
+                sym2_eigenvalues(w1.length_squared(), w2.length_squared(), w1.dot(w2));
+            let want = len
+                * axis.length()
+                * crate::elliptic::ellipse_perimeter_agm(big.sqrt(), small.sqrt());
+            worst = worst.max(rel(cylinder_area(&a, r, len), want));
+        }
+        // measured worst 1.15e-15 (the AGM's and the eigenvalues' own rounding)
+        assert!(worst < 2e-15, "{worst}");
     }
 
     #[test]
