@@ -186,10 +186,10 @@ const GK_COEFS: [[f64; 16]; 4] = [
 /// [`GAUSS_KUMMER_MAX_H`], `None` beyond (and for NaN).
 ///
 /// A piecewise polynomial: on each of four intervals of h the Chebyshev interpolant of degree
-/// 11–14 (coefficients computed by us at 40 digits with mpmath's `hyp2f1`, converted to powers of
-/// the interval's variable t; `scripts/derive_coefficients.py` regenerates them), whose truncation error is below 2·10⁻¹⁷ relative; the Estrin
-/// evaluation adds about an ulp. No square root, no loop: the AGM needs a dependent square
-/// root per step.
+/// 11–14, converted to powers of the interval's variable t (coefficients computed by us at 40
+/// digits with mpmath's `hyp2f1`; `scripts/derive_coefficients.py` regenerates them). Its
+/// truncation error is below 2·10⁻¹⁷ relative; the Estrin evaluation adds about an ulp. No
+/// square root, no loop: the AGM needs a dependent square root per step.
 #[inline]
 pub(crate) fn gauss_kummer(h: f64) -> Option<f64> {
     let i = if h <= 0.25 {
