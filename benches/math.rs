@@ -106,6 +106,16 @@ fn size_factors(c: &mut Criterion) {
     g.bench_function("sphere_uniform_scale", |b| {
         b.iter(|| size_factor(black_box(&sphere), black_box(&uniform), Profile::Spec))
     });
+    // Not a size factor: the machine's latency floor for comparison, one dependent chain of
+    // square root → square root → division (what any exact elliptic perimeter needs at least
+    // after its projection), each step feeding the next iteration.
+    g.bench_function("floor_sqrt_sqrt_div_chain", |b| {
+        let mut x = 1.5f64;
+        b.iter(|| {
+            x = 1.0 / ((black_box(x) + 0.5).sqrt() + 1.0).sqrt() + 1.0;
+            x
+        })
+    });
     g.finish();
 }
 

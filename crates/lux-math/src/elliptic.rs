@@ -50,21 +50,22 @@ pub fn carlson_rf_rd(mut x: f64, mut y: f64, mut z: f64) -> (f64, f64) {
     // X + Y + Z = 0; derived symbolically by `scripts/derive_coefficients.py`, checked against
     // mpmath):
     // 1 − E2/10 + E3/14 + E2²/24 − 3E2E3/44 − 5E2³/208 + 3E3²/104 + E2²E3/16.
-    let a = (x + y + z) * (1.0 / 3.0);
-    let dx = 1.0 - x / a;
-    let dy = 1.0 - y / a;
+    // (one division per series: 1/A, and A^{-1/2} = √(1/A))
+    let inv_a = 1.0 / ((x + y + z) * (1.0 / 3.0));
+    let dx = 1.0 - x * inv_a;
+    let dy = 1.0 - y * inv_a;
     let dz = -dx - dy;
     let e2 = dx * dy - dz * dz;
     let e3 = dx * dy * dz;
     let rf = (1.0
         + e2 * (-1.0 / 10.0 + e2 * (1.0 / 24.0 - 5.0 / 208.0 * e2))
         + e3 * (1.0 / 14.0 + e2 * (-3.0 / 44.0 + e2 * (1.0 / 16.0)) + 3.0 / 104.0 * e3))
-        / a.sqrt();
+        * inv_a.sqrt();
     // R_D series, the same expansion with a = 3/2, b = (½, ½, 3/2) to N = 7, written in the
     // deviation Z of z and Q = XY (X + Y + 3Z = 0): Σ Qʲ·Pⱼ(Z).
-    let a = (x + y + 3.0 * z) * 0.2;
-    let dx = 1.0 - x / a;
-    let dy = 1.0 - y / a;
+    let inv_a = 1.0 / ((x + y + 3.0 * z) * 0.2);
+    let dx = 1.0 - x * inv_a;
+    let dy = 1.0 - y * inv_a;
     let z1 = -(dx + dy) * (1.0 / 3.0);
     let q = dx * dy;
     let p0 = 1.0
@@ -77,7 +78,7 @@ pub fn carlson_rf_rd(mut x: f64, mut y: f64, mut z: f64) -> (f64, f64) {
     let p2 = 9.0 / 88.0 + z1 * (-27.0 / 52.0 + z1 * (2.25 - 585.0 / 68.0 * z1));
     let p3 = -1.0 / 16.0 + 135.0 / 272.0 * z1;
     let series = p0 + q * (p1 + q * (p2 + q * p3));
-    let rd = 3.0 * sum + fac * series / (a * a.sqrt());
+    let rd = 3.0 * sum + fac * series * (inv_a * inv_a.sqrt());
     (rf, rd)
 }
 
@@ -105,7 +106,7 @@ pub fn carlson_rg(x: f64, y: f64, z: f64) -> f64 {
         return 0.5 * z.sqrt();
     }
     let (rf, rd) = carlson_rf_rd(x, y, z);
-    0.5 * (z * rf - (x - z) * (y - z) * rd / 3.0 + (x * y / z).sqrt())
+    0.5 * (z * rf - (x - z) * (y - z) * rd * (1.0 / 3.0) + (x * y / z).sqrt())
 }
 
 /// Exact surface area of an ellipsoid with semi-axes `a, b, c` (any order, ≥ 0):
@@ -140,9 +141,14 @@ pub(crate) fn ellipsoid_area_from_squares(a2: f64, b2: f64, c2: f64) -> f64 {
     if !(s2.is_finite() && a2 >= 0.0 && b2 >= 0.0 && c2 >= 0.0) {
         return f64::NAN;
     }
-    let k = 1.0 / s2;
+    // Scale by the power of two 2^−e nearest below 1/s2 (exact, no division): the largest
+    // square lands in [1, 2), the products inside R_G in [0, 4), and R_G(k²·…) = k·R_G(…) is
+    // undone by the exact 2^e.
+    let e = ((s2.to_bits() >> 52) & 0x7ff).clamp(1, 2045);
+    let k = f64::from_bits((2046 - e) << 52);
+    let inv_k = f64::from_bits(e << 52);
     let (a2, b2, c2) = (a2 * k, b2 * k, c2 * k);
-    4.0 * PI * carlson_rg(b2 * c2, c2 * a2, a2 * b2) * s2
+    4.0 * PI * carlson_rg(b2 * c2, c2 * a2, a2 * b2) * inv_k
 }
 
 /// Thomsen's exponent as the hdEmbree reference uses it (Thomsen's own optimum is p ≈ 1.6075).

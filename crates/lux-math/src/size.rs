@@ -246,12 +246,12 @@ pub fn gram_eigenvalues(a: &DMat3) -> [f64; 3] {
     let (g01, g02, g12) = (g.y_axis.x, g.z_axis.x, g.z_axis.y);
     let p1 = g01 * g01 + g02 * g02 + g12 * g12;
     let tr = g00 + g11 + g22;
-    let q = tr / 3.0;
+    let q = tr * (1.0 / 3.0);
     let p2 = (g00 - q).powi(2) + (g11 - q).powi(2) + (g22 - q).powi(2) + 2.0 * p1;
     if p2 <= 1e-30 * q * q {
         return [q, q, q];
     }
-    let p = (p2 / 6.0).sqrt();
+    let p = (p2 * (1.0 / 6.0)).sqrt();
     // B = (G − qI)/p; r = det(B)/2.
     // (one division: B's entries stay O(1), so det(B) cannot overflow)
     let inv_p = 1.0 / p;
@@ -260,7 +260,7 @@ pub fn gram_eigenvalues(a: &DMat3) -> [f64; 3] {
     let det_b = b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02)
         + b02 * (b01 * b12 - b11 * b02);
     let r = (0.5 * det_b).clamp(-1.0, 1.0);
-    let phi = r.acos() / 3.0;
+    let phi = r.acos() * (1.0 / 3.0);
     let l1 = (q + 2.0 * p * phi.cos()).max(0.0);
     if l1 == 0.0 {
         return [0.0, 0.0, 0.0];
