@@ -142,9 +142,13 @@ impl SphericalRectangle {
         // e^{ik} = conj(product) / (√(z0²+x0²)²·√(z0²+y0²)·√(z0²+y1²))
         let (a2, c2) = (sx0 * sy1, -sz0 * r01);
         let (a3, c3) = (-sx0 * sy0, -sz0 * r00);
-        let inv = 1.0 / ((z02 + sx0 * sx0) * (sly0 * sly1));
+        let lx0 = z02 + sx0 * sx0;
+        let inv = 1.0 / (lx0 * (sly0 * sly1));
         let cos_k = (a2 * a3 - c2 * c3) * inv;
         let sin_k = -(a2 * c3 + c2 * a3) * inv;
+        // the same reciprocal gives 1/√ly0 = √ly1·lx0·inv and 1/√ly1 = √ly0·lx0·inv
+        let w = lx0 * inv;
+        let (inv_sly0, inv_sly1) = (sly1 * w, sly0 * w);
         Self {
             o,
             x,
@@ -155,9 +159,9 @@ impl SphericalRectangle {
             y0,
             x1,
             y1,
-            b0: -sy0 / sly0,
-            b1: sy1 / sly1,
-            nb: z02 / ly0,
+            b0: -sy0 * inv_sly0,
+            b1: sy1 * inv_sly1,
+            nb: z02 * (inv_sly0 * inv_sly0),
             cos_k,
             sin_k,
             solid_angle,
@@ -195,12 +199,17 @@ impl SphericalRectangle {
         };
         let xu = xu.clamp(self.x0, self.x1);
         let d2 = xu * xu + self.z0 * self.z0;
-        let h0 = self.y0 / (d2 + self.y0 * self.y0).sqrt();
-        let h1 = self.y1 / (d2 + self.y1 * self.y1).sqrt();
-        let hv = h0 + u[1] * (h1 - h0);
-        let hv2 = hv * hv;
-        let yv = if hv2 < 1.0 - 1e-12 {
-            hv * (d2 / (1.0 - hv2)).sqrt()
+        // hᵢ = yᵢ/sᵢ with sᵢ = √(d² + yᵢ²); hv = h0 + u₁(h1 − h0) = N/D with D = s0·s1 and
+        // N = y0·s1 + u₁(y1·s0 − y0·s1), so yv = hv·√(d²/(1 − hv²)) = N·√(d²/(D² − N²)):
+        // one division instead of three. (|hv| → 1 only at the far edge at grazing angles.)
+        let s0 = (d2 + self.y0 * self.y0).sqrt();
+        let s1 = (d2 + self.y1 * self.y1).sqrt();
+        let (a, b) = (self.y0 * s1, self.y1 * s0);
+        let nn = a + u[1] * (b - a);
+        let dd = s0 * s1;
+        let gap = (dd - nn) * (dd + nn);
+        let yv = if gap > 1e-12 * (dd * dd) {
+            nn * (d2 / gap).sqrt()
         } else {
             self.y1
         };
