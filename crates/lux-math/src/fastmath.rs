@@ -744,7 +744,7 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
 /// so unlike `(2π·t).sin_cos()` there is no rounding of `2π·t` before the reduction: for `t`
 /// in \[0, 1) the two differ by at most an ulp of 2π (4.4·10⁻¹⁶). For the azimuth of uniform
 /// warps (`φ = 2π·u`). |t| ≥ 2⁴⁹ (a whole number of quarter turns) and NaN go to libm.
-#[inline]
+#[inline(always)]
 pub fn sin_cos_turns(t: f64) -> (f64, f64) {
     if t.is_nan() || t.abs() >= 562_949_953_421_312.0 {
         return (TAU_HI * t).sin_cos();

@@ -31,6 +31,86 @@ pub struct SphereLight {
     inv_tau_r2: f64,
     xf: LightTransform,
     technique: SphereTechnique,
+    /// The world sphere when `xf` is a rotation and uniform scale s (to a few ulp) plus a
+    /// translation c: the light is the sphere |x − c| = s·r, and the cone is sampled in world
+    /// space without transforming the reference point or the sample.
+    world: Option<WorldSphere>,
+}
+
+/// A sphere in world space (see [`SphereLight`]'s `world`).
+#[derive(Clone, Copy, Debug)]
+struct WorldSphere {
+    centre: DVec3,
+    radius: f64,
+    inv_radius: f64,
+    inv_tau_r2: f64,
+}
+
+/// A point of the cone sampled from a reference point, relative to the sphere's centre.
+struct ConeSample {
+    /// Point on the sphere minus its centre.
+    q: DVec3,
+    /// Unit direction from the reference point.
+    w: DVec3,
+    /// Distance along `w`.
+    t: f64,
+    /// Solid-angle density.
+    pdf: f64,
+}
+
+/// Uniform sampling of the cone of directions towards the sphere |x| = `rad` from the point `p`
+/// (relative to the centre, |p| > rad): pbrt-v4 §6.2.4 with the algebra below. `inv_tau_r2` is
+/// 1/(2π·rad²).
+#[inline(always)]
+fn sample_cone(p: DVec3, d2: f64, rad: f64, inv_tau_r2: f64, u: [f64; 2]) -> ConeSample {
+    // With e = √(d² − r²) (so cos α = e/d): 1 − cos α = r²/(d·(d + e)), whose reciprocal also
+    // gives 1/d = (d + e)/(d·(d + e)) and the density 1/(2π(1 − cos α)) = d·(d + e)/(2π r²).
+    // One division (besides the frame's), and the two square roots independent: square root
+    // and division share one unit on current CPUs and their latency dominates this sampler.
+    let d = d2.sqrt();
+    let e = (d2 - rad * rad).max(0.0).sqrt();
+    let dde = d * (d + e);
+    let inv_dde = 1.0 / dde;
+    let cos_max = e * (d + e) * inv_dde;
+    let omc = rad * rad * inv_dde;
+    let pdf = dde * inv_tau_r2;
+    // The cone's frame around the unit axis n = v/d, v = −p, as `Frame::from_normal(n)`
+    // (Duff et al. 2017) but from v and d: with σ = sign(v.z) and k = −1/(d·(σd + v.z)),
+    // its a/d² is k and 1/d = −k·(σd + v.z). That division needs only d, so it runs beside the
+    // one above instead of after it. (σd + v.z has no cancellation: both terms share a sign.)
+    let v = -p;
+    let sgn = 1.0f64.copysign(v.z);
+    let sdz = sgn * d + v.z;
+    let k = -1.0 / (d * sdz);
+    let n = v * (-k * sdz);
+    let bxy = v.x * v.y * k;
+    let frame = Frame {
+        t: DVec3::new(1.0 + sgn * v.x * v.x * k, sgn * bxy, -sgn * n.x),
+        b: DVec3::new(bxy, sgn + v.y * v.y * k, -n.y),
+        n,
+    };
+    // The direction of `warp::sample_uniform_cone(u, omc)` with its pieces kept:
+    // cos θ = 1 − u₀·(1 − cos θmax), sin²θ = (1 − cos θ)(1 + cos θ).
+    let omc_u = u[0] * omc;
+    let cos_t = 1.0 - omc_u;
+    let sin2_t = (omc_u * (2.0 - omc_u)).max(0.0);
+    let sin_t = sin2_t.sqrt();
+    let (sp, cp) = fastmath::sin_cos_turns(u[1]);
+    let wc = DVec3::new(sin_t * cp, sin_t * sp, cos_t);
+    // Nearest hit along wc from the reference point, which sits at (0, 0, −d) in the cone
+    // frame: t = d·(cos θ − g) with g² = sin²α − sin²θ = cos²θ − cos²α
+    // = (1 − u₀)(1 − cos α)·(cos θ + cos α), a product without cancellation (g = 0 on the
+    // silhouette). The hit point relative to the centre, (t·wc.x, t·wc.y, −d + t·cos θ),
+    // has −d + t·cos θ = −d·(sin²θ + cos θ·g): no cancellation, unlike p + t·w.
+    let g = ((1.0 - u[0]) * omc * (cos_t + cos_max)).max(0.0).sqrt();
+    let t = d * (cos_t - g);
+    let qc = DVec3::new(t * wc.x, t * wc.y, -d * (sin2_t + cos_t * g));
+    ConeSample {
+        q: frame.to_world(qc),
+        w: frame.to_world(wc),
+        t,
+        pdf,
+    }
 }
 
 /// Nearest intersection parameter t ≥ 0 of the ray p + t·w (unit w) with the sphere |x| = r, as
@@ -56,12 +136,23 @@ impl SphereLight {
         technique: SphereTechnique,
     ) -> Result<Self, SampleError> {
         let radius = positive("radius", radius)?;
+        let world = xf.uniform_scale_translation().and_then(|(s, centre)| {
+            let radius = radius * s;
+            let inv_tau_r2 = 1.0 / (TAU * radius * radius);
+            (radius.is_finite() && inv_tau_r2.is_finite()).then_some(WorldSphere {
+                centre,
+                radius,
+                inv_radius: 1.0 / radius,
+                inv_tau_r2,
+            })
+        });
         Ok(Self {
             radius,
             inv_radius: 1.0 / radius,
             inv_tau_r2: 1.0 / (TAU * radius * radius),
             xf,
             technique,
+            world,
         })
     }
 
@@ -73,6 +164,26 @@ impl SphereLight {
     /// Samples a point seen from `r`.
     #[inline]
     pub fn sample(&self, r: &Reference, u: [f64; 2]) -> Option<LightSample> {
+        if self.technique == SphereTechnique::Cone {
+            if let Some(ws) = &self.world {
+                let p = r.p - ws.centre;
+                let d2 = p.length_squared();
+                if d2 > ws.radius * ws.radius {
+                    let c = sample_cone(p, d2, ws.radius, ws.inv_tau_r2, u);
+                    if !(c.t > 0.0 && c.pdf.is_finite()) {
+                        return None;
+                    }
+                    return Some(LightSample {
+                        point: ws.centre + c.q,
+                        normal: c.q * ws.inv_radius,
+                        wi: c.w,
+                        distance: c.t,
+                        pdf: c.pdf,
+                        delta: false,
+                    });
+                }
+            }
+        }
         let pl = self.xf.inv_point(r.p);
         let rad = self.radius;
         let d2 = pl.length_squared();
@@ -89,37 +200,8 @@ impl SphereLight {
             let pdf = dist2 / (cos.abs() * 4.0 * PI * rad * rad);
             return finish_sample(&self.xf, r.p, pl, q, n, pdf);
         }
-        // With e = √(d² − r²) (so cos α = e/d): 1 − cos α = r²/(d·(d + e)), whose reciprocal also
-        // gives 1/d = (d + e)/(d·(d + e)) and the density 1/(2π(1 − cos α)) = d·(d + e)/(2π r²).
-        // One division (besides the frame's), and the two square roots independent: square root
-        // and division share one unit on current CPUs and their latency dominates this sampler.
-        let d = d2.sqrt();
-        let e = (d2 - rad * rad).max(0.0).sqrt();
-        let dde = d * (d + e);
-        let inv_dde = 1.0 / dde;
-        let cos_max = e * (d + e) * inv_dde;
-        let omc = rad * rad * inv_dde;
-        let pdf = dde * self.inv_tau_r2;
-        let frame = Frame::from_normal(pl * -((d + e) * inv_dde));
-        // The direction of `warp::sample_uniform_cone(u, omc)` with its pieces kept:
-        // cos θ = 1 − u₀·(1 − cos θmax), sin²θ = (1 − cos θ)(1 + cos θ).
-        let omc_u = u[0] * omc;
-        let cos_t = 1.0 - omc_u;
-        let sin2_t = (omc_u * (2.0 - omc_u)).max(0.0);
-        let sin_t = sin2_t.sqrt();
-        let (sp, cp) = fastmath::sin_cos_turns(u[1]);
-        let wc = DVec3::new(sin_t * cp, sin_t * sp, cos_t);
-        // Nearest hit along wc from the reference point, which sits at (0, 0, −d) in the cone
-        // frame: t = d·(cos θ − g) with g² = sin²α − sin²θ = cos²θ − cos²α
-        // = (1 − u₀)(1 − cos α)·(cos θ + cos α), a product without cancellation (g = 0 on the
-        // silhouette). The hit point relative to the centre, (t·wc.x, t·wc.y, −d + t·cos θ),
-        // has −d + t·cos θ = −d·(sin²θ + cos θ·g): no cancellation, unlike p + t·w.
-        let g = ((1.0 - u[0]) * omc * (cos_t + cos_max)).max(0.0).sqrt();
-        let t = d * (cos_t - g);
-        let qc = DVec3::new(t * wc.x, t * wc.y, -d * (sin2_t + cos_t * g));
-        let q = frame.to_world(qc);
-        let w = frame.to_world(wc);
-        finish_sample_dir(&self.xf, q, q * self.inv_radius, w, t, pdf)
+        let c = sample_cone(pl, d2, rad, self.inv_tau_r2, u);
+        finish_sample_dir(&self.xf, c.q, c.q * self.inv_radius, c.w, c.t, c.pdf)
     }
 
     /// Solid-angle density of [`Self::sample`] producing `wi` from `r`.

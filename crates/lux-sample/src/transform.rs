@@ -117,6 +117,14 @@ impl LightTransform {
         self.similarity
     }
 
+    /// `(s, t)` when L is s times an orthogonal matrix to within a few ulp (a rotation, possibly
+    /// mirrored, and a uniform scale) and t the translation: the light is then the same shape
+    /// scaled by s in world space, and rotation-invariant shapes can be sampled there directly.
+    #[inline]
+    pub(crate) fn uniform_scale_translation(&self) -> Option<(f64, DVec3)> {
+        (self.inv_scale > 0.0).then(|| (1.0 / self.inv_scale, self.translation))
+    }
+
     /// |det L|, the volume scale.
     #[inline]
     pub fn abs_det(&self) -> f64 {

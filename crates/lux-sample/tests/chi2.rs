@@ -223,6 +223,15 @@ fn sphere_all_techniques() {
             (0.5, DMat4::IDENTITY),
             (0.5, DMat4::from_scale(DVec3::new(1.0, 2.0, 0.5))),
             (0.3, skewed(DVec3::ZERO)),
+            // rotation + uniform scale + translation: sampled directly in world space
+            (
+                0.4,
+                DMat4::from_scale_rotation_translation(
+                    DVec3::splat(1.7),
+                    glam::DQuat::from_euler(glam::EulerRot::XYZ, 0.4, -1.1, 2.3),
+                    DVec3::new(0.3, -0.2, 0.5),
+                ),
+            ),
         ] {
             let light = Light::Sphere(SphereLight::new(rad, xf(m), t).unwrap());
             for (name, pl, nt) in [
