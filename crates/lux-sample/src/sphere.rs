@@ -164,24 +164,24 @@ impl SphereLight {
     /// Samples a point seen from `r`.
     #[inline]
     pub fn sample(&self, r: &Reference, u: [f64; 2]) -> Option<LightSample> {
-        if self.technique == SphereTechnique::Cone {
-            if let Some(ws) = &self.world {
-                let p = r.p - ws.centre;
-                let d2 = p.length_squared();
-                if d2 > ws.radius * ws.radius {
-                    let c = sample_cone(p, d2, ws.radius, ws.inv_tau_r2, u);
-                    if !(c.t > 0.0 && c.pdf.is_finite()) {
-                        return None;
-                    }
-                    return Some(LightSample {
-                        point: ws.centre + c.q,
-                        normal: c.q * ws.inv_radius,
-                        wi: c.w,
-                        distance: c.t,
-                        pdf: c.pdf,
-                        delta: false,
-                    });
+        if self.technique == SphereTechnique::Cone
+            && let Some(ws) = &self.world
+        {
+            let p = r.p - ws.centre;
+            let d2 = p.length_squared();
+            if d2 > ws.radius * ws.radius {
+                let c = sample_cone(p, d2, ws.radius, ws.inv_tau_r2, u);
+                if !(c.t > 0.0 && c.pdf.is_finite()) {
+                    return None;
                 }
+                return Some(LightSample {
+                    point: ws.centre + c.q,
+                    normal: c.q * ws.inv_radius,
+                    wi: c.w,
+                    distance: c.t,
+                    pdf: c.pdf,
+                    delta: false,
+                });
             }
         }
         let pl = self.xf.inv_point(r.p);
