@@ -719,7 +719,7 @@ fn quadrant(r: f64, y: f64, qbits: u64) -> (f64, f64) {
 /// kernels for sin and cos on \[−π/4, π/4\] and a swap/negation by the quadrant `n mod 4`.
 /// Arguments with |x| ≥ 10⁶, infinities and NaN are passed to libm. Tiny |x| < 2⁻²⁷ gives
 /// `(x, 1)` exactly (as libm, keeping the sign of zero).
-#[inline]
+#[inline(always)]
 pub fn sin_cos(x: f64) -> (f64, f64) {
     if x.is_nan() || x.abs() >= SIN_COS_MAX {
         return x.sin_cos();
