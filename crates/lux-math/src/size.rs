@@ -141,14 +141,16 @@ pub fn sphere_area_reference(a: &DMat3, radius: f64) -> f64 {
 /// is the complete elliptic integral of the second kind ([`crate::ellipse_perimeter`]).
 pub fn cylinder_area(a: &DMat3, radius: f64, length: f64) -> f64 {
     let axis = a.x_axis;
-    let axis_len = axis.length();
-    if axis_len == 0.0 || radius == 0.0 || length == 0.0 {
+    let l2 = axis.length_squared();
+    if l2 == 0.0 || radius == 0.0 || length == 0.0 {
         return 0.0;
     }
-    let u = axis * (1.0 / axis_len);
-    let w1 = (a.y_axis - u * a.y_axis.dot(u)) * radius;
-    let w2 = (a.z_axis - u * a.z_axis.dot(u)) * radius;
-    length * axis_len * cross_section_perimeter(w1, w2)
+    // Project the radial axes ⟂ the axis with 1/|axis|² (no square root before the division);
+    // the perimeter is homogeneous of degree 1, so the radius multiplies the result.
+    let inv_l2 = 1.0 / l2;
+    let w1 = a.y_axis - axis * (a.y_axis.dot(axis) * inv_l2);
+    let w2 = a.z_axis - axis * (a.z_axis.dot(axis) * inv_l2);
+    length * radius * l2.sqrt() * cross_section_perimeter(w1, w2)
 }
 
 /// Perimeter of the ellipse `{w1·cos t + w2·sin t}` without its semi-axes a ≥ b: from the Gram
