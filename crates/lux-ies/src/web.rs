@@ -7,6 +7,7 @@ use crate::file::{IesFile, PhotometricType};
 use crate::interp::Axis;
 use core::f64::consts::{FRAC_PI_2, PI, TAU};
 use lux_math::Profile;
+use std::borrow::Cow;
 
 /// The horizontal symmetry a file's angle set declares (LM-63-2002 §5.12 and LM-63-1995).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -64,14 +65,48 @@ pub struct PhotometricWeb {
     flux_midpoint: f64,
 }
 
+/// The horizontal angles and candela columns to expand. A type C 90..270 file is mirrored about
+/// its 180° plane (h → 180° − h), so that plane must be tabulated for the mirrored web to cover
+/// the full circle. When the file has no 180° plane, one is inserted by linear interpolation
+/// between its two neighbours: the bilinear interpolant over 90..270 is unchanged (the inserted
+/// knot lies on it), and its mirror image then closes the circle at 0° and 360°.
+fn with_mirror_plane(file: &IesFile) -> (Cow<'_, [f64]>, Cow<'_, [f64]>) {
+    let ha = &file.horizontal_angles;
+    let nv = file.num_vertical();
+    let needs_plane = file.photometric_type == PhotometricType::C
+        && ha.len() > 1
+        && ha[0] == 90.0
+        && !ha.contains(&180.0);
+    if !needs_plane {
+        return (Cow::Borrowed(ha), Cow::Borrowed(&file.candela));
+    }
+    // validated: strictly increasing from 90 to 270, so 180 has a neighbour on each side
+    let j = ha.partition_point(|&a| a < 180.0);
+    let t = (180.0 - ha[j - 1]) / (ha[j] - ha[j - 1]);
+    let mut angles = Vec::with_capacity(ha.len() + 1);
+    angles.extend_from_slice(&ha[..j]);
+    angles.push(180.0);
+    angles.extend_from_slice(&ha[j..]);
+    let mut cd = Vec::with_capacity(file.candela.len() + nv);
+    cd.extend_from_slice(&file.candela[..j * nv]);
+    let (lo, hi) = (
+        &file.candela[(j - 1) * nv..j * nv],
+        &file.candela[j * nv..(j + 1) * nv],
+    );
+    cd.extend(lo.iter().zip(hi).map(|(a, b)| lux_math::lerp(t, *a, *b)));
+    cd.extend_from_slice(&file.candela[j * nv..]);
+    (Cow::Owned(angles), Cow::Owned(cd))
+}
+
 impl PhotometricWeb {
     /// Expands `file` (validated first), scaling raw values by `file.candela_scale(profile)`.
     pub fn new(file: &IesFile, profile: Profile) -> Result<PhotometricWeb, IesError> {
         file.validate()?;
         let scale = file.candela_scale(profile);
         let nv = file.num_vertical();
-        let ha = &file.horizontal_angles;
-        let col = |i: usize| &file.candela[i * nv..(i + 1) * nv];
+        let (ha, candela) = with_mirror_plane(file);
+        let (ha, candela) = (&ha[..], &candela[..]);
+        let col = |i: usize| &candela[i * nv..(i + 1) * nv];
         // (angle in degrees, source column) in increasing angle order
         let mut planes: Vec<(f64, usize)> = Vec::with_capacity(4 * ha.len() + 2);
         let n = ha.len();

@@ -105,6 +105,47 @@ fn symmetric_files_equal_their_explicit_full_versions() {
 }
 
 #[test]
+fn bilateral_90_270_without_a_180_plane_closes_the_circle() {
+    // planes 90, 150, 210, 270: the mirror plane 180 lies between two tabulated planes. The
+    // mirrored distribution is f(180 − C) outside 90..270; its bilinear interpolant equals that
+    // of the explicit full file below, whose 0/180/360 planes hold the midpoint of the 150 and
+    // 210 planes and whose 30/330 planes are the mirror images of 150/210.
+    let val = |v: f64, h: f64| 10.0 + v * 0.1 + h * 0.05;
+    let hs = [90.0, 150.0, 210.0, 270.0];
+    let sym = web(&base(
+        PhotometricType::C,
+        V.to_vec(),
+        hs.to_vec(),
+        grid(&V, &hs, val),
+    ));
+    let mid = |v: f64| 0.5 * (val(v, 150.0) + val(v, 210.0));
+    let full = [0.0, 30.0, 90.0, 150.0, 180.0, 210.0, 270.0, 330.0, 360.0];
+    let explicit = web(&base(
+        PhotometricType::C,
+        V.to_vec(),
+        full.to_vec(),
+        grid(&V, &full, |v, h| match h as i32 {
+            0 | 180 | 360 => mid(v),
+            30 => val(v, 150.0),
+            330 => val(v, 210.0),
+            _ => val(v, h),
+        }),
+    ));
+    for i in 0..=36 {
+        for j in 0..=72 {
+            let (t, p) = (i as f64 * 5f64.to_radians(), j as f64 * 5f64.to_radians());
+            let (a, e) = (sym.intensity(t, p), explicit.intensity(t, p));
+            assert!((a - e).abs() <= 1e-9 * e, "θ{i} φ{j}: {a} vs {e}");
+        }
+    }
+    // φ = 10°: mirror of 170°, 1/3 of the way from the 150 plane to the 210 plane
+    let want = (2.0 * val(45.0, 150.0) + val(45.0, 210.0)) / 3.0;
+    let got = sym.intensity(45f64.to_radians(), 10f64.to_radians());
+    assert!((got - want).abs() < 1e-12, "{got} vs {want}");
+    assert!((sym.flux_exact() - explicit.flux_exact()).abs() < 1e-9 * explicit.flux_exact());
+}
+
+#[test]
 fn type_b_mirror_equals_explicit_and_integrates_the_hemisphere() {
     let vs: Vec<f64> = (-6..=6).map(|k| 15.0 * k as f64).collect();
     let half: Vec<f64> = (0..=6).map(|k| 15.0 * k as f64).collect();
