@@ -487,20 +487,16 @@ fn light_bounds(scene: &Scene, l: &RenderLight) -> Option<LightBounds> {
         Geom::Mesh { .. } => (std::f64::consts::PI, true),
         _ => (std::f64::consts::PI, false),
     };
-    // A ShapingAPI cone narrows the emission around the axis (planar lights only: for
-    // spheres and cylinders the cone is about the light axis, not each normal).
+    // The ShapingAPI (cone, IES profile and its angleScale) narrows the emission around the
+    // axis to lux-shaping's conservative half-angle: for planar lights only (for spheres and
+    // cylinders the shaping is about the light axis, not each surface normal) under a
+    // similarity transform (a non-uniform scale or shear changes angles between light and
+    // world space).
     let theta_e = match l.geom {
-        Geom::Rect { .. } | Geom::Disk { .. }
-            if !l.shaping.is_identity()
-                && !l.shaping.has_ies()
-                && l.shaping.params().cone_angle_deg.is_finite() =>
-        {
-            l.shaping
-                .params()
-                .cone_angle_deg
-                .to_radians()
-                .clamp(0.0, std::f64::consts::FRAC_PI_2)
-        }
+        Geom::Rect { .. } | Geom::Disk { .. } if l.xf.is_similarity() => l
+            .shaping
+            .emission_half_angle()
+            .min(std::f64::consts::FRAC_PI_2),
         _ => std::f64::consts::FRAC_PI_2,
     };
     let cone = EmissionCone::new(axis, theta_o, theta_e).unwrap_or(EmissionCone::SPHERE);
@@ -809,10 +805,17 @@ fn prepare(
             light: l.path.clone(),
             message,
         })?;
+    // the stage's up axis in the dome texture's frame (for a photometric dome's illuminance)
+    let world_up = match scene.up_axis {
+        UpAxis::Z => DVec3::Z,
+        UpAxis::Y => DVec3::Y,
+    };
+    let dome_up = xf.inv_vector(world_up);
     let radiance = physical::base_radiance(
         l,
         &shaping,
         texture.as_ref().map(|t| &*t.tex),
+        dome_up,
         profile,
         stage_unit,
     )?;

@@ -9,8 +9,9 @@ use glam::DVec3;
 /// A cone bounding the emission of a light (Conty Estevez & Kulla 2018, §3; pbrt-v4 §12.6.3):
 /// every emitting surface normal lies within θo of `axis`, and every emitted direction lies
 /// within θe of some such normal. For a one-sided planar light θo = 0, θe = π/2; a sphere has
-/// θo = π, θe = π/2; a ShapingAPI cone of angle c narrows θe to min(c, π/2) (for an IES profile
-/// use the largest polar angle with non-zero candela).
+/// θo = π, θe = π/2; a ShapingAPI cone or IES profile narrows θe of a planar light to
+/// min(θs, π/2), θs being the polar angle beyond which the shaping emits nothing
+/// (`lux_shaping::Shaping::emission_half_angle`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EmissionCone {
     /// Unit axis of the cone of normals.

@@ -131,6 +131,7 @@ pub struct Shaping {
     cone: Cone,
     ies: Option<IesPart>,
     max_factor: f32,
+    emission_half_angle: f64,
     identity: bool,
 }
 
@@ -153,6 +154,7 @@ impl Shaping {
             cone: Cone::Open,
             ies: None,
             max_factor: 1.0,
+            emission_half_angle: PI,
             identity: true,
         }
     }
@@ -231,9 +233,11 @@ impl Shaping {
             cone,
             ies,
             max_factor: 1.0,
+            emission_half_angle: PI,
             identity,
         };
         s.max_factor = f32_up(s.bound(0.0, PI));
+        s.emission_half_angle = s.reach();
         Ok(s)
     }
 
@@ -373,6 +377,42 @@ impl Shaping {
         let lo = (alpha - h - BOUND_SLACK).max(0.0);
         let hi = (alpha + h + BOUND_SLACK).min(PI);
         f32_up(self.bound(lo, hi)).min(self.max_factor)
+    }
+
+    /// The half-angle θe (radians, in [0, π]) of the cone about the light's −Z outside which the
+    /// factor is exactly 0: every direction more than θe off the axis gets `[0, 0, 0]`. For
+    /// light BVHs (the emission spread θe of Conty Estevez & Kulla 2018) and samplers.
+    ///
+    /// Conservative, from the same bounds as [`max_factor_in_cone`](Self::max_factor_in_cone):
+    /// the smallest θ with a zero bound over the polar band `[θ, π]`, found by bisection to
+    /// 2⁻⁴⁰ rad, plus the bounds' angular slack. It reflects the cone angle
+    /// (`inputs:shaping:cone:angle`) and the polar range where the IES profile
+    /// (`inputs:shaping:ies:file` after `ies:angleScale`) is non-zero, whichever is narrower;
+    /// π for the identity and for any shaping that emits towards +Z; 0 for one that emits
+    /// nothing.
+    pub fn emission_half_angle(&self) -> f64 {
+        self.emission_half_angle
+    }
+
+    /// See [`emission_half_angle`](Self::emission_half_angle): bisection on the monotone
+    /// predicate "bound over [θ, π] is zero" (the band shrinks as θ grows).
+    fn reach(&self) -> f64 {
+        if self.identity || self.bound(PI, PI) > 0.0 {
+            return PI;
+        }
+        if !(self.bound(0.0, PI) > 0.0) {
+            return 0.0;
+        }
+        let (mut lit, mut dark) = (0.0, PI);
+        for _ in 0..40 {
+            let mid = 0.5 * (lit + dark);
+            if self.bound(mid, PI) > 0.0 {
+                lit = mid;
+            } else {
+                dark = mid;
+            }
+        }
+        (dark + BOUND_SLACK).min(PI)
     }
 
     /// Upper bound (f64) of every channel of the factor over polar angles `[lo, hi]`.

@@ -120,6 +120,22 @@ proptest! {
     }
 
     #[test]
+    fn nothing_is_emitted_beyond_the_emission_half_angle(
+        s in arb_shaping(),
+        t in 0.0f64..=1.0,
+        p in 0.0f64..core::f64::consts::TAU,
+    ) {
+        let e = s.emission_half_angle();
+        prop_assert!((0.0..=PI).contains(&e), "{}", e);
+        // every direction strictly outside the cone e, from just past its rim to +Z
+        let theta = e + 1e-6 + t * (PI - e - 1e-6).max(0.0);
+        if theta <= PI {
+            let f = s.factor(light_direction(theta, p));
+            prop_assert_eq!(f, [0.0; 3], "θ {} beyond θe {}", theta, e);
+        }
+    }
+
+    #[test]
     fn max_factor_in_cone_is_conservative(
         s in arb_shaping(),
         axis in arb_dir(),
@@ -385,4 +401,48 @@ fn ies_bounds_follow_the_vertical_bands() {
     // beyond θ = 90° θies ≥ 180°: the value at the last vertical angle (2 cd)
     let back = s.max_factor_in_cone(DVec3::Z, 60f64.to_radians());
     assert!((back - 2.0).abs() < 1e-5, "{back}");
+}
+
+#[test]
+fn emission_half_angle_values() {
+    let deg = |s: &Shaping| s.emission_half_angle().to_degrees();
+    let with = |p: ShapingParams, ies: Option<&lux_ies::IesFile>| {
+        Shaping::new(&p, ies.map(web_of), ShapingOptions::default()).unwrap()
+    };
+    assert_eq!(Shaping::identity().emission_half_angle(), PI);
+    // the schema default cone (90°) and a hard and a soft cone: their cut-off angle
+    assert!((deg(&with(ShapingParams::SCHEMA_DEFAULTS, None)) - 90.0).abs() < 1e-5);
+    let cone = |a: f64, s: f64| ShapingParams {
+        cone_angle_deg: a,
+        cone_softness: s,
+        ..ShapingParams::SCHEMA_DEFAULTS
+    };
+    assert!((deg(&with(cone(30.0, 0.0), None)) - 30.0).abs() < 1e-5);
+    assert!((deg(&with(cone(40.0, 0.7), None)) - 40.0).abs() < 1e-5);
+    assert_eq!(with(cone(-5.0, 0.0), None).emission_half_angle(), 0.0);
+    // a downlight profile, dark from 60° on: 60°, or 30° once angleScale 0.5 doubles θies
+    let f = common::file(
+        lux_ies::PhotometricType::C,
+        vec![0.0, 30.0, 60.0, 90.0, 180.0],
+        vec![0.0],
+        vec![900.0, 500.0, 0.0, 0.0, 0.0],
+    );
+    let ies = |scale: f64, cone_deg: f64| ShapingParams {
+        ies_angle_scale: scale,
+        ..cone(cone_deg, 0.0)
+    };
+    let s = with(ies(0.0, 180.0), Some(&f));
+    assert!((deg(&s) - 60.0).abs() < 1e-5, "{}", deg(&s));
+    // tight: just inside, the profile still emits
+    assert!(s.factor(light_direction(59.9f64.to_radians(), 0.3))[0] > 0.0);
+    assert!((deg(&with(ies(0.5, 180.0), Some(&f))) - 30.0).abs() < 1e-5);
+    // whichever of the cone and the profile is narrower
+    assert!((deg(&with(ies(0.0, 45.0), Some(&f))) - 45.0).abs() < 1e-5);
+    // focus alone never darkens the back: θe = π
+    let focus = ShapingParams {
+        focus: 3.0,
+        focus_tint: [0.0; 3],
+        ..ShapingParams::NO_SHAPING
+    };
+    assert_eq!(with(focus, None).emission_half_angle(), PI);
 }
