@@ -261,22 +261,20 @@ pub fn stage_wavelength_unit(unit: Option<&str>) -> Result<WavelengthUnit, Strin
     }
 }
 
-/// G of lux-spectral for an area light (`ShapingIntegral::from_shaping`).
-fn shaping_integral(
-    l: &Light,
-    shape: EmitterShape,
-    shaping: &Shaping,
-    rgb_per_nit: DVec3,
-) -> Result<ShapingIntegral, RenderError> {
-    ShapingIntegral::from_shaping(shape, shaping, rgb_per_nit).map_err(|e| spectral_error(l, e))
-}
-
 /// The base radiance of `l` (see the module docs for the precedence of the APIs).
-/// `texture` is the dome's latlong texture (for `photometric:illuminance`).
+///
+/// `texture` is the light's `inputs:texture:file`: a RectLight's texture enters the power
+/// conversion through its texel mean (`ShapingIntegral::from_shaping_textured`: the texture
+/// multiplies the emission, so a texture of mean luminance ½ needs twice the luminance for the
+/// same lumens; exact for the nearest-texel lookup, and for the bilinear one up to the
+/// half-texel border), a DomeLight's latlong texture through its cosine-weighted mean about
+/// `dome_up`, the stage's up axis expressed in the texture's frame (the dome's transform and
+/// `poleAxis` undone).
 pub fn base_radiance(
     l: &Light,
     shaping: &Shaping,
     texture: Option<&Texture>,
+    dome_up: DVec3,
     profile: Profile,
     stage_unit: WavelengthUnit,
 ) -> Result<DVec3, RenderError> {
@@ -295,9 +293,22 @@ pub fn base_radiance(
                     LightKind::Cylinder => EmitterShape::Cylinder,
                     _ => EmitterShape::Flat,
                 };
+                let texture_mean = match (texture, l.kind) {
+                    (Some(t), LightKind::Rect) => {
+                        let [r, g, b, _] = t.average();
+                        DVec3::new(r, g, b)
+                    }
+                    _ => DVec3::ONE,
+                };
                 LightGeometry::Area {
                     world_area: lux_math::size_factor(&l.shape, &l.light_to_world, profile),
-                    shaping: shaping_integral(l, shape, shaping, ill.rgb_per_nit)?,
+                    shaping: ShapingIntegral::from_shaping_textured(
+                        shape,
+                        shaping,
+                        ill.rgb_per_nit,
+                        texture_mean,
+                    )
+                    .map_err(|e| spectral_error(l, e))?,
                 }
             }
             LightShape::Dome => LightGeometry::Dome {
@@ -318,7 +329,7 @@ pub fn base_radiance(
                             t.width(),
                             t.height(),
                             &lum,
-                            DVec3::Y,
+                            dome_up,
                         )
                         .map_err(|e| spectral_error(l, e))?
                     }

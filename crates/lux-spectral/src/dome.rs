@@ -12,11 +12,22 @@ pub const MAX_LATLONG_TEXELS: usize = 1 << 35;
 /// [`crate::dome_light_luminance`] (1 for a uniform texture of luminance 1).
 ///
 /// Texture convention (OpenEXR latlong, as the spec's §2 states for DomeLight): row 0 is +Y,
-/// the centre column is +Z, u = 0.25 is +X, longitude runs from +π at u = 0 to −π at u = 1. A
-/// texel's direction is its centre, ω = (sin θ sin φ, cos θ, sin θ cos φ) with θ = π·v,
-/// φ = π − 2π·u; its solid angle is exact, (2π/width)(cos θ_top − cos θ_bottom). `up` is the
-/// stage's up axis in the texture's frame (+Y, or +Z after `poleAxis = "Z"`), normalised here.
+/// the centre column is +Z, u = 0.25 is +X, longitude runs from +π at u = 0 to −π at u = 1,
+/// so ω = (sin θ sin φ, cos θ, sin θ cos φ) with θ = π·v, φ = π − 2π·u. `up` is the stage's
+/// up axis in the texture's frame (+Y, or +Z after `poleAxis = "Z"`), normalised here.
 /// `luminance` is row-major, `width × height` values (cd/m² relative units).
+///
+/// The texture is taken as constant over each texel and the integral is **exact** for that
+/// reconstruction: over a texel [θ₀, θ₁] × [φ₀, φ₁] with up = (a, c, b) in (x, y, z),
+///
+/// ∫∫ (ω·up) sin θ dθ dφ = S₂·(a·(cos φ₀ − cos φ₁) + b·(sin φ₁ − sin φ₀)) + c·S_c·(φ₁ − φ₀),
+///
+/// S₂ = ∫ sin²θ dθ, S_c = ∫ sin θ cos θ dθ. A texel the horizon (ω·up = 0) crosses — found
+/// from the exact range of ω·up over the texel — is split in four, recursively, down to cells
+/// of about 2π/4096 rad, which count by the sign of ω·up at their centre (an error of the
+/// order of that side squared: ω·up vanishes on the horizon). A uniform
+/// texture gives m = 1 for any size and any `up` (to rounding when `up` is an axis). The
+/// renderer's bilinear lookup differs from this only within half a texel of a luminance step.
 pub fn latlong_cosine_weighted_mean(
     width: usize,
     height: usize,
@@ -51,26 +62,111 @@ pub fn latlong_cosine_weighted_mean(
             "a finite non-zero vector",
         ));
     }
-    let dphi = 2.0 * PI / width as f64;
-    let mut sum = 0.0;
-    for row in 0..height {
-        let t0 = PI * row as f64 / height as f64;
-        let t1 = PI * (row + 1) as f64 / height as f64;
-        let dw = dphi * (t0.cos() - t1.cos());
-        let theta = 0.5 * (t0 + t1);
-        let (st, ct) = theta.sin_cos();
-        for col in 0..width {
-            let y = f64::from(luminance[row * width + col]);
-            if !y.is_finite() {
-                return Err(invalid("dome texture texel", y, "finite luminance"));
-            }
-            let phi = PI - 2.0 * PI * (col as f64 + 0.5) / width as f64;
-            let (sp, cp) = phi.sin_cos();
-            let c = DVec3::new(st * sp, ct, st * cp).dot(up);
-            if c > 0.0 {
-                sum += y * c * dw;
-            }
+    for &y in luminance {
+        if !y.is_finite() {
+            return Err(invalid(
+                "dome texture texel",
+                f64::from(y),
+                "finite luminance",
+            ));
         }
     }
+    let theta = |row: usize| PI * row as f64 / height as f64;
+    // φ₀ < φ₁ of column `col` (φ decreases with u)
+    let phi = |col: usize| {
+        (
+            PI - 2.0 * PI * (col + 1) as f64 / width as f64,
+            PI - 2.0 * PI * col as f64 / width as f64,
+        )
+    };
+    let cols: Vec<(f64, f64)> = (0..width).map(phi).collect();
+    // horizon cells are split down to a side of about 2π/4096 (error ∝ side², since ω·up
+    // vanishes on the horizon), however coarse the texture
+    let side = (2.0 * PI / width as f64).max(PI / height as f64);
+    let depth = (side * 4096.0 / (2.0 * PI)).log2().ceil().clamp(0.0, 12.0) as u32;
+    let mut sum = 0.0;
+    for row in 0..height {
+        let (t0, t1) = (theta(row), theta(row + 1));
+        let mut row_sum = 0.0;
+        for (col, &(p0, p1)) in cols.iter().enumerate() {
+            let y = f64::from(luminance[row * width + col]);
+            if y != 0.0 {
+                row_sum += y * clipped_cosine_integral(up, t0, t1, p0, p1, depth);
+            }
+        }
+        sum += row_sum;
+    }
     Ok(sum / PI)
+}
+
+/// ∫∫ max(ω·up, 0) dω over the latlong cell [t0, t1] × [p0, p1] (see
+/// [`latlong_cosine_weighted_mean`]), `depth` more quadrisections allowed where the horizon
+/// crosses the cell.
+fn clipped_cosine_integral(up: DVec3, t0: f64, t1: f64, p0: f64, p1: f64, depth: u32) -> f64 {
+    let (lo, hi) = cosine_range(up, t0, t1, p0, p1);
+    if hi <= 0.0 {
+        return 0.0;
+    }
+    if lo >= 0.0 {
+        return cosine_integral(up, t0, t1, p0, p1);
+    }
+    let (tm, pm) = (0.5 * (t0 + t1), 0.5 * (p0 + p1));
+    if depth == 0 {
+        let (st, ct) = tm.sin_cos();
+        let (sp, cp) = pm.sin_cos();
+        let centre = DVec3::new(st * sp, ct, st * cp).dot(up);
+        return if centre > 0.0 {
+            cosine_integral(up, t0, t1, p0, p1)
+        } else {
+            0.0
+        };
+    }
+    let d = depth - 1;
+    clipped_cosine_integral(up, t0, tm, p0, pm, d)
+        + clipped_cosine_integral(up, t0, tm, pm, p1, d)
+        + clipped_cosine_integral(up, tm, t1, p0, pm, d)
+        + clipped_cosine_integral(up, tm, t1, pm, p1, d)
+}
+
+/// ∫∫ (ω·up) sin θ dθ dφ over [t0, t1] × [p0, p1], in closed form.
+fn cosine_integral(up: DVec3, t0: f64, t1: f64, p0: f64, p1: f64) -> f64 {
+    let s2 = 0.5 * (t1 - t0) - 0.25 * ((2.0 * t1).sin() - (2.0 * t0).sin());
+    let sc = 0.5 * (t1.sin().powi(2) - t0.sin().powi(2));
+    let (sp0, cp0) = p0.sin_cos();
+    let (sp1, cp1) = p1.sin_cos();
+    s2 * (up.x * (cp0 - cp1) + up.z * (sp1 - sp0)) + up.y * sc * (p1 - p0)
+}
+
+/// The exact range of ω·up = sin θ·(a sin φ + b cos φ) + c cos θ over [t0, t1] × [p0, p1]
+/// (θ ∈ [0, π], so sin θ ≥ 0: the extremes over φ come first, then those over θ).
+fn cosine_range(up: DVec3, t0: f64, t1: f64, p0: f64, p1: f64) -> (f64, f64) {
+    let (gmin, gmax) = sinusoid_range(up.x, up.z, p0, p1);
+    let lo = sinusoid_range(gmin, up.y, t0, t1).0;
+    let hi = sinusoid_range(gmax, up.y, t0, t1).1;
+    (lo, hi)
+}
+
+/// The range of p·sin t + q·cos t = R·cos(t − t*) over [t0, t1] (R = |(p, q)|, t* = atan2(p, q)):
+/// the end values, and ±R where t* or t* + π falls inside.
+fn sinusoid_range(p: f64, q: f64, t0: f64, t1: f64) -> (f64, f64) {
+    let f = |t: f64| {
+        let (s, c) = t.sin_cos();
+        p * s + q * c
+    };
+    let (a, b) = (f(t0), f(t1));
+    let (mut lo, mut hi) = (a.min(b), a.max(b));
+    let r = p.hypot(q);
+    let star = p.atan2(q);
+    let inside = |t: f64| {
+        // some t + 2kπ in [t0, t1]
+        let k = ((t0 - t) / (2.0 * PI)).ceil();
+        t + 2.0 * PI * k <= t1
+    };
+    if inside(star) {
+        hi = r;
+    }
+    if inside(star + PI) {
+        lo = -r;
+    }
+    (lo, hi)
 }

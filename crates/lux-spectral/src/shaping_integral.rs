@@ -127,6 +127,41 @@ impl ShapingIntegral {
         }
     }
 
+    /// G of a **textured** area light (a RectLight's `inputs:texture:file`), shaped as in
+    /// [`from_shaping`](Self::from_shaping): the texture multiplies the emitted RGB per texel, so
+    /// the luminous flux is Φ = L·A·Σ_c Y_c·rgb_c·t_c·G_c, where `texture_mean` = t is the
+    /// area-weighted mean of the texture's linear RGB over the light's surface (for a texture
+    /// mapped linearly onto the rect, the mean of its texels). The returned value is that sum,
+    /// so that Φ = L·A·G still holds and [`crate::emitted`] needs no texture of its own: a
+    /// texture of mean luminance ½ doubles the converted luminance.
+    ///
+    /// `texture_mean` = (1, 1, 1) is exactly [`from_shaping`](Self::from_shaping); a black (or
+    /// negative, or non-finite) mean is an error, since no luminance gives the authored power.
+    pub fn from_shaping_textured(
+        shape: EmitterShape,
+        shaping: &lux_shaping::Shaping,
+        rgb_per_nit: DVec3,
+        texture_mean: DVec3,
+    ) -> Result<Self, SpectralError> {
+        if texture_mean == DVec3::ONE {
+            return Self::from_shaping(shape, shaping, rgb_per_nit);
+        }
+        if !texture_mean.is_finite() || texture_mean.min_element() < 0.0 {
+            return Err(SpectralError::InvalidValue {
+                attribute: "inputs:texture:file".to_owned(),
+                value: texture_mean.min_element(),
+                expected: "a texture with finite, non-negative texels",
+            });
+        }
+        let tinted = rgb_per_nit * texture_mean;
+        if shaping.is_identity() {
+            // G_c = π in every channel
+            let y = DVec3::from(lux_math::REC709_LUMINANCE).dot(tinted);
+            return Self::new(Self::UNSHAPED.value() * y);
+        }
+        Self::from_shaping(shape, shaping, tinted)
+    }
+
     /// The value of G, sr.
     pub fn value(self) -> f64 {
         self.0

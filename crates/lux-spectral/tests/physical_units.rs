@@ -213,6 +213,38 @@ fn power_round_trip_with_lux_shaping() {
 }
 
 #[test]
+fn textured_shaping_integral_weights_the_texture_mean() {
+    let id = lux_shaping::Shaping::identity();
+    let white = DVec3::ONE;
+    let flat = EmitterShape::Flat;
+    // a white texture is the untextured G
+    assert_eq!(
+        ShapingIntegral::from_shaping_textured(flat, &id, white, DVec3::ONE).unwrap(),
+        ShapingIntegral::from_shaping(flat, &id, white).unwrap()
+    );
+    // unshaped: G = π · Y(rgb_per_nit · mean); a grey mean of ½ halves G
+    let half = ShapingIntegral::from_shaping_textured(flat, &id, white, DVec3::splat(0.5));
+    assert!(rel(half.unwrap().value(), 0.5 * PI) < 1e-12);
+    let y = lux_math::REC709_LUMINANCE;
+    let tint = DVec3::new(0.2, 0.7, 0.1);
+    let g = ShapingIntegral::from_shaping_textured(flat, &id, white, tint).unwrap();
+    let want = PI * (y[0] * 0.2 + y[1] * 0.7 + y[2] * 0.1);
+    assert!(rel(g.value(), want) < 1e-12, "{} vs {want}", g.value());
+    // no power is reachable through a black texture; bad texels are typed errors
+    for bad in [
+        DVec3::ZERO,
+        DVec3::new(-0.1, 0.5, 0.5),
+        DVec3::new(f64::NAN, 0.5, 0.5),
+        DVec3::new(0.5, f64::INFINITY, 0.5),
+    ] {
+        assert!(
+            ShapingIntegral::from_shaping_textured(flat, &id, white, bad).is_err(),
+            "{bad:?}"
+        );
+    }
+}
+
+#[test]
 fn dome_illuminance_round_trip_with_a_textured_sky() {
     // Texture luminance Y(ω) = 1 + 0.5 cos θ about up: m = (1/π)(π + π/3) = 4/3.
     let m = 4.0 / 3.0;
@@ -368,13 +400,25 @@ fn bad_physical_inputs_give_typed_errors() {
 #[test]
 fn latlong_cosine_weighted_mean_of_sky_textures() {
     let (w, h) = (256, 128);
-    // Uniform texture: m = 1 (midpoint-in-direction error is O(1/h²)).
-    let ones = vec![1.0f32; w * h];
-    let m = latlong_cosine_weighted_mean(w, h, &ones, DVec3::Y).unwrap();
-    assert!((m - 1.0).abs() < 1e-4, "{m}");
-    // Same with the pole axis rotated to +Z.
-    let m = latlong_cosine_weighted_mean(w, h, &ones, DVec3::Z).unwrap();
-    assert!((m - 1.0).abs() < 1e-3, "{m}");
+    // Uniform texture: m = 1, exactly for the piecewise-constant texture whatever its size,
+    // for the axes and, up to the horizon cells' finest split, for any up direction.
+    for (tw, th) in [(w, h), (4, 2), (16, 8), (3, 5), (1, 1)] {
+        let ones = vec![1.0f32; tw * th];
+        for up in [DVec3::Y, DVec3::Z, -DVec3::Y, DVec3::X] {
+            let m = latlong_cosine_weighted_mean(tw, th, &ones, up).unwrap();
+            assert!((m - 1.0).abs() < 1e-12, "{tw}×{th} up {up}: {m}");
+        }
+        let up = DVec3::new(0.3, -0.8, 0.52);
+        let m = latlong_cosine_weighted_mean(tw, th, &ones, up).unwrap();
+        assert!((m - 1.0).abs() < 1e-5, "{tw}×{th} up {up}: {m}");
+    }
+    // A 4 × 2 texture, bright only in the upper row: its cells are whole hemispheres about
+    // ±Y, so up = +Y gives the bright row's m = 1 and up = −Y gives 0; about +X, the upper
+    // row is a quarter sphere around the horizon's pole: m = ½ (half of the +X hemisphere).
+    let top = [1.0f32, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0];
+    let m = |up| latlong_cosine_weighted_mean(4, 2, &top, up).unwrap();
+    assert!((m(DVec3::Y) - 1.0).abs() < 1e-12 && m(-DVec3::Y).abs() < 1e-15);
+    assert!((m(DVec3::X) - 0.5).abs() < 1e-12, "{}", m(DVec3::X));
     // Gradient Y = 1 + 0.5·cos θ about +Y (row-dependent): m = 4/3 (see the dome test).
     let mut grad = vec![0.0f32; w * h];
     for r in 0..h {
