@@ -43,6 +43,10 @@ fn every_luxtest_frame_renders_finite_pixels_in_both_profiles() {
                     .unwrap_or_else(|e| panic!("{name} {frame} {profile}: {e}"));
                 let (img, stats) = r.render(&|_| {});
                 assert_eq!(stats.pixels, 24 * 24);
+                assert_eq!(
+                    stats.non_finite_samples, 0,
+                    "{name} frame {frame} {profile}: non-finite radiance samples"
+                );
                 for (i, p) in img.pixels.iter().enumerate() {
                     assert!(
                         p.iter().all(|c| c.is_finite() && *c >= 0.0),
@@ -246,4 +250,46 @@ fn light_selection_strategies_agree_with_sampling_every_light() {
         let got = probe(sel, 1 << 16);
         assert!((got - want).abs() < 0.02 * want, "{sel:?}: {got} vs {want}");
     }
+}
+
+#[test]
+fn light_bvh_with_shaping_cones_agrees_with_sampling_every_light() {
+    // 24 downward rect lights whose ShapingAPI cones just reach the probed floor point (the
+    // point lies 3° inside each cone): the BVH's emission bounds come from lux-shaping's
+    // emission half-angle, and a bound narrower than the cone would make the BVH skip lights
+    // that light the point, so its estimate would fall below sampling every light.
+    let (px, pz) = (0.3, 0.2);
+    let mut s = probe_scene(vec![], px, pz);
+    for i in 0..24 {
+        let a = i as f64 * 2.399;
+        let rho = 0.2 + 0.1 * i as f64;
+        let pos = DVec3::new(px + rho * a.cos(), 1.0, pz + rho * a.sin());
+        let mut l = Light::with_defaults(
+            format!("/R{i}"),
+            LightShape::Rect {
+                width: 0.05,
+                height: 0.05,
+            },
+            DMat4::from_translation(pos) * DMat4::from_rotation_x(-std::f64::consts::FRAC_PI_2),
+        );
+        l.params.intensity = 10.0 + 7.0 * (i % 5) as f64;
+        l.shaping = Some(lux::render::scene::ShapingInputs {
+            cone_angle_deg: rho.atan().to_degrees() + 3.0,
+            cone_softness: 0.2 * (i % 3) as f64,
+            ..Default::default()
+        });
+        s.lights.push(l);
+    }
+    let probe = |sel: LightSelection, spp: u32| {
+        let mut o = options(Profile::Spec, spp, [1, 1]);
+        o.selection = sel;
+        Renderer::new(&s, o).unwrap().pixel_value(0, 0).x
+    };
+    let all = probe(LightSelection::All, 4096);
+    assert!(all > 0.0);
+    let got = probe(LightSelection::Bvh, 1 << 16);
+    assert!(
+        (got - all).abs() < 0.02 * all,
+        "BVH {got} vs all lights {all}"
+    );
 }

@@ -192,6 +192,12 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         write_png(png, &image, args.exposure).map_err(|e| e.to_string())?;
     }
     eprintln!("{}", summary(&stats, threads));
+    if stats.non_finite_samples > 0 {
+        eprintln!(
+            "lux: warning: {} samples had NaN or infinite radiance and were written as black",
+            stats.non_finite_samples
+        );
+    }
     eprintln!(
         "lux: wrote {}{}",
         args.output.display(),

@@ -91,6 +91,9 @@ pub struct RenderStats {
     pub shadow_rays: u64,
     /// Light samples drawn.
     pub light_samples: u64,
+    /// Camera samples whose radiance came out NaN or infinite and were counted as black. Any
+    /// non-zero count is a renderer or input defect: the luxtest and robustness tests require 0.
+    pub non_finite_samples: u64,
     /// Wall-clock seconds of the render loop (scene preparation excluded).
     pub seconds: f64,
 }
@@ -100,6 +103,7 @@ struct Counters {
     rays: u64,
     shadow: u64,
     light_samples: u64,
+    non_finite: u64,
 }
 
 /// A scene prepared for rendering: BVH, lights, materials and camera.
@@ -274,6 +278,7 @@ impl<'s> Renderer<'s> {
         let rays = AtomicU64::new(0);
         let shadow = AtomicU64::new(0);
         let light_samples = AtomicU64::new(0);
+        let non_finite = AtomicU64::new(0);
         let results: Vec<(usize, Vec<[f32; 4]>)> = tiles
             .par_iter()
             .enumerate()
@@ -289,6 +294,7 @@ impl<'s> Renderer<'s> {
                 rays.fetch_add(c.rays, Ordering::Relaxed);
                 shadow.fetch_add(c.shadow, Ordering::Relaxed);
                 light_samples.fetch_add(c.light_samples, Ordering::Relaxed);
+                non_finite.fetch_add(c.non_finite, Ordering::Relaxed);
                 progress(px.len() as u64);
                 (ti, px)
             })
@@ -309,6 +315,7 @@ impl<'s> Renderer<'s> {
             rays: rays.load(Ordering::Relaxed),
             shadow_rays: shadow.load(Ordering::Relaxed),
             light_samples: light_samples.load(Ordering::Relaxed),
+            non_finite_samples: non_finite.load(Ordering::Relaxed),
             seconds: start.elapsed().as_secs_f64(),
         };
         (
@@ -353,7 +360,12 @@ impl<'s> Renderer<'s> {
             let j = st.u2(0);
             let (o, d, tmin, tmax) = self.view.ray(x as f64 + j[0], y as f64 + j[1]);
             let (rgb, a) = self.trace_camera(o, d, tmin, tmax, &st, c);
-            let rgb = if rgb.is_finite() { rgb } else { DVec3::ZERO };
+            let rgb = if rgb.is_finite() {
+                rgb
+            } else {
+                c.non_finite += 1;
+                DVec3::ZERO
+            };
             each(rgb);
             sum += rgb.extend(a);
         }
