@@ -2,7 +2,7 @@
 //! (`/proc/thread-self/schedstat`), which unlike wall-clock benchmarks is not inflated when the
 //! machine is shared. Linux only; falls back to wall-clock time elsewhere.
 //!
-//! Run: `cargo run -p lux-sample --release --example timing`
+//! Run: `cargo run -p lux-sample --release --example sample_timing`
 
 use glam::{DMat4, DVec3};
 use lux_sample::*;

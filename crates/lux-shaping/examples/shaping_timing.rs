@@ -3,7 +3,7 @@
 //! thread's on-CPU time (`/proc/thread-self/schedstat`), which unlike a wall-clock benchmark is
 //! not inflated when the machine is shared. Linux only; falls back to wall-clock time elsewhere.
 //!
-//! Run: `cargo run -p lux-shaping --release --example timing`
+//! Run: `cargo run -p lux-shaping --release --example shaping_timing`
 
 use glam::DVec3;
 use lux_ies::{IesFile, Interpolation, PhotometricWeb};
