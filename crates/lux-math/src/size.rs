@@ -14,8 +14,12 @@
 //! | cylinder | `‖L A x̂‖ ×` exact perimeter of the cross-section ellipse (images of the radial axes projected ⟂ the axis) | `‖L A x̂‖ ×` Ramanujan perimeter of `‖r A ŷ‖, ‖r A ẑ‖` |
 //! | mesh | Σ ½‖(B−A)×(C−A)‖ of world triangles | same |
 //!
-//! Bad input: a non-finite transform or size, a negative size, or a singular transform gives a
-//! size factor of 0 for area lights ("a zero-area light"); [`crate::emission`] then emits 0.
+//! Bad input: a non-finite transform or size, or a negative size, gives a size factor of 0 for
+//! area lights ("a zero-area light"); [`crate::emission`] then emits 0. A singular transform
+//! gives the area of the degenerate image, which is 0 only where the surface collapses: a rect
+//! or disk flattened within its own plane has area 0, but a sphere squashed flat is a doubly
+//! covered ellipse (2πr² for a unit squash of one axis) and a cylinder flattened across its
+//! axis is a doubly covered strip (2·L·width), as the exact formulas give in the limit.
 
 use crate::elliptic::{ellipse_perimeter_ramanujan, ellipsoid_area_thomsen};
 use crate::{LightShape, Profile};
@@ -136,32 +140,34 @@ pub fn sphere_area_reference(a: &DMat3, radius: f64) -> f64 {
 
 /// Cylinder lateral area, exact: `‖L·A x̂‖ × perimeter(E)`, where `E` is the ellipse spanned by
 /// the images `r A ŷ`, `r A ẑ` of the radial axes projected onto the plane perpendicular to the
-/// axis image (the right cross-section of the possibly oblique cylinder); its semi-axes are the
-/// square roots of the eigenvalues of that projected pair's 2×2 Gram matrix and its perimeter
-/// is the complete elliptic integral of the second kind ([`crate::ellipse_perimeter`]).
+/// axis image `u = A x̂` (the right cross-section of the possibly oblique cylinder); its
+/// perimeter is the complete elliptic integral of the second kind ([`crate::ellipse_perimeter`]).
+///
+/// Evaluated without projecting: with `p = u × A ŷ`, `q = u × A ẑ` the Gram matrix of the
+/// projected pair is `G = G'/|u|²` where `G' = [p·p, p·q; p·q, q·q]` (Lagrange's identity,
+/// free of cancellation), and the projected parallelogram has `ab' = |u|²·|w₁ × w₂| =
+/// |det A|·|u|`. The perimeter is homogeneous of degree 1, so `|u|·P(G) = P(G')` and the area
+/// is `L·r·P(G')`: one square root before the perimeter, no division by `|u|²`.
 pub fn cylinder_area(a: &DMat3, radius: f64, length: f64) -> f64 {
-    let axis = a.x_axis;
-    let l2 = axis.length_squared();
+    let u = a.x_axis;
+    let l2 = u.length_squared();
     if l2 == 0.0 || radius == 0.0 || length == 0.0 {
         return 0.0;
     }
-    // Project the radial axes ⟂ the axis with 1/|axis|² (no square root before the division);
-    // the perimeter is homogeneous of degree 1, so the radius multiplies the result.
-    let inv_l2 = 1.0 / l2;
-    let w1 = a.y_axis - axis * (a.y_axis.dot(axis) * inv_l2);
-    let w2 = a.z_axis - axis * (a.z_axis.dot(axis) * inv_l2);
-    length * radius * l2.sqrt() * cross_section_perimeter(w1, w2)
+    let p = u.cross(a.y_axis);
+    let q = u.cross(a.z_axis);
+    let ab = u.dot(a.y_axis.cross(a.z_axis)).abs() * l2.sqrt();
+    length * radius * cross_section_perimeter(p.length_squared(), q.length_squared(), p.dot(q), ab)
 }
 
-/// Perimeter of the ellipse `{w1·cos t + w2·sin t}` without its semi-axes a ≥ b: from the Gram
-/// entries `g11 = |w1|², g22 = |w2|², g12 = w1·w2` and `ab = |w1 × w2|` (no cancellation),
-/// `(a + b)² = g11 + g22 + 2ab` and `(a² − b²)² = (g11 − g22)² + 4g12²`, hence
-/// `h = ((a − b)/(a + b))² = (a² − b²)²/(a + b)⁴` and `P = π(a + b)·GK(h)` by the piecewise
-/// polynomial of [`crate::elliptic`] (two square roots and one division in all). Cross-sections
-/// flatter than b/a = 0.0406 go through the eigenvalues and the AGM.
-fn cross_section_perimeter(w1: DVec3, w2: DVec3) -> f64 {
-    let (g11, g22, g12) = (w1.length_squared(), w2.length_squared(), w1.dot(w2));
-    let ab = w1.cross(w2).length();
+/// Perimeter of the ellipse `{w1·cos t + w2·sin t}` from its Gram entries `g11 = |w1|²`,
+/// `g22 = |w2|²`, `g12 = w1·w2` and `ab = |w1 × w2|` (the product of its semi-axes a ≥ b,
+/// given separately to avoid cancellation): `(a + b)² = g11 + g22 + 2ab` and
+/// `(a² − b²)² = (g11 − g22)² + 4g12²`, hence `h = ((a − b)/(a + b))² = (a² − b²)²/(a + b)⁴`
+/// and `P = π(a + b)·GK(h)` by the piecewise polynomial of [`crate::elliptic`] (one square
+/// root and one division). Cross-sections flatter than b/a = 0.0406 go through the eigenvalues
+/// and the AGM.
+fn cross_section_perimeter(g11: f64, g22: f64, g12: f64, ab: f64) -> f64 {
     let s = g11 + g22 + 2.0 * ab;
     if s.is_nan() || s <= 0.0 {
         return 0.0;

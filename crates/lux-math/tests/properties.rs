@@ -30,6 +30,30 @@ fn shapes() -> impl Strategy<Value = LightShape> {
     ]
 }
 
+/// `shape` with its own dimensions changed: the first size by `a`, the second (height, length)
+/// by `b`; mesh points scaled by (a, b, 1).
+fn resized(shape: &LightShape, a: f64, b: f64) -> LightShape {
+    match shape {
+        LightShape::Rect { width, height } => LightShape::Rect {
+            width: width * a,
+            height: height * b,
+        },
+        LightShape::Disk { radius } => LightShape::Disk { radius: radius * a },
+        LightShape::Sphere { radius } => LightShape::Sphere { radius: radius * a },
+        LightShape::Cylinder { radius, length } => LightShape::Cylinder {
+            radius: radius * a,
+            length: length * b,
+        },
+        LightShape::Mesh { triangles } => LightShape::Mesh {
+            triangles: triangles
+                .iter()
+                .map(|t| t.map(|v| v * DVec3::new(a, b, 1.0)))
+                .collect(),
+        },
+        other => other.clone(),
+    }
+}
+
 fn affine() -> impl Strategy<Value = DMat4> {
     prop::array::uniform12(-3.0f64..3.0).prop_map(|a| {
         DMat4::from_cols_array(&[
@@ -139,17 +163,25 @@ proptest! {
     }
 
     #[test]
-    fn normalize_conserves_power(shape in shapes(), m in affine(), s in 0.1f64..10.0, intensity in 0.0f64..100.0) {
+    fn normalize_conserves_power(
+        shape in shapes(),
+        m in affine(),
+        s in 0.1f64..10.0,
+        k in (0.1f64..10.0, 0.1f64..10.0),
+        intensity in 0.0f64..100.0,
+    ) {
         // With normalize on, L·sizeFactor (the emitted power per unit projected solid angle) does
-        // not depend on the light's size or scale.
+        // not depend on the light's size (its own width/height/radius/length/points) or on the
+        // scale of its transform.
         let p = LightParams { intensity, normalize: true, ..LightParams::default() };
         let m2 = DMat4::from_scale(DVec3::new(s, 1.0 / s.sqrt(), s * 0.5)) * m;
+        let shape2 = resized(&shape, k.0, k.1);
         for profile in Profile::ALL {
             let a0 = size_factor(&shape, &m, profile);
-            let a1 = size_factor(&shape, &m2, profile);
+            let a1 = size_factor(&shape2, &m2, profile);
             prop_assume!(a0 > 1e-9 && a1 > 1e-9);
             let l0 = emitted_radiance(&p, &shape, &m, profile) * a0;
-            let l1 = emitted_radiance(&p, &shape, &m2, profile) * a1;
+            let l1 = emitted_radiance(&p, &shape2, &m2, profile) * a1;
             prop_assert!((l0 - l1).abs().max_element() <= 1e-9 * intensity.max(1e-12));
             prop_assert!((l0.x - intensity).abs() <= 1e-9 * intensity.max(1e-12));
         }
