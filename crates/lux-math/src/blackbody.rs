@@ -42,6 +42,44 @@ const KNOTS: [[f64; 3]; 22] = [
 /// Rec.709 luma weights used by `UsdLuxBlackbodyTemperatureAsRgb` to normalise its result.
 const REC709_LUMA: [f64; 3] = [0.2126, 0.7152, 0.0722];
 
+/// The Catmull-Rom segment polynomials of [`KNOTS`], per segment: for each of r, g, b and
+/// their Rec.709 luma `0.2126 r + 0.7152 g + 0.0722 b` (a cubic too), the coefficients
+/// `[a, b, c, k₁]` of `((a t + b) t + c) t + k₁` (see [`usdlux_blackbody_rgb`]), computed at
+/// compile time.
+const SEGMENTS: [[[f64; 4]; 4]; 19] = segment_table();
+
+const fn segment_table() -> [[[f64; 4]; 4]; 19] {
+    let mut out = [[[0.0; 4]; 4]; 19];
+    let mut seg = 0;
+    while seg < 19 {
+        let mut i = 0;
+        while i < 3 {
+            let (k0, k1, k2, k3) = (
+                KNOTS[seg][i],
+                KNOTS[seg + 1][i],
+                KNOTS[seg + 2][i],
+                KNOTS[seg + 3][i],
+            );
+            out[seg][i] = [
+                -0.5 * k0 + 1.5 * k1 - 1.5 * k2 + 0.5 * k3,
+                k0 - 2.5 * k1 + 2.0 * k2 - 0.5 * k3,
+                -0.5 * k0 + 0.5 * k2,
+                k1,
+            ];
+            i += 1;
+        }
+        let mut j = 0;
+        while j < 4 {
+            out[seg][3][j] = REC709_LUMA[0] * out[seg][0][j]
+                + REC709_LUMA[1] * out[seg][1][j]
+                + REC709_LUMA[2] * out[seg][2][j];
+            j += 1;
+        }
+        seg += 1;
+    }
+    out
+}
+
 /// `UsdLuxBlackbodyTemperatureAsRgb(T)` (OpenUSD 26.11), computed in double precision.
 ///
 /// `u = clamp((T − 1000)/9000, 0, 1)`; segment `s = ⌊18u⌋`, local `t = 18u − s`; uniform
@@ -50,46 +88,58 @@ const REC709_LUMA: [f64; 3] = [0.2126, 0.7152, 0.0722];
 /// `b = k₀ − 5k₁/2 + 2k₂ − k₃/2`, `c = (k₂ − k₀)/2`; then `rgb /= 0.2126 r + 0.7152 g + 0.0722 b`
 /// and each component is clamped at 0. Temperatures outside 1000–10000 K clamp to the ends; NaN
 /// is treated as the schema default 6500 K.
+///
+/// Evaluation: `18u` as `(T − 1000)/500` (exact at every knot, so 6500 K lands on knot 12
+/// with t = 0), the segment by truncation (no `floor` call), the per-segment coefficients of
+/// r, g, b and of their luma from a table built at compile time (the luma cubic is evaluated
+/// beside the colour ones rather than after them), each as `(a t + b)·t² + (c t + k₁)`, and
+/// one division. Within a few ulp of the nested form.
+#[inline]
 pub fn usdlux_blackbody_rgb(kelvin: f64) -> DVec3 {
+    let (rgb, l) = usdlux_unnormalized(kelvin);
+    (rgb * (1.0 / l)).max(DVec3::ZERO)
+}
+
+/// The spline before its luma normalisation, and that luma.
+#[inline(always)]
+fn usdlux_unnormalized(kelvin: f64) -> (DVec3, f64) {
     let t_k = if kelvin.is_nan() { 6500.0 } else { kelvin };
-    let u = ((t_k - 1000.0) / 9000.0).clamp(0.0, 1.0);
-    let x = u * 18.0;
-    let seg = (x.floor() as usize).min(18);
-    let t = x - seg as f64;
-    let mut rgb = [0.0; 3];
-    for (i, out) in rgb.iter_mut().enumerate() {
-        let (k0, k1, k2, k3) = (
-            KNOTS[seg][i],
-            KNOTS[seg + 1][i],
-            KNOTS[seg + 2][i],
-            KNOTS[seg + 3][i],
-        );
-        let a = -0.5 * k0 + 1.5 * k1 - 1.5 * k2 + 0.5 * k3;
-        let b = k0 - 2.5 * k1 + 2.0 * k2 - 0.5 * k3;
-        let c = -0.5 * k0 + 0.5 * k2;
-        *out = ((a * t + b) * t + c) * t + k1;
-    }
-    let luma = REC709_LUMA[0] * rgb[0] + REC709_LUMA[1] * rgb[1] + REC709_LUMA[2] * rgb[2];
-    DVec3::new(
-        (rgb[0] / luma).max(0.0),
-        (rgb[1] / luma).max(0.0),
-        (rgb[2] / luma).max(0.0),
+    // clamp((T − 1000)/9000, 0, 1)·18 without the intermediate u
+    let x = ((t_k - 1000.0) * (1.0 / 500.0)).clamp(0.0, 18.0);
+    let seg = (x as u32).min(18); // x ≥ 0: truncation is ⌊x⌋
+    let t = x - f64::from(seg);
+    let t2 = t * t;
+    let c = &SEGMENTS[seg as usize];
+    let poly = |k: &[f64; 4]| (k[0] * t + k[1]) * t2 + (k[2] * t + k[3]);
+    (
+        DVec3::new(poly(&c[0]), poly(&c[1]), poly(&c[2])),
+        poly(&c[3]),
     )
 }
 
-/// `UsdLuxBlackbodyTemperatureAsRgb(6500)`, the divisor of [`spec_blackbody_rgb`].
-fn usdlux_6500() -> DVec3 {
-    // Segment 11, t = 0: the spline passes through knot 12 exactly, luma-normalised.
+/// 1 / `UsdLuxBlackbodyTemperatureAsRgb(6500)` per component: the spline passes through knot
+/// 12, so this is `luma(k₁₂)/k₁₂`.
+const INV_USDLUX_6500: [f64; 3] = {
     let k = KNOTS[12];
-    let luma = REC709_LUMA[0] * k[0] + REC709_LUMA[1] * k[1] + REC709_LUMA[2] * k[2];
-    DVec3::new(k[0] / luma, k[1] / luma, k[2] / luma)
-}
+    let l = REC709_LUMA[0] * k[0] + REC709_LUMA[1] * k[1] + REC709_LUMA[2] * k[2];
+    [l / k[0], l / k[1], l / k[2]]
+};
 
 /// The `Spec` profile's colorTemperature colour: `usdlux_blackbody_rgb(T) /
 /// usdlux_blackbody_rgb(6500)` component-wise, so 6500 K is exactly (1, 1, 1) as the 26.11 text
 /// requires.
+///
+/// Evaluated as `max(rgb_c · luma(k₁₂)/k₁₂,c, 0) / luma(rgb)` with one division; at 6500 K the
+/// spline is exactly `k₁₂` (t = 0), whose white is returned exactly (a rounding of the
+/// product there would otherwise leave it an ulp off white).
+#[inline]
 pub fn spec_blackbody_rgb(kelvin: f64) -> DVec3 {
-    usdlux_blackbody_rgb(kelvin) / usdlux_6500()
+    let (rgb, l) = usdlux_unnormalized(kelvin);
+    let k = KNOTS[12];
+    if rgb == DVec3::new(k[0], k[1], k[2]) {
+        return DVec3::ONE;
+    }
+    (rgb * DVec3::from(INV_USDLUX_6500) * (1.0 / l)).max(DVec3::ZERO)
 }
 
 /// XYZ → linear Rec.709 (D65), derived exactly from the Rec.709 primaries and the D65 white
@@ -136,26 +186,35 @@ pub fn krystek_planckian_uv(kelvin: f64) -> (f64, f64) {
 /// component-wise absolute value → ÷ max component → ÷ Rec.709 luminance.
 /// 6500 K → (1.0442, 0.9833, 1.0357); 2000 K → (2.5199, 0.6470, 0.0204).
 ///
+/// Evaluated with two divisions: with Krystek's `u = n_u/d_u`, `v = n_v/d_v`, the XYZ of
+/// luminance 1 is `X = x/y = 3 n_u d_v·q`, `Z = (1 − x − y)/y = (4 d_u d_v − n_u d_v −
+/// 10 n_v d_u)·q` with `q = 1/(2 d_u n_v)`; the ÷ max cancels in the ÷ luminance, so the
+/// result is `|rgb| / (Y·|rgb|)`.
+///
 /// Non-finite or negative temperatures are treated as 6500 K.
+#[inline]
 pub fn hdembree_blackbody_rgb(kelvin: f64) -> DVec3 {
     let t = if kelvin.is_finite() && kelvin >= 0.0 {
         kelvin
     } else {
         6500.0
     };
-    let (u, v) = krystek_planckian_uv(t);
-    let d = 2.0 * u - 8.0 * v + 4.0;
-    let (x, y) = (3.0 * u / d, 2.0 * v / d);
-    let xyz = [x / y, 1.0, (1.0 - x - y) / y];
-    let mut rgb = [0.0f64; 3];
-    for (i, out) in rgb.iter_mut().enumerate() {
-        let m = XYZ_TO_REC709[i];
-        *out = (m[0] * xyz[0] + m[1] * xyz[1] + m[2] * xyz[2]).abs();
-    }
-    let max = rgb[0].max(rgb[1]).max(rgb[2]);
-    let c = DVec3::new(rgb[0] / max, rgb[1] / max, rgb[2] / max);
-    let lum = REC709_LUMINANCE[0] * c.x + REC709_LUMINANCE[1] * c.y + REC709_LUMINANCE[2] * c.z;
-    let out = c / lum;
+    let t2 = t * t;
+    let nu = 0.860_117_757 + 1.541_182_54e-4 * t + 1.286_412_12e-7 * t2;
+    let du = 1.0 + 8.424_202_35e-4 * t + 7.081_451_63e-7 * t2;
+    let nv = 0.317_398_726 + 4.228_062_45e-5 * t + 4.204_816_91e-8 * t2;
+    let dv = 1.0 - 2.897_418_16e-5 * t + 1.614_560_53e-7 * t2;
+    let q = 1.0 / (2.0 * du * nv);
+    let x = 3.0 * nu * dv * q;
+    let z = (4.0 * du * dv - nu * dv - 10.0 * nv * du) * q;
+    let m = &XYZ_TO_REC709;
+    let rgb = DVec3::new(
+        m[0][0] * x + m[0][1] + m[0][2] * z,
+        m[1][0] * x + m[1][1] + m[1][2] * z,
+        m[2][0] * x + m[2][1] + m[2][2] * z,
+    )
+    .abs();
+    let out = rgb * (1.0 / DVec3::from(REC709_LUMINANCE).dot(rgb));
     if out.is_finite() { out } else { DVec3::ONE }
 }
 
