@@ -194,6 +194,108 @@ fn failures_exit_non_zero_and_leave_no_file() {
 }
 
 #[test]
+fn info_failures_exit_non_zero_naming_the_file_and_prim() {
+    let bad = root().join("crates/lux-render/tests/data/scenes/bad");
+    // missing file
+    let o = lux(&["info", "/no/such/stage.usda"], &[]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("/no/such/stage.usda"), "{}", stderr(&o));
+    // a reference cycle: the layer and the prim are named
+    let cycle = bad.join("cycle_a.usda");
+    let o = lux(&["info", cycle.to_str().unwrap(), "--json"], &[]);
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(
+        e.contains("cycle_a.usda") && e.contains("/A") && e.contains("cycle"),
+        "{e}"
+    );
+    assert!(o.stdout.is_empty(), "no partial report on stdout");
+    // malformed layer text
+    let garbage = tmp("garbage.usda");
+    std::fs::write(&garbage, "#usda 1.0\ndef Xform \"A\" {\n  float x = \n").unwrap();
+    let o = lux(&["info", garbage.to_str().unwrap()], &[]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("garbage.usda"), "{}", stderr(&o));
+    // and a good stage succeeds, with the light's world position and axis in the report
+    let o = lux(
+        &["info", luxtest("rect.usda").to_str().unwrap(), "--json"],
+        &[],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let l = &v["lights"][0];
+    assert_eq!(l["type"], "RectLight");
+    // frame 1: the light's own transform is a 45° tilt about X at (0, 1, 0) under an identity
+    // parent, so its −Z axis is (0, −√½, −√½)
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    for (key, want) in [("position", [0.0, 1.0, 0.0]), ("axis", [0.0, -h, -h])] {
+        let got: Vec<f64> = l[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c.as_f64().unwrap())
+            .collect();
+        for (g, w) in got.iter().zip(want) {
+            assert!((g - w).abs() < 1e-9, "{key}: {got:?} vs {want:?}");
+        }
+    }
+}
+
+#[test]
+fn a_failed_png_leaves_no_exr_either() {
+    // The render succeeds and the EXR could be written, but the PNG's folder does not exist:
+    // both outputs are staged before either is renamed, so the EXR's folder stays empty (no
+    // EXR, no temporary file).
+    let dir = tmp("pair-out");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let exr = dir.join("image.exr");
+    let png = tmp("pair-no-such-dir").join("image.png");
+    let scene = luxtest("rect.usda");
+    let o = lux(
+        &[
+            "render",
+            scene.to_str().unwrap(),
+            "--spp",
+            "1",
+            "--resolution",
+            "8x8",
+            "-o",
+            exr.to_str().unwrap(),
+            "--png",
+            png.to_str().unwrap(),
+            "--quiet",
+        ],
+        &[],
+    );
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("image.png"), "{}", stderr(&o));
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
+    // the same command with a valid PNG path writes both
+    let png = dir.join("image.png");
+    let o = lux(
+        &[
+            "render",
+            scene.to_str().unwrap(),
+            "--spp",
+            "1",
+            "--resolution",
+            "8x8",
+            "-o",
+            exr.to_str().unwrap(),
+            "--png",
+            png.to_str().unwrap(),
+            "--quiet",
+        ],
+        &[],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(exr.is_file() && png.is_file());
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 2);
+}
+
+#[test]
 fn demo_scene_renders_every_light_kind_without_warnings() {
     let exr = tmp("demo.exr");
     let demo = root().join("scenes/demo/demo.usda");

@@ -5,7 +5,7 @@ use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use lux_math::Profile;
 use lux_render::conformance::{PROFILE_ENV, default_config_paths, resolve_profile};
-use lux_render::image_io::{write_exr, write_png};
+use lux_render::image_io::{stage_exr, stage_png};
 use lux_render::lights::{LightSelection, SamplingMode};
 use lux_render::render::{RenderOptions, RenderStats, Renderer};
 use lux_render::scene::load_stage;
@@ -187,9 +187,16 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let threads = pool.current_num_threads();
     let (image, stats) = pool.install(|| renderer.render(&|n| bar.inc(n)));
     bar.finish_and_clear();
-    write_exr(&args.output, &image).map_err(|e| e.to_string())?;
-    if let Some(png) = &args.png {
-        write_png(png, &image, args.exposure).map_err(|e| e.to_string())?;
+    // Both outputs are encoded to temporary files before either replaces its target: a failed
+    // encode or write leaves neither (and no temporary file).
+    let exr = stage_exr(&args.output, &image).map_err(|e| e.to_string())?;
+    let png = match &args.png {
+        Some(png) => Some(stage_png(png, &image, args.exposure).map_err(|e| e.to_string())?),
+        None => None,
+    };
+    exr.commit().map_err(|e| e.to_string())?;
+    if let Some(png) = png {
+        png.commit().map_err(|e| e.to_string())?;
     }
     eprintln!("{}", summary(&stats, threads));
     if stats.non_finite_samples > 0 {

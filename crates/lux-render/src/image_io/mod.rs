@@ -34,7 +34,9 @@ mod write;
 
 pub use error::{IN_MEMORY, ImageError};
 pub use texture::Texture;
-pub use write::{write_atomically, write_exr, write_png};
+pub use write::{
+    StagedFile, stage_atomically, stage_exr, stage_png, write_atomically, write_exr, write_png,
+};
 
 use std::path::Path;
 

@@ -43,6 +43,44 @@ pub fn write_atomically<F>(path: &Path, write: F) -> Result<(), ImageError>
 where
     F: FnOnce(&mut BufWriter<File>) -> Result<(), ImageError>,
 {
+    stage_atomically(path, write)?.commit()
+}
+
+/// A complete, `fsync`ed temporary file waiting to replace its target: the first half of
+/// [`write_atomically`], for outputs that must appear together (the CLI's EXR and PNG are both
+/// staged before either is renamed, so a failed encode leaves neither). Dropping it without
+/// [`commit`](Self::commit) removes the temporary file.
+#[must_use = "a staged file is removed unless committed"]
+pub struct StagedFile {
+    temp: TempFile,
+    path: PathBuf,
+}
+
+impl StagedFile {
+    /// The target path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Renames the temporary file over the target. On failure the temporary file is removed
+    /// and the target is left as it was; the error names the target.
+    pub fn commit(mut self) -> Result<(), ImageError> {
+        fs::rename(&self.temp.path, &self.path).map_err(|source| ImageError::Io {
+            path: self.path.clone(),
+            action: "replace",
+            source,
+        })?;
+        self.temp.keep = true;
+        Ok(())
+    }
+}
+
+/// Writes the temporary file of [`write_atomically`] (named, filled, flushed and `fsync`ed as
+/// described there) without renaming it: see [`StagedFile`].
+pub fn stage_atomically<F>(path: &Path, write: F) -> Result<StagedFile, ImageError>
+where
+    F: FnOnce(&mut BufWriter<File>) -> Result<(), ImageError>,
+{
     let io_error = |action: &'static str, source: std::io::Error| ImageError::Io {
         path: path.to_path_buf(),
         action,
@@ -87,9 +125,10 @@ where
         .map_err(|e| io_error("write", e.into_error()))?;
     file.sync_all().map_err(|e| io_error("write", e))?;
     drop(file);
-    fs::rename(&temp.path, path).map_err(|e| io_error("replace", e))?;
-    temp.keep = true;
-    Ok(())
+    Ok(StagedFile {
+        temp,
+        path: path.to_path_buf(),
+    })
 }
 
 /// Writes `image` as an OpenEXR file: one layer, `R`, `G`, `B`, `A` channels of 32-bit float,
@@ -100,6 +139,11 @@ where
 /// Errors if the size is empty or too large ([`ImageError::InvalidDimensions`]), if
 /// `pixels.len() != width * height` ([`ImageError::PixelCountMismatch`]), or on I/O failure.
 pub fn write_exr(path: &Path, image: &ImageRgba) -> Result<(), ImageError> {
+    stage_exr(path, image)?.commit()
+}
+
+/// [`write_exr`] up to the rename: the encoded file, staged ([`StagedFile`]).
+pub fn stage_exr(path: &Path, image: &ImageRgba) -> Result<StagedFile, ImageError> {
     check_buffer(path, image.width, image.height, image.pixels.len())?;
     let width = image.width;
     let pixels = &image.pixels;
@@ -112,7 +156,7 @@ pub fn write_exr(path: &Path, image: &ImageRgba) -> Result<(), ImageError> {
         Encoding::SMALL_LOSSLESS,
         channels,
     );
-    write_atomically(path, |writer| {
+    stage_atomically(path, |writer| {
         exr_image.write().to_buffered(writer).map_err(|e| match e {
             exr::error::Error::Io(source) => ImageError::Io {
                 path: path.to_path_buf(),
@@ -160,6 +204,15 @@ fn encode_alpha8(alpha: f64) -> u8 {
 /// Errors if `exposure_ev` is not finite ([`ImageError::InvalidExposure`]), if the size is
 /// empty or too large, if `pixels.len() != width * height`, or on I/O failure.
 pub fn write_png(path: &Path, image: &ImageRgba, exposure_ev: f64) -> Result<(), ImageError> {
+    stage_png(path, image, exposure_ev)?.commit()
+}
+
+/// [`write_png`] up to the rename: the encoded file, staged ([`StagedFile`]).
+pub fn stage_png(
+    path: &Path,
+    image: &ImageRgba,
+    exposure_ev: f64,
+) -> Result<StagedFile, ImageError> {
     if !exposure_ev.is_finite() {
         return Err(ImageError::InvalidExposure {
             path: path.to_path_buf(),
@@ -182,7 +235,7 @@ pub fn write_png(path: &Path, image: &ImageRgba, exposure_ev: f64) -> Result<(),
             }
         });
 
-    write_atomically(path, |writer| {
+    stage_atomically(path, |writer| {
         image::codecs::png::PngEncoder::new(writer)
             .write_image(
                 &bytes,
