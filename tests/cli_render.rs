@@ -250,46 +250,33 @@ fn a_failed_png_leaves_no_exr_either() {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let exr = dir.join("image.exr");
-    let png = tmp("pair-no-such-dir").join("image.png");
     let scene = luxtest("rect.usda");
-    let o = lux(
-        &[
-            "render",
-            scene.to_str().unwrap(),
-            "--spp",
-            "1",
-            "--resolution",
-            "8x8",
-            "-o",
-            exr.to_str().unwrap(),
-            "--png",
-            png.to_str().unwrap(),
-            "--quiet",
-        ],
-        &[],
-    );
+    let render = |png: &Path| {
+        lux(
+            &[
+                "render",
+                scene.to_str().unwrap(),
+                "--spp",
+                "1",
+                "--resolution",
+                "8x8",
+                "-o",
+                exr.to_str().unwrap(),
+                "--png",
+                png.to_str().unwrap(),
+                "--quiet",
+            ],
+            &[],
+        )
+    };
+    let o = render(&tmp("pair-no-such-dir").join("image.png"));
     assert!(!o.status.success());
     assert!(stderr(&o).contains("image.png"), "{}", stderr(&o));
     let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
     assert!(left.is_empty(), "left behind: {left:?}");
     // the same command with a valid PNG path writes both
     let png = dir.join("image.png");
-    let o = lux(
-        &[
-            "render",
-            scene.to_str().unwrap(),
-            "--spp",
-            "1",
-            "--resolution",
-            "8x8",
-            "-o",
-            exr.to_str().unwrap(),
-            "--png",
-            png.to_str().unwrap(),
-            "--quiet",
-        ],
-        &[],
-    );
+    let o = render(&png);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(exr.is_file() && png.is_file());
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 2);

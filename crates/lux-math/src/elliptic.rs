@@ -290,10 +290,15 @@ pub fn ellipse_perimeter_ramanujan(a: f64, b: f64) -> f64 {
     if s == 0.0 {
         return 0.0;
     }
-    // The same value multiplied out (s > 0): π·(s + 3d²/(10s + √(4s² − 3d²))), d = a − b,
-    // one division and one square root; 4s² − 3d² ≥ s², so nothing cancels.
+    // The same value multiplied out (s > 0): π·(s + 3d²/(10s + √Q)), d = a − b,
+    // Q = 4s² − 3d² ∈ [s², 4s²]; with the denominator rationalised,
+    // 3d²/(10s + √Q) = 3d²·(10s − √Q)/(96s² + 3d²), so that the square root and the division
+    // run side by side instead of one after the other. 10s − √Q ≥ 8s: nothing cancels.
     let d = a - b;
-    PI * (s + 3.0 * d * d / (10.0 * s + (4.0 * s * s - 3.0 * d * d).sqrt()))
+    let (s2, d2) = (s * s, 3.0 * d * d);
+    let root = (4.0 * s2 - d2).sqrt();
+    let inv = 1.0 / (96.0 * s2 + d2);
+    PI * (s + d2 * (10.0 * s - root) * inv)
 }
 
 #[cfg(test)]
