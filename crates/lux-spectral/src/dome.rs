@@ -1,7 +1,7 @@
 //! The cosine-weighted mean of a dome light's latlong texture (for `photometric:illuminance`).
 
 use glam::DVec3;
-use std::f64::consts::PI;
+use std::f64::consts::{FRAC_PI_2, PI};
 
 use crate::error::SpectralError;
 
@@ -79,20 +79,55 @@ pub fn latlong_cosine_weighted_mean(
             PI - 2.0 * PI * col as f64 / width as f64,
         )
     };
-    let cols: Vec<(f64, f64)> = (0..width).map(phi).collect();
+    // Per column: φ₀, φ₁, a·∫sin φ + b·∫cos φ, and the range of g(φ) = a sin φ + b cos φ.
+    let cols: Vec<[f64; 5]> = (0..width)
+        .map(|col| {
+            let (p0, p1) = phi(col);
+            let (sp0, cp0) = p0.sin_cos();
+            let (sp1, cp1) = p1.sin_cos();
+            let (gmin, gmax) = sinusoid_range(up.x, up.z, p0, p1);
+            [p0, p1, up.x * (cp0 - cp1) + up.z * (sp1 - sp0), gmin, gmax]
+        })
+        .collect();
+    let dphi = 2.0 * PI / width as f64;
     // horizon cells are split down to a side of about 2π/4096 (error ∝ side², since ω·up
     // vanishes on the horizon), however coarse the texture
-    let side = (2.0 * PI / width as f64).max(PI / height as f64);
+    let side = dphi.max(PI / height as f64);
     let depth = (side * 4096.0 / (2.0 * PI)).log2().ceil().clamp(0.0, 12.0) as u32;
     let mut sum = 0.0;
     for row in 0..height {
         let (t0, t1) = (theta(row), theta(row + 1));
+        let (s2, sc) = theta_integrals(t0, t1);
+        // sin θ over the row (it peaks at π/2), cos θ decreasing
+        let (st0, st1) = (t0.sin(), t1.sin());
+        let smax = if t0 < FRAC_PI_2 && t1 > FRAC_PI_2 {
+            1.0
+        } else {
+            st0.max(st1)
+        };
+        let smin = st0.min(st1);
+        let (c_lo, c_hi) = {
+            let (a, b) = (up.y * t0.cos(), up.y * t1.cos());
+            (a.min(b), a.max(b))
+        };
         let mut row_sum = 0.0;
-        for (col, &(p0, p1)) in cols.iter().enumerate() {
+        for (col, &[p0, p1, phi_int, gmin, gmax]) in cols.iter().enumerate() {
             let y = f64::from(luminance[row * width + col]);
-            if y != 0.0 {
-                row_sum += y * clipped_cosine_integral(up, t0, t1, p0, p1, depth);
+            if y == 0.0 {
+                continue;
             }
+            // interval bounds of ω·up = sin θ·g + c cos θ over the texel (conservative: a
+            // texel near the horizon may take the exact test below without crossing it)
+            let lo = (smin * gmin).min(smax * gmin) + c_lo;
+            let hi = (smin * gmax).max(smax * gmax) + c_hi;
+            let v = if hi <= 0.0 {
+                0.0
+            } else if lo >= 0.0 {
+                s2 * phi_int + up.y * sc * dphi
+            } else {
+                clipped_cosine_integral(up, t0, t1, p0, p1, depth)
+            };
+            row_sum += y * v;
         }
         sum += row_sum;
     }
@@ -128,10 +163,16 @@ fn clipped_cosine_integral(up: DVec3, t0: f64, t1: f64, p0: f64, p1: f64, depth:
         + clipped_cosine_integral(up, tm, t1, pm, p1, d)
 }
 
-/// ∫∫ (ω·up) sin θ dθ dφ over [t0, t1] × [p0, p1], in closed form.
-fn cosine_integral(up: DVec3, t0: f64, t1: f64, p0: f64, p1: f64) -> f64 {
+/// S₂ = ∫ sin²θ dθ and S_c = ∫ sin θ cos θ dθ over [t0, t1].
+fn theta_integrals(t0: f64, t1: f64) -> (f64, f64) {
     let s2 = 0.5 * (t1 - t0) - 0.25 * ((2.0 * t1).sin() - (2.0 * t0).sin());
     let sc = 0.5 * (t1.sin().powi(2) - t0.sin().powi(2));
+    (s2, sc)
+}
+
+/// ∫∫ (ω·up) sin θ dθ dφ over [t0, t1] × [p0, p1], in closed form.
+fn cosine_integral(up: DVec3, t0: f64, t1: f64, p0: f64, p1: f64) -> f64 {
+    let (s2, sc) = theta_integrals(t0, t1);
     let (sp0, cp0) = p0.sin_cos();
     let (sp1, cp1) = p1.sin_cos();
     s2 * (up.x * (cp0 - cp1) + up.z * (sp1 - sp0)) + up.y * sc * (p1 - p0)
