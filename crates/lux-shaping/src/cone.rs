@@ -19,6 +19,8 @@ pub(crate) enum Cone {
         cut: f64,
         cos_start: f64,
         cos_cut: f64,
+        /// 1/(cut − start) (finite: start < cut), so the ramp needs no division.
+        inv_width: f64,
     },
 }
 
@@ -62,6 +64,7 @@ impl Cone {
         Cone::Soft {
             start,
             cut,
+            inv_width: 1.0 / (cut - start),
             cos_start: if start < 0.0 {
                 f64::INFINITY
             } else {
@@ -91,16 +94,17 @@ impl Cone {
             }
             Cone::Soft {
                 start,
-                cut,
                 cos_start,
                 cos_cut,
+                inv_width,
+                ..
             } => {
                 if cos_below(w, len2, cos_cut) {
                     ConeHit::Dark
                 } else if !cos_below(w, len2, cos_start) {
                     ConeHit::Full
                 } else {
-                    ConeHit::Ramp { start, cut }
+                    ConeHit::Ramp { start, inv_width }
                 }
             }
         }
@@ -154,8 +158,8 @@ pub(crate) enum ConeHit {
     Dark,
     /// Factor 1.
     Full,
-    /// Factor `1 − smoothStep(θ, start, cut)`.
-    Ramp { start: f64, cut: f64 },
+    /// Factor `1 − smoothStep(θ, start, cut)`, with `inv_width` = 1/(cut − start).
+    Ramp { start: f64, inv_width: f64 },
 }
 
 impl ConeHit {
@@ -165,7 +169,12 @@ impl ConeHit {
         match self {
             ConeHit::Dark => 0.0,
             ConeHit::Full => 1.0,
-            ConeHit::Ramp { start, cut } => 1.0 - smooth_step(theta(), start, cut),
+            ConeHit::Ramp { start, inv_width } => {
+                // smoothStep(θ, start, cut) with the division by cut − start prepared
+                let t = (theta() - start) * inv_width;
+                let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
+                1.0 - t * t * (3.0 - 2.0 * t)
+            }
         }
     }
 }

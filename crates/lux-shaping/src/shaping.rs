@@ -29,6 +29,28 @@ struct Focus {
     pow: Pow,
 }
 
+/// `q^n` for 0 ≤ n ≤ 32 by repeated squaring, inlined (`f64::powi` with a run-time exponent
+/// is a library call); the common focus exponents 0–4 (n ≤ 2) take at most one multiplication.
+#[inline(always)]
+fn powi(q: f64, n: i32) -> f64 {
+    match n {
+        0 => 1.0,
+        1 => q,
+        2 => q * q,
+        _ => {
+            let (mut base, mut e, mut acc) = (q, n as u32, 1.0);
+            while e > 0 {
+                if e & 1 == 1 {
+                    acc *= base;
+                }
+                base *= base;
+                e >>= 1;
+            }
+            acc
+        }
+    }
+}
+
 /// How `|cos θ|^focus` is computed from `cos² θ`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Pow {
@@ -63,8 +85,8 @@ impl Focus {
     #[inline(always)]
     fn of_cos2(&self, q: f64) -> f64 {
         match self.pow {
-            Pow::Even(n) => q.powi(n),
-            Pow::Odd(n) => q.sqrt() * q.powi(n),
+            Pow::Even(n) => powi(q, n),
+            Pow::Odd(n) => q.sqrt() * powi(q, n),
             Pow::General(h) => q.powf(h),
         }
     }
