@@ -355,3 +355,21 @@ fn fuzz_regressions_non_identifier_property_names() {
     assert_eq!(s.warnings.len(), 1, "{:?}", s.warnings);
     assert_eq!(s.warnings[0].kind, WarningKind::InvalidValue);
 }
+
+#[test]
+fn fuzz_regressions_unwalkable_reference_target() {
+    // openusd 0.6 walks a reference target's ancestors with a `parent()` that returns a path
+    // ending in `}` (not a variant selection) unchanged: composing this hung forever. The
+    // layer is refused with the path named, as a typed error, at once.
+    let o = LoadOptions::default();
+    let text = "#usda 1.0\ndef Xform \"A\" (\n    prepend references = </B>\n)\n{\n}\n\ndef Xform \"B\" (\n    prepend references = </x}}}\n(\n    doc = \"y/A>\n)\n{\n}\n";
+    let err = load_usda_str(text, 1.0, &o).unwrap_err();
+    assert!(matches!(err, LoadError::Malformed { .. }), "{err:?}");
+    assert!(
+        err.to_string().contains("malformed prim path </x}}}"),
+        "{err}"
+    );
+    // the same target screened but harmless (a `}` in a relationship target) still loads
+    let rel = "#usda 1.0\ndef RenderSettings \"S\"\n{\n    rel camera = </C}>\n}\n";
+    assert!(load_usda_str(rel, 1.0, &o).is_ok());
+}

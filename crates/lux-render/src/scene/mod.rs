@@ -18,6 +18,7 @@ pub mod light;
 mod load;
 pub mod material;
 pub mod mesh;
+pub mod path_guard;
 pub mod reader;
 mod resolver;
 pub mod tessellate;

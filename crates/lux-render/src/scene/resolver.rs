@@ -1,7 +1,10 @@
 //! The asset resolver the loader hands to `openusd`: the crate's `DefaultResolver` plus the
-//! `.usda` text fix of [`super::usda_fix`] applied when a layer is opened.
+//! `.usda` text fix of [`super::usda_fix`] applied when a layer is opened, and the refusal of
+//! layers holding paths that would hang composition ([`super::path_guard`]).
 
+use super::path_guard::{first_unwalkable_path, usda_may_hold_unwalkable_path};
 use openusd::ar::{self, Asset, DefaultResolver, ResolvedPath, Resolver};
+use openusd::usdc::CrateData;
 use std::io;
 
 /// `DefaultResolver` (filesystem paths relative to the authoring layer, `.usdz` packages) that
@@ -41,6 +44,17 @@ impl LuxResolver {
     }
 }
 
+/// The error for a layer holding a path `openusd` cannot walk ([`super::path_guard`]).
+fn unwalkable(layer: &str, path: &str) -> io::Error {
+    io::Error::new(
+        io::ErrorKind::InvalidData,
+        format!(
+            "{layer}: malformed prim path <{path}> (a prim path may end in `}}` only after a \
+             variant selection `{{set=sel}}`)"
+        ),
+    )
+}
+
 /// Whether a resolved path names a text layer, including a `.usda` inside a package
 /// (`pkg.usdz[inner.usda]`).
 fn is_text_layer(path: &str) -> bool {
@@ -75,18 +89,34 @@ impl Resolver for LuxResolver {
             b.to_vec()
         } else {
             let mut asset = self.inner.open_asset(resolved_path)?;
+            let bytes = asset.read_all()?;
             if !is_text_layer(&name) {
-                return Ok(asset);
+                if bytes.starts_with(b"PXR-USDC") {
+                    // a crate layer: the same path screen as for text, on its own parse
+                    let data = CrateData::open(io::Cursor::new(&bytes[..]), true);
+                    if let Some(p) = data.ok().and_then(|d| first_unwalkable_path(&d)) {
+                        return Err(unwalkable(&name, &p));
+                    }
+                }
+                return Ok(Box::new(io::Cursor::new(bytes)));
             }
-            asset.read_all()?
+            bytes
         };
         let fixed = std::str::from_utf8(&bytes)
             .ok()
             .and_then(super::usda_fix::rewrite_asset_time_samples);
-        Ok(Box::new(io::Cursor::new(match fixed {
+        let bytes = match fixed {
             Some(text) => text.into_bytes(),
             None => bytes,
-        })))
+        };
+        if let Ok(text) = std::str::from_utf8(&bytes)
+            && usda_may_hold_unwalkable_path(text)
+            && let Ok(data) = openusd::usda::parse(text)
+            && let Some(p) = first_unwalkable_path(&data)
+        {
+            return Err(unwalkable(&name, &p));
+        }
+        Ok(Box::new(io::Cursor::new(bytes)))
     }
 
     fn get_extension<'a>(&self, asset_path: &'a str) -> &'a str {
