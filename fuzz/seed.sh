@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Seeds the `parse` fuzz target with the lux-ies test corpus (crates/lux-ies/tests/data: the 24
-# LM-63 files, malformed ones included). corpus/parse/ is git-ignored apart from .gitkeep.
+# LM-63 files, malformed ones included). corpus/ is git-ignored: the script creates it.
 set -euo pipefail
 cd "$(dirname "$0")"
 mkdir -p corpus/parse
