@@ -597,6 +597,30 @@ pub(crate) fn atan2_upper(y: f64, x: f64) -> f64 {
     kernel(q, &ATAN2[o], OCTANT_SIGN[o])
 }
 
+/// `atan2(√r2, x)` for `r2` ≥ 0 (the polar angle θ from `r2 = x² + y²` and the axial
+/// component): [`atan2_upper`] with the reduction's square root and division side by side
+/// instead of one after the other. Which of `√r2` and `|x|` is larger is decided on squares
+/// (`r2` against `x²`), so the reciprocal — of `|x|` (then `q = √r2·(1/|x|)`), or of `r2` (then
+/// `q = |x|·√r2·(1/r2)`) — need not wait for the root. Up to two more roundings in `q` than
+/// [`atan2_upper`]; magnitudes outside 10^±150 (where `x²` could overflow or `1/|x|` could)
+/// take [`atan2_upper`] itself.
+#[inline]
+pub(crate) fn atan2_sqrt(r2: f64, x: f64) -> f64 {
+    let ax = x.abs();
+    if !(ax > 1e-150 && ax < 1e150 && r2 < 1e300) {
+        return atan2_upper(r2.sqrt(), x);
+    }
+    let y = r2.sqrt();
+    let swap = r2 > ax * ax;
+    let inv = 1.0 / if swap { r2 } else { ax };
+    let q = if swap { ax * y * inv } else { y * inv };
+    if q.is_nan() {
+        return y.atan2(x);
+    }
+    let o = swap as usize | ((x < 0.0) as usize) << 1;
+    kernel(q.min(1.0), &ATAN2[o], OCTANT_SIGN[o])
+}
+
 /// The IES azimuth `atan2(y, x) + π` in \[0, 2π), as [`crate::azimuth_from_xy`] computes it
 /// (0 for x = y = 0, the half-plane y = ±0, x < 0 folded to 0), rounded once: within 2 ulp of π
 /// of that value.
@@ -827,6 +851,45 @@ mod tests {
         assert!(e_atan2 <= 2.0, "atan2 {e_atan2} ulp");
         assert!(e_acos <= 4.0, "acos {e_acos} ulp");
         assert!(e_atan <= 2.0, "atan {e_atan} ulp");
+    }
+
+    #[test]
+    fn atan2_sqrt_within_a_few_ulps_of_libm() {
+        // the polar angle from r² = x² + y² and the axial component, every ratio and sign,
+        // magnitudes over many decades, and the edges of the fast path (10^±150)
+        let mut next = xorshift(0x2545F4914F6CDD1D);
+        let mut worst = 0.0f64;
+        for i in 0..1_000_000i32 {
+            let r = next() * 10f64.powi(i % 17 - 8);
+            let x = (next() - 0.5) * 10f64.powi(i % 11 - 5);
+            let r2 = r * r;
+            let want = r2.sqrt().atan2(x);
+            worst = worst.max(ulps(atan2_sqrt(r2, x), want));
+        }
+        eprintln!("atan2_sqrt: {worst} ulp");
+        assert!(worst <= 2.5, "atan2_sqrt {worst} ulp");
+        for (r2, x) in [
+            (0.0, 0.0),
+            (0.0, -0.0),
+            (0.0, 1.0),
+            (0.0, -1.0),
+            (1.0, 0.0),
+            (1.0, 1.0),
+            (f64::INFINITY, 1.0),
+            (1.0, f64::INFINITY),
+            (1.0, f64::NEG_INFINITY),
+            (1e300, 1e151),
+            (1e-310, 1e-160),
+            (4.0, 1e-151),
+            (f64::NAN, 1.0),
+            (1.0, f64::NAN),
+        ] {
+            let (got, want) = (atan2_sqrt(r2, x), r2.sqrt().atan2(x));
+            assert!(
+                got.to_bits() == want.to_bits() || ulps(got, want) <= 3.0,
+                "atan2_sqrt({r2}, {x}) = {got}, libm {want}"
+            );
+        }
     }
 
     #[test]

@@ -45,11 +45,12 @@ pub fn polar_angles_fast(dir: DVec3) -> (f64, f64) {
     (polar_angle_fast(dir), azimuth_from_xy_fast(dir.x, dir.y))
 }
 
-/// The θ of [`light_polar_fast`] alone: `atan2(√(x² + y²), −z)` by [`crate::fastmath::atan2`]
-/// (no check of the direction: 0 for a zero one, NaN for a NaN one).
+/// The θ of [`light_polar_fast`] alone: `atan2(√(x² + y²), −z)` by the arctangent of
+/// [`crate::fastmath`], its square root and division evaluated side by side (no check of the
+/// direction: 0 for a zero one, NaN for a NaN one).
 #[inline]
 pub fn polar_angle_fast(dir: DVec3) -> f64 {
-    crate::fastmath::atan2_upper((dir.x * dir.x + dir.y * dir.y).sqrt(), -dir.z)
+    crate::fastmath::atan2_sqrt(dir.x * dir.x + dir.y * dir.y, -dir.z)
 }
 
 /// The IES azimuth of a light-space direction's XY components: atan2(y, x) + π wrapped to \[0, 2π).
