@@ -31,11 +31,6 @@ enum Command {
     Ies(cli::ies::IesCommand),
 }
 
-/// The bundled demo scene (all six light kinds, an IES profile, a textured rect, a dome).
-fn demo_scene() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/demo/demo.usda")
-}
-
 fn main() -> ExitCode {
     let args = Args::parse();
     let result = match &args.command {
@@ -43,23 +38,25 @@ fn main() -> ExitCode {
         Some(Command::Info(i)) => cli::info::run(i),
         Some(Command::Ies(cmd)) => cli::ies::run(cmd),
         None => {
-            eprintln!("lux: rendering the demo scene {}", demo_scene().display());
-            cli::render::run(&cli::render::RenderArgs {
-                scene: demo_scene(),
-                frame: 1.0,
-                spp: 32,
-                resolution: None,
-                crop: None,
-                camera: None,
-                profile: None,
-                sampling: cli::render::SamplingArg::Lux,
-                light_selection: cli::render::SelectionArg::Auto,
-                threads: None,
-                seed: 0,
-                output: PathBuf::from("lux-demo.exr"),
-                png: Some(PathBuf::from("lux-demo.png")),
-                exposure: 0.0,
-                quiet: false,
+            cli::demo::scene_path(&std::env::temp_dir().join("lux-demo-scene")).and_then(|scene| {
+                eprintln!("lux: rendering the demo scene {}", scene.display());
+                cli::render::run(&cli::render::RenderArgs {
+                    scene,
+                    frame: 1.0,
+                    spp: 32,
+                    resolution: None,
+                    crop: None,
+                    camera: None,
+                    profile: None,
+                    sampling: cli::render::SamplingArg::Lux,
+                    light_selection: cli::render::SelectionArg::Auto,
+                    threads: None,
+                    seed: 0,
+                    output: PathBuf::from("lux-demo.exr"),
+                    png: Some(PathBuf::from("lux-demo.png")),
+                    exposure: 0.0,
+                    quiet: false,
+                })
             })
         }
     };

@@ -1,5 +1,6 @@
 //! Command-line front end of the `lux` binary.
 
+pub mod demo;
 pub mod ies;
 pub mod info;
 pub mod render;
