@@ -159,6 +159,26 @@ fn floor_probe_scene(light: Light, x: f64, z: f64) -> Scene {
     probe_scene(vec![light], x, z)
 }
 
+/// A 0.4 × 0.2 RectLight of `photometric:power` 800 lm, `d` above the floor, facing down.
+fn lumen_rect(path: &str, d: f64) -> Light {
+    let mut l = Light::with_defaults(
+        path,
+        LightShape::Rect {
+            width: 0.4,
+            height: 0.2,
+        },
+        DMat4::from_rotation_translation(
+            DQuat::from_rotation_arc(DVec3::NEG_Z, DVec3::NEG_Y),
+            DVec3::new(0.0, d, 0.0),
+        ),
+    );
+    l.api_schemas = vec!["PhotometricAreaLightAPI".into()];
+    l.physical
+        .values
+        .insert("photometric:power".into(), RawValue::Number(800.0));
+    l
+}
+
 #[test]
 fn rendered_irradiance_matches_the_authored_power() {
     // A shaped rect of 800 lm (cone 30°, softness 0.4, focus 1.5) 40 units above the floor,
@@ -173,21 +193,8 @@ fn rendered_irradiance_matches_the_authored_power() {
     };
     let shaping = Shaping::new(&params, None, ShapingOptions::default()).unwrap();
     let g = shaping.integral_cos_hemisphere()[0];
-    let mut l = Light::with_defaults(
-        "/Lumens",
-        LightShape::Rect {
-            width: 0.4,
-            height: 0.2,
-        },
-        DMat4::from_rotation_translation(
-            DQuat::from_rotation_arc(DVec3::NEG_Z, DVec3::NEG_Y),
-            DVec3::new(0.0, d, 0.0),
-        ),
-    );
-    l.api_schemas = vec!["PhotometricAreaLightAPI".into(), "ShapingAPI".into()];
-    l.physical
-        .values
-        .insert("photometric:power".into(), RawValue::Number(800.0));
+    let mut l = lumen_rect("/Lumens", d);
+    l.api_schemas.push("ShapingAPI".into());
     l.shaping = Some(lux::render::scene::ShapingInputs {
         focus: 1.5,
         cone_angle_deg: 30.0,
@@ -272,21 +279,7 @@ fn textured_rect_power_counts_the_texture() {
             0.05 * (x * y) as f32,
         ]
     });
-    let mut l = Light::with_defaults(
-        "/TexturedLumens",
-        LightShape::Rect {
-            width: 0.4,
-            height: 0.2,
-        },
-        DMat4::from_rotation_translation(
-            DQuat::from_rotation_arc(DVec3::NEG_Z, DVec3::NEG_Y),
-            DVec3::new(0.0, d, 0.0),
-        ),
-    );
-    l.api_schemas = vec!["PhotometricAreaLightAPI".into()];
-    l.physical
-        .values
-        .insert("photometric:power".into(), RawValue::Number(800.0));
+    let mut l = lumen_rect("/TexturedLumens", d);
     l.texture = Some(lux::render::scene::AssetRef {
         authored: "rect_texture.exr".into(),
         resolved: Some(tex),

@@ -225,11 +225,7 @@ fn light_selection_strategies_agree_with_sampling_every_light() {
         l.params.intensity = 10.0 + 7.0 * (i % 5) as f64;
         s.lights.push(l);
     }
-    let probe = |sel: LightSelection, spp: u32| {
-        let mut o = options(Profile::Spec, spp, [1, 1]);
-        o.selection = sel;
-        Renderer::new(&s, o).unwrap().pixel_value(0, 0).x
-    };
+    let probe = |sel: LightSelection, spp: u32| probe_with(&s, sel, spp);
     let all = probe(LightSelection::All, 4096);
     // Closed form: each sphere fully above the horizon gives L·π·(r/d)²·cos β.
     let p = DVec3::new(0.3, 0.0, 0.2);
@@ -280,11 +276,7 @@ fn light_bvh_with_shaping_cones_agrees_with_sampling_every_light() {
         });
         s.lights.push(l);
     }
-    let probe = |sel: LightSelection, spp: u32| {
-        let mut o = options(Profile::Spec, spp, [1, 1]);
-        o.selection = sel;
-        Renderer::new(&s, o).unwrap().pixel_value(0, 0).x
-    };
+    let probe = |sel: LightSelection, spp: u32| probe_with(&s, sel, spp);
     let all = probe(LightSelection::All, 4096);
     assert!(all > 0.0);
     let got = probe(LightSelection::Bvh, 1 << 16);
@@ -292,4 +284,11 @@ fn light_bvh_with_shaping_cones_agrees_with_sampling_every_light() {
         (got - all).abs() < 0.02 * all,
         "BVH {got} vs all lights {all}"
     );
+}
+
+/// The red channel of the probed pixel (spec profile, 1 × 1 image) with light selection `sel`.
+fn probe_with(s: &Scene, sel: LightSelection, spp: u32) -> f64 {
+    let mut o = options(Profile::Spec, spp, [1, 1]);
+    o.selection = sel;
+    Renderer::new(s, o).unwrap().pixel_value(0, 0).x
 }

@@ -72,17 +72,12 @@ pub fn latlong_cosine_weighted_mean(
         }
     }
     let theta = |row: usize| PI * row as f64 / height as f64;
-    // φ₀ < φ₁ of column `col` (φ decreases with u)
-    let phi = |col: usize| {
-        (
-            PI - 2.0 * PI * (col + 1) as f64 / width as f64,
-            PI - 2.0 * PI * col as f64 / width as f64,
-        )
-    };
-    // Per column: φ₀, φ₁, a·∫sin φ + b·∫cos φ, and the range of g(φ) = a sin φ + b cos φ.
+    // Per column: φ₀ < φ₁ (φ decreases with u), a·∫sin φ + b·∫cos φ, and the range of
+    // g(φ) = a sin φ + b cos φ.
     let cols: Vec<[f64; 5]> = (0..width)
         .map(|col| {
-            let (p0, p1) = phi(col);
+            let p0 = PI - 2.0 * PI * (col + 1) as f64 / width as f64;
+            let p1 = PI - 2.0 * PI * col as f64 / width as f64;
             let (sp0, cp0) = p0.sin_cos();
             let (sp1, cp1) = p1.sin_cos();
             let (gmin, gmax) = sinusoid_range(up.x, up.z, p0, p1);
