@@ -7,6 +7,11 @@
    variables the Rust code uses (E2, E3 for R_F; Z and Q = XY for R_D).
 2. The Gauss-Kummer function GK(h) = 2F1(-1/2, -1/2; 1; h) on four intervals of h: Chebyshev
    interpolants at 40 digits, converted to powers of t in [-1, 1].
+3. The ellipse perimeter in its trace form P = sqrt(a^2 + b^2) * F(m), m = ((a^2 - b^2)/(a^2 + b^2))^2,
+   exact (F_E, by mpmath's ellipe) and Ramanujan's second approximation (F_R), on the 52
+   intervals [(i - 1/2)/64, (i + 1/2)/64] of m (clipped to m >= 0), i.e. m < 0.8047: Chebyshev
+   interpolants of degree 7, converted to powers of s = 64 m - i in [-1/2, 1/2], printed as
+   Rust arrays.
 
 Needs sympy and mpmath:  python3 crates/lux-math/scripts/derive_coefficients.py
 """
@@ -63,6 +68,67 @@ def carlson():
     print("R_D series, Z^i Q^j:", {t: c for t, c in zip(terms, coefs) if c != 0})
 
 
+def chebyshev_monomial(f, lo, hi, n):
+    """Degree n - 1 Chebyshev interpolant of f on [lo, hi] in powers of t in [-1, 1]."""
+    nodes = [mp.cos(mp.pi * (k + mp.mpf(1) / 2) / n) for k in range(n)]
+    vals = [f((hi + lo) / 2 + (hi - lo) / 2 * t) for t in nodes]
+    cheb = [2 * sum(v * mp.cos(mp.pi * j * (k + mp.mpf(1) / 2) / n) for k, v in enumerate(vals)) / n
+            for j in range(n)]
+    cheb[0] /= 2
+    tpoly = [[mp.mpf(0)] * n for _ in range(n)]
+    tpoly[0][0] = 1
+    tpoly[1][1] = 1
+    for j in range(2, n):
+        for i in range(n):
+            tpoly[j][i] = (2 * tpoly[j - 1][i - 1] if i else 0) - tpoly[j - 2][i]
+    return [sum(cheb[j] * tpoly[j][i] for j in range(n)) for i in range(n)]
+
+
+def compose_shift(mono, alpha, beta):
+    """Powers of s for p(alpha*s + beta), p given by its powers of t (exact at working precision)."""
+    out = [mp.mpf(0)] * len(mono)
+    for c in reversed(mono):  # Horner over polynomials: out = out*(alpha s + beta) + c
+        nxt = [mp.mpf(0)] * len(mono)
+        for k, o in enumerate(out):
+            nxt[k] += o * beta
+            if k + 1 < len(mono):
+                nxt[k + 1] += o * alpha
+        nxt[0] += c
+        out = nxt
+    return out
+
+
+def trace_form():
+    mp.mp.dps = 40
+
+    def axes(m):
+        s = mp.sqrt(m)
+        return mp.sqrt((1 + s) / 2), mp.sqrt((1 - s) / 2)
+
+    def exact(m):
+        a, b = axes(m)
+        return 2 * mp.pi * a if m == 0 else 4 * a * mp.ellipe(1 - (b / a) ** 2)
+
+    def ramanujan(m):
+        a, b = axes(m)
+        h = ((a - b) / (a + b)) ** 2
+        return mp.pi * (a + b) * (1 + 3 * h / (10 + mp.sqrt(4 - 3 * h)))
+
+    # piece i of x = 64 m covers [i - 1/2, i + 1/2] (piece 0: [0, 1/2], piece 51: up to 51.5)
+    for name, f in [("TRACE_EXACT", exact), ("TRACE_RAMANUJAN", ramanujan)]:
+        print(f"const {name}: [[f64; 8]; 52] = [")
+        for i in range(52):
+            lo = max(mp.mpf(i) - mp.mpf(1) / 2, mp.mpf(0))
+            hi = mp.mpf(i) + mp.mpf(1) / 2
+            mono = chebyshev_monomial(lambda x: f(x / 64), lo, hi, 8)
+            # t = (2x - lo - hi)/(hi - lo) with x = i + s
+            alpha = 2 / (hi - lo)
+            beta = (2 * i - lo - hi) / (hi - lo)
+            c = compose_shift(mono, alpha, beta)
+            print("    [" + ", ".join(repr(float(x)) for x in c) + "],")
+        print("];")
+
+
 def gauss_kummer():
     mp.mp.dps = 40
 
@@ -89,3 +155,4 @@ def gauss_kummer():
 if __name__ == "__main__":
     carlson()
     gauss_kummer()
+    trace_form()

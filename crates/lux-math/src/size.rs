@@ -21,7 +21,9 @@
 //! covered ellipse (2πr² for a unit squash of one axis) and a cylinder flattened across its
 //! axis is a doubly covered strip (2·L·width), as the exact formulas give in the limit.
 
-use crate::elliptic::{ellipse_perimeter_ramanujan, ellipsoid_area_thomsen};
+use crate::elliptic::{
+    TraceForm, ellipse_perimeter_ramanujan, ellipse_perimeter_trace, ellipsoid_area_thomsen,
+};
 use crate::{LightShape, Profile};
 use core::f64::consts::{FRAC_PI_2, PI};
 use glam::{DMat3, DMat4, DVec3};
@@ -44,7 +46,7 @@ pub fn size_factor(shape: &LightShape, xf: &DMat4, profile: Profile) -> f64 {
 ///
 /// See the module table for the formula per shape and profile. Always finite and ≥ 0.
 pub fn world_area(shape: &LightShape, xf: &DMat4, profile: Profile) -> f64 {
-    if !xf.is_finite() {
+    if !all_finite(xf) {
         return 0.0;
     }
     let a = DMat3::from_mat4(*xf);
@@ -90,6 +92,15 @@ pub fn world_area(shape: &LightShape, xf: &DMat4, profile: Profile) -> f64 {
     } else {
         0.0
     }
+}
+
+/// Whether all 16 entries are finite: `x·0 = 0` for finite x and NaN for ±∞ and NaN, so the
+/// sum of the products is 0 exactly when every entry is finite (two-wide vector products and
+/// one comparison instead of sixteen exponent tests).
+#[inline]
+fn all_finite(m: &DMat4) -> bool {
+    let z = (m.x_axis * 0.0 + m.y_axis * 0.0) + (m.z_axis * 0.0 + m.w_axis * 0.0);
+    z == glam::DVec4::ZERO
 }
 
 #[inline]
@@ -145,19 +156,36 @@ pub fn sphere_area_reference(a: &DMat3, radius: f64) -> f64 {
 ///
 /// Evaluated without projecting: with `p = u × A ŷ`, `q = u × A ẑ` the Gram matrix of the
 /// projected pair is `G = G'/|u|²` where `G' = [p·p, p·q; p·q, q·q]` (Lagrange's identity,
-/// free of cancellation), and the projected parallelogram has `ab' = |u|²·|w₁ × w₂| =
-/// |det A|·|u|`. The perimeter is homogeneous of degree 1, so `|u|·P(G) = P(G')` and the area
-/// is `L·r·P(G')`: one square root before the perimeter, no division by `|u|²`.
+/// free of cancellation). The perimeter is homogeneous of degree 1, so `|u|·P(G) = P(G')` and
+/// the area is `L·r·P(G')`. The perimeter comes from the trace form
+/// `P = √T·F_E(m)`, `T = tr G'`, `m = ((g11 − g22)² + 4g12²)/T²` (one division with the square
+/// root beside it, then a table polynomial; see `elliptic::ellipse_perimeter_trace`); cross
+/// sections flatter than b/a ≈ 0.23 take the Gauss–Kummer / AGM route through the semi-axes.
 pub fn cylinder_area(a: &DMat3, radius: f64, length: f64) -> f64 {
+    let u = a.x_axis;
+    let p = u.cross(a.y_axis);
+    let q = u.cross(a.z_axis);
+    let (g11, g22, g12) = (p.length_squared(), q.length_squared(), p.dot(q));
+    let d = g11 - g22;
+    let per = ellipse_perimeter_trace(g11 + g22, d * d + 4.0 * (g12 * g12), TraceForm::Exact);
+    match per {
+        Some(per) => length * radius * per,
+        None => cylinder_area_slow(a, radius, length, g11, g22, g12),
+    }
+}
+
+/// [`cylinder_area`] for the inputs the trace form does not take: flat cross-sections, zero
+/// or extreme scales, non-finite entries.
+#[cold]
+fn cylinder_area_slow(a: &DMat3, radius: f64, length: f64, g11: f64, g22: f64, g12: f64) -> f64 {
     let u = a.x_axis;
     let l2 = u.length_squared();
     if l2 == 0.0 || radius == 0.0 || length == 0.0 {
         return 0.0;
     }
-    let p = u.cross(a.y_axis);
-    let q = u.cross(a.z_axis);
+    // the projected parallelogram: ab' = |u|²·|w₁ × w₂| = |det A|·|u|
     let ab = u.dot(a.y_axis.cross(a.z_axis)).abs() * l2.sqrt();
-    length * radius * cross_section_perimeter(p.length_squared(), q.length_squared(), p.dot(q), ab)
+    length * radius * cross_section_perimeter(g11, g22, g12, ab)
 }
 
 /// Perimeter of the ellipse `{w1·cos t + w2·sin t}` from its Gram entries `g11 = |w1|²`,
@@ -184,7 +212,22 @@ fn cross_section_perimeter(g11: f64, g22: f64, g12: f64, ab: f64) -> f64 {
 
 /// Cylinder as the hdEmbree reference computes it: `‖L·A x̂‖ ×` Ramanujan's perimeter of the
 /// ellipse with semi-axes `‖r A ŷ‖`, `‖r A ẑ‖` (no projection).
+///
+/// Evaluated in the trace form of Ramanujan's formula, `P = √T·F_R(m)` with `T = a² + b²`,
+/// `m = ((a² − b²)/T)²` from the squared lengths (same value to within an ulp or two; the
+/// square roots of `‖A x̂‖²` and T and the division run side by side). Semi-axis ratios below
+/// 0.233 and extreme scales use [`ellipse_perimeter_ramanujan`] on the lengths.
 pub fn cylinder_area_reference(a: &DMat3, radius: f64, length: f64) -> f64 {
+    let (y2, z2) = (a.y_axis.length_squared(), a.z_axis.length_squared());
+    let d = y2 - z2;
+    match ellipse_perimeter_trace(y2 + z2, d * d, TraceForm::Ramanujan) {
+        Some(per) => length * radius * a.x_axis.length() * per,
+        None => cylinder_area_reference_slow(a, radius, length),
+    }
+}
+
+#[cold]
+fn cylinder_area_reference_slow(a: &DMat3, radius: f64, length: f64) -> f64 {
     length
         * a.x_axis.length()
         * ellipse_perimeter_ramanujan(radius * a.y_axis.length(), radius * a.z_axis.length())
