@@ -62,6 +62,27 @@ fn benches(c: &mut Criterion) {
         r,
     );
     bench_light(c, "rect_area", &rect(RectTechnique::Area), r);
+    // The technique itself in the light's frame (the rect light above: 1 × 1 at height 0.25,
+    // seen from (0.1, 0.2, 0)): the set-up per reference point, and one more sample from a
+    // prepared set-up (what each further sample at the same point costs).
+    {
+        let o = DVec3::new(0.1, 0.2, -0.25);
+        let us = uniforms();
+        let mut g = c.benchmark_group("spherical_rectangle_parts");
+        g.bench_function("setup", |b| {
+            b.iter(|| black_box(spherical::SphericalRectangle::centred(black_box(o), 0.5, 0.5)))
+        });
+        let sr = spherical::SphericalRectangle::centred(o, 0.5, 0.5);
+        let mut i = 0usize;
+        g.bench_function("sample_prepared", |b| {
+            b.iter(|| {
+                i = (i + 1) & (NU - 1);
+                black_box(black_box(&sr).sample(us[i]))
+            })
+        });
+        g.finish();
+    }
+
     let sphere = |t| Light::Sphere(SphereLight::new(0.5, up(1.5), t).unwrap());
     bench_light(c, "sphere_cone", &sphere(SphereTechnique::Cone), r);
     bench_light(c, "sphere_area", &sphere(SphereTechnique::Area), r);
