@@ -64,15 +64,15 @@ struct ConeSample {
 #[inline(always)]
 fn sample_cone(p: DVec3, d2: f64, rad: f64, inv_tau_r2: f64, u: [f64; 2]) -> ConeSample {
     // With e = √(d² − r²) (so cos α = e/d): 1 − cos α = r²/(d·(d + e)), whose reciprocal also
-    // gives 1/d = (d + e)/(d·(d + e)) and the density 1/(2π(1 − cos α)) = d·(d + e)/(2π r²).
-    // One division (besides the frame's), and the two square roots independent: square root
-    // and division share one unit on current CPUs and their latency dominates this sampler.
+    // gives the density 1/(2π(1 − cos α)) = d·(d + e)/(2π r²). Square root and division share
+    // one unit on current CPUs and their latency dominates this sampler, so every square root
+    // below is taken of an expression free of that division (see the direction), and the
+    // division only scales the results.
     let d = d2.sqrt();
     let e = (d2 - rad * rad).max(0.0).sqrt();
-    let dde = d * (d + e);
+    let dpe = d + e;
+    let dde = d * dpe;
     let inv_dde = 1.0 / dde;
-    let cos_max = e * (d + e) * inv_dde;
-    let omc = rad * rad * inv_dde;
     let pdf = dde * inv_tau_r2;
     // The cone's frame around the unit axis n = v/d, v = −p, as `Frame::from_normal(n)`
     // (Duff et al. 2017) but from v and d: with σ = sign(v.z) and k = −1/(d·(σd + v.z)),
@@ -89,20 +89,23 @@ fn sample_cone(p: DVec3, d2: f64, rad: f64, inv_tau_r2: f64, u: [f64; 2]) -> Con
         b: DVec3::new(bxy, sgn + v.y * v.y * k, -n.y),
         n,
     };
-    // The direction of `warp::sample_uniform_cone(u, omc)` with its pieces kept:
-    // cos θ = 1 − u₀·(1 − cos θmax), sin²θ = (1 − cos θ)(1 + cos θ).
-    let omc_u = u[0] * omc;
-    let cos_t = 1.0 - omc_u;
-    let sin2_t = (omc_u * (2.0 - omc_u)).max(0.0);
-    let sin_t = sin2_t.sqrt();
+    // The direction of `warp::sample_uniform_cone(u, 1 − cos α)`: cos θ = 1 − u₀·(1 − cos α)
+    // = 1 − u₀r²/dde (dde = d(d + e)), and sin²θ = (1 − cos θ)(1 + cos θ)
+    // = u₀r²·(2·dde − u₀r²)/dde², so sin θ = √(u₀r²·(2·dde − u₀r²))·(1/dde): the root needs
+    // dde only (2·dde − u₀r² ≥ dde since dde > r²: no cancellation).
+    let ur2 = u[0] * (rad * rad);
+    let cos_t = 1.0 - ur2 * inv_dde;
+    let sin_t = (ur2 * (2.0 * dde - ur2)).max(0.0).sqrt() * inv_dde;
+    let sin2_t = sin_t * sin_t;
     let (sp, cp) = fastmath::sin_cos_turns(u[1]);
     let wc = DVec3::new(sin_t * cp, sin_t * sp, cos_t);
     // Nearest hit along wc from the reference point, which sits at (0, 0, −d) in the cone
     // frame: t = d·(cos θ − g) with g² = sin²α − sin²θ = cos²θ − cos²α
-    // = (1 − u₀)(1 − cos α)·(cos θ + cos α), a product without cancellation (g = 0 on the
-    // silhouette). The hit point relative to the centre, (t·wc.x, t·wc.y, −d + t·cos θ),
-    // has −d + t·cos θ = −d·(sin²θ + cos θ·g): no cancellation, unlike p + t·w.
-    let g = ((1.0 - u[0]) * omc * (cos_t + cos_max)).max(0.0).sqrt();
+    // = (1 − u₀)(1 − cos α)·(cos θ + cos α) = (1 − u₀)r²·((d + e)² − u₀r²)/dde², a product
+    // without cancellation (g = 0 on the silhouette) whose root again needs dde only. The hit
+    // point relative to the centre, (t·wc.x, t·wc.y, −d + t·cos θ), has
+    // −d + t·cos θ = −d·(sin²θ + cos θ·g): no cancellation, unlike p + t·w.
+    let g = (((rad * rad) - ur2) * (dpe * dpe - ur2)).max(0.0).sqrt() * inv_dde;
     let t = d * (cos_t - g);
     let qc = DVec3::new(t * wc.x, t * wc.y, -d * (sin2_t + cos_t * g));
     ConeSample {
