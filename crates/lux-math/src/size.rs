@@ -46,7 +46,7 @@ pub fn size_factor(shape: &LightShape, xf: &DMat4, profile: Profile) -> f64 {
 ///
 /// See the module table for the formula per shape and profile. Always finite and ≥ 0.
 pub fn world_area(shape: &LightShape, xf: &DMat4, profile: Profile) -> f64 {
-    if !all_finite(xf) {
+    if !xf.is_finite() {
         return 0.0;
     }
     let a = DMat3::from_mat4(*xf);
@@ -92,15 +92,6 @@ pub fn world_area(shape: &LightShape, xf: &DMat4, profile: Profile) -> f64 {
     } else {
         0.0
     }
-}
-
-/// Whether all 16 entries are finite: `x·0 = 0` for finite x and NaN for ±∞ and NaN, so the
-/// sum of the products is 0 exactly when every entry is finite (two-wide vector products and
-/// one comparison instead of sixteen exponent tests).
-#[inline]
-fn all_finite(m: &DMat4) -> bool {
-    let z = (m.x_axis * 0.0 + m.y_axis * 0.0) + (m.z_axis * 0.0 + m.w_axis * 0.0);
-    z == glam::DVec4::ZERO
 }
 
 #[inline]
