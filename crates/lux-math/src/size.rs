@@ -487,7 +487,8 @@ mod tests {
 
     #[test]
     fn cylinder_cross_section_matches_eigenvalues_and_agm() {
-        // The Gram/Gauss–Kummer evaluation against the textbook route: semi-axes from the
+        // The Gram-entry evaluations (trace form, and Gauss–Kummer for flatter cross-sections)
+        // against the textbook route: semi-axes from the
         // eigenvalues of the projected radial axes' Gram matrix, perimeter by the AGM. Oblique,
         // sheared and rotated maps, cross-sections from circular to needle-flat (AGM fallback).
         let mut worst = 0.0f64;
