@@ -425,7 +425,7 @@ impl PhotometricWeb {
     }
 
     /// Intensity at native (vertical, horizontal) radians; 0 outside the measured range.
-    #[inline]
+    #[inline(always)]
     pub fn native(&self, v: f64, h: f64, interp: Interpolation) -> f64 {
         if !(v >= self.vaxis.lo && v <= self.vaxis.hi) {
             return 0.0;
@@ -459,7 +459,7 @@ impl PhotometricWeb {
 
     /// Bicubic: the Hermite weights of the vertical segment (shared by the four rows), each row
     /// clamped at 0, then the horizontal segment's weights, clamped at 0.
-    #[inline]
+    #[inline(never)]
     fn bicubic(&self, vi: usize, vt: f64, h: f64) -> f64 {
         // the neighbours of `hermite`, computed (not loaded) from `vi`
         let c = self.vaxis.neighbours(vi);
