@@ -70,7 +70,13 @@ fn benches(c: &mut Criterion) {
         let us = uniforms();
         let mut g = c.benchmark_group("spherical_rectangle_parts");
         g.bench_function("setup", |b| {
-            b.iter(|| black_box(spherical::SphericalRectangle::centred(black_box(o), 0.5, 0.5)))
+            b.iter(|| {
+                black_box(spherical::SphericalRectangle::centred(
+                    black_box(o),
+                    0.5,
+                    0.5,
+                ))
+            })
         });
         let sr = spherical::SphericalRectangle::centred(o, 0.5, 0.5);
         let mut i = 0usize;
