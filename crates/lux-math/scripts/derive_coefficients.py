@@ -136,19 +136,7 @@ def gauss_kummer():
         return mp.hyp2f1(-0.5, -0.5, 1, h)
 
     for lo, hi, deg in [(0, 0.25, 11), (0.25, 0.5, 12), (0.5, 0.7, 13), (0.7, 0.85, 14)]:
-        lo, hi, n = mp.mpf(lo), mp.mpf(hi), deg + 1
-        nodes = [mp.cos(mp.pi * (k + mp.mpf(1) / 2) / n) for k in range(n)]
-        vals = [gk((hi + lo) / 2 + (hi - lo) / 2 * t) for t in nodes]
-        cheb = [2 * sum(v * mp.cos(mp.pi * j * (k + mp.mpf(1) / 2) / n) for k, v in enumerate(vals)) / n
-                for j in range(n)]
-        cheb[0] /= 2
-        tpoly = [[mp.mpf(0)] * n for _ in range(n)]
-        tpoly[0][0] = 1
-        tpoly[1][1] = 1
-        for j in range(2, n):
-            for i in range(n):
-                tpoly[j][i] = (2 * tpoly[j - 1][i - 1] if i else 0) - tpoly[j - 2][i]
-        mono = [sum(cheb[j] * tpoly[j][i] for j in range(n)) for i in range(n)]
+        mono = chebyshev_monomial(gk, mp.mpf(lo), mp.mpf(hi), deg + 1)
         print(f"GK h in [{lo}, {hi}], degree {deg}:", [repr(float(c)) for c in mono])
 
 

@@ -554,19 +554,22 @@ mod tests {
         assert!(ellipsoid_area_from_squares(f64::NAN, 1.0, 1.0).is_nan());
     }
 
+    /// `(k, 4·E(1 − k²))`: the perimeter of the ellipse with semi-axes 1 and k at 30 digits
+    /// (mpmath `ellipe`).
+    #[rustfmt::skip]
+    #[allow(clippy::excessive_precision, clippy::unreadable_literal)]
+    const PERIMETER_30_DIGITS: [(f64, f64); 8] = [
+        (0.999, 6.2800441074215322895), (0.9, 5.9731604325248288127),
+        (0.5, 4.8442241102738380992), (0.3, 4.3859100695689088929),
+        (0.1, 4.0639741801008957486), (0.05, 4.019425619145961459),
+        (0.04, 4.0131433130673680585), (0.01, 4.0010983297226518608),
+    ];
+
     #[test]
     fn ellipse_perimeter_matches_high_precision_values() {
         // 4·E(1 − k²) for a = 1, b = k, at 30 digits (mpmath `ellipe`); both the polynomial
         // (k ≥ 0.0406) and the AGM (below) branches, and the AGM alone everywhere.
-        #[rustfmt::skip]
-        #[allow(clippy::excessive_precision, clippy::unreadable_literal)]
-        let table = [
-            (0.999, 6.2800441074215322895), (0.9, 5.9731604325248288127),
-            (0.5, 4.8442241102738380992), (0.3, 4.3859100695689088929),
-            (0.1, 4.0639741801008957486), (0.05, 4.019425619145961459),
-            (0.04, 4.0131433130673680585), (0.01, 4.0010983297226518608),
-        ];
-        for (k, p) in table {
+        for (k, p) in PERIMETER_30_DIGITS {
             // the AGM's a² − Σ… loses up to two bits for flat ellipses (1.1e-15 measured)
             let tol = if k >= 0.0406 { 4e-16 } else { 1.2e-15 };
             let got = ellipse_perimeter(1.0, k);
@@ -600,15 +603,9 @@ mod tests {
 
     #[test]
     fn trace_form_matches_high_precision_values_and_the_semi_axes_routes() {
-        // the 30-digit table of `ellipse_perimeter_matches_high_precision_values`, in trace form
-        // (T = 1 + k², n = (1 − k²)²) where it applies (k > 0.233)
-        #[rustfmt::skip]
-        #[allow(clippy::excessive_precision, clippy::unreadable_literal)]
-        let table = [
-            (0.999, 6.2800441074215322895), (0.9, 5.9731604325248288127),
-            (0.5, 4.8442241102738380992), (0.3, 4.3859100695689088929),
-        ];
-        for (k, p) in table {
+        // the 30-digit values in trace form (T = 1 + k², n = (1 − k²)²) where it applies
+        // (k > 0.233)
+        for (k, p) in PERIMETER_30_DIGITS.into_iter().filter(|&(k, _)| k > 0.233) {
             let (t, d) = (1.0 + k * k, 1.0 - k * k);
             let got = ellipse_perimeter_trace(t, d * d, TraceForm::Exact).unwrap();
             assert!(rel(got, p) < 4e-16, "{k}: {got}");

@@ -194,12 +194,7 @@ impl SphericalRectangle {
     /// D ≤ 0) take the direct form with `xu` clamped.
     #[inline]
     pub fn sample(&self, u: [f64; 2]) -> DVec3 {
-        let (s, c) = fastmath::sin_cos(u[0] * self.solid_angle);
-        let cau = c * self.cos_k - s * self.sin_k;
-        let sau = s * self.cos_k + c * self.sin_k;
-        let n = cau * self.b0 - self.b1;
-        let num = -(n.signum() * sau) * self.z0;
-        let den2 = n * n - self.nb * (sau * sau);
+        let (num, den2) = self.horizontal_terms(u[0]);
         let rd = den2.sqrt();
         let xu = num / rd;
         if !(den2 > 0.0 && xu >= self.x0 && xu <= self.x1) {
@@ -214,7 +209,14 @@ impl SphericalRectangle {
         let p = r0 * r1;
         let mr = m * rd;
         let gap = (p - mr) * (p + mr);
-        // |hv| → 1 only at the far edge at grazing angles
+        self.point_at(xu, m, e, gap, p)
+    }
+
+    /// The rectangle's point at `xu` and `yv = m·√(e/gap)` (both forms of [`Self::sample`]
+    /// end so), clamped to \[y0, y1\]; the far edge y1 when `gap ≤ 10⁻¹²·p²` (|hv| → 1, only
+    /// at the far edge at grazing angles).
+    #[inline(always)]
+    fn point_at(&self, xu: f64, m: f64, e: f64, gap: f64, p: f64) -> DVec3 {
         let yv = if gap > 1e-12 * (p * p) {
             m * (e / gap).sqrt()
         } else {
@@ -243,24 +245,25 @@ impl SphericalRectangle {
         let nn = a + u1 * (b - a);
         let dd = s0 * s1;
         let gap = (dd - nn) * (dd + nn);
-        let yv = if gap > 1e-12 * (dd * dd) {
-            nn * (d2 / gap).sqrt()
-        } else {
-            self.y1
-        };
-        let yv = yv.clamp(self.y0, self.y1);
-        self.o + xu * self.x + yv * self.y + self.z0 * self.z
+        self.point_at(xu, nn, d2, gap, dd)
+    }
+
+    /// `(N, D)` of [`Self::sample`] for `u₀`: `xu = N/√D`.
+    #[inline(always)]
+    fn horizontal_terms(&self, u0: f64) -> (f64, f64) {
+        let (s, c) = fastmath::sin_cos(u0 * self.solid_angle);
+        let cau = c * self.cos_k - s * self.sin_k;
+        let sau = s * self.cos_k + c * self.sin_k;
+        let n = cau * self.b0 - self.b1;
+        let num = -(n.signum() * sau) * self.z0;
+        (num, n * n - self.nb * (sau * sau))
     }
 
     /// The direct form of [`Self::sample`] for every sample (tests).
     #[cfg(test)]
     fn sample_direct(&self, u: [f64; 2]) -> DVec3 {
-        let (s, c) = fastmath::sin_cos(u[0] * self.solid_angle);
-        let cau = c * self.cos_k - s * self.sin_k;
-        let sau = s * self.cos_k + c * self.sin_k;
-        let n = cau * self.b0 - self.b1;
-        let num = -(n.signum() * sau) * self.z0;
-        self.sample_clamped(num, n * n - self.nb * (sau * sau), u[1])
+        let (num, den2) = self.horizontal_terms(u[0]);
+        self.sample_clamped(num, den2, u[1])
     }
 
     /// Inverse of [`Self::sample`] for a point `q` on the rectangle: u₀ = S(x0..x)/S with the
