@@ -131,5 +131,28 @@ fn blackbody(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, size_factors, blackbody);
+/// Latency floors used in the issue notes (not targets): one dependent chain through
+/// `fastmath::atan2` and one through `fastmath::sin_cos`, each step feeding the next.
+fn latency(c: &mut Criterion) {
+    use lux::math::fastmath;
+    let mut g = c.benchmark_group("latency");
+    g.bench_function("atan2_chain", |b| {
+        let mut x = 0.3f64;
+        b.iter(|| {
+            x = fastmath::atan2(black_box(x), 1.7) + 0.25;
+            x
+        })
+    });
+    g.bench_function("sin_cos_chain", |b| {
+        let mut x = 0.3f64;
+        b.iter(|| {
+            let (s, c) = fastmath::sin_cos(black_box(x));
+            x = s * 0.5 + c * 0.25 + 0.5;
+            x
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, size_factors, blackbody, latency);
 criterion_main!(benches);
