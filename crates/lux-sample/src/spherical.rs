@@ -84,8 +84,8 @@ impl SphericalRectangle {
     /// normals n0..n3; the interior angles are γᵢ = acos(−nᵢ·nᵢ₊₁) and the solid angle is
     /// S = Σγᵢ − 2π.
     ///
-    /// Evaluated without trigonometry: S from the two triangles of the diagonal by Van Oosterom & Strackee with one arctangent
-    /// (`rect_solid_angle` in the source), and
+    /// Evaluated without trigonometry: S from the two triangles of the diagonal by Van Oosterom
+    /// & Strackee with one arctangent (`rect_solid_angle` in the source), and
     /// e^{ik} = e^{−i(γ₂+γ₃)} from the corners of the x = x0 edge, where
     /// `e^{iγ}·|…| = (±x·y, |z0|·r)` at the corner (x, y) at distance r, of modulus
     /// √(z0² + x²)·√(z0² + y²).
