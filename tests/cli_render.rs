@@ -32,6 +32,28 @@ fn tmp(name: &str) -> PathBuf {
     d.join(name)
 }
 
+/// `lux render <scene> --spp 1 --resolution 8x8 -o <out> <extra…> --quiet` (a quick render).
+fn render_small(
+    scene: &Path,
+    out: &Path,
+    extra: &[&str],
+    env: &[(&str, &str)],
+) -> std::process::Output {
+    let mut a = vec![
+        "render",
+        scene.to_str().unwrap(),
+        "--spp",
+        "1",
+        "--resolution",
+        "8x8",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    a.extend_from_slice(extra);
+    a.push("--quiet");
+    lux(&a, env)
+}
+
 fn stderr(o: &std::process::Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
@@ -74,20 +96,10 @@ fn renders_exr_and_png_and_reports_speed_and_profile() {
     let p = Texture::load(&png).unwrap();
     assert_eq!((p.width(), p.height()), (64, 64));
     // The flag beats the environment.
-    let o = lux(
-        &[
-            "render",
-            scene.to_str().unwrap(),
-            "--spp",
-            "1",
-            "--resolution",
-            "8x8",
-            "--profile",
-            "spec",
-            "-o",
-            exr.to_str().unwrap(),
-            "--quiet",
-        ],
+    let o = render_small(
+        &scene,
+        &exr,
+        &["--profile", "spec"],
         &[("LUX_CONFORMANCE_PROFILE", "hdembree")],
     );
     assert!(
@@ -168,20 +180,7 @@ fn failures_exit_non_zero_and_leave_no_file() {
     // An output directory that does not exist: the render runs, the write fails, nothing is
     // left behind.
     let missing = tmp("no-such-dir").join("x.exr");
-    let o = lux(
-        &[
-            "render",
-            scene.to_str().unwrap(),
-            "--spp",
-            "1",
-            "--resolution",
-            "8x8",
-            "-o",
-            missing.to_str().unwrap(),
-            "--quiet",
-        ],
-        &[],
-    );
+    let o = render_small(&scene, &missing, &[], &[]);
     assert!(!o.status.success());
     assert!(stderr(&o).contains("x.exr"), "{}", stderr(&o));
     assert!(
@@ -251,24 +250,7 @@ fn a_failed_png_leaves_no_exr_either() {
     std::fs::create_dir_all(&dir).unwrap();
     let exr = dir.join("image.exr");
     let scene = luxtest("rect.usda");
-    let render = |png: &Path| {
-        lux(
-            &[
-                "render",
-                scene.to_str().unwrap(),
-                "--spp",
-                "1",
-                "--resolution",
-                "8x8",
-                "-o",
-                exr.to_str().unwrap(),
-                "--png",
-                png.to_str().unwrap(),
-                "--quiet",
-            ],
-            &[],
-        )
-    };
+    let render = |png: &Path| render_small(&scene, &exr, &["--png", png.to_str().unwrap()], &[]);
     let o = render(&tmp("pair-no-such-dir").join("image.png"));
     assert!(!o.status.success());
     assert!(stderr(&o).contains("image.png"), "{}", stderr(&o));

@@ -172,13 +172,21 @@ pub const REC709_LUMINANCE: [f64; 3] = [
 /// Krystek (1985) rational fit of the Planckian locus: CIE 1960 (u, v) at `T` kelvin
 /// (stated for 1000–15000 K).
 pub fn krystek_planckian_uv(kelvin: f64) -> (f64, f64) {
-    let t = kelvin;
+    let [nu, du, nv, dv] = krystek_terms(kelvin);
+    (nu / du, nv / dv)
+}
+
+/// Numerators and denominators of Krystek's fit, `[n_u, d_u, n_v, d_v]` with `u = n_u/d_u`,
+/// `v = n_v/d_v` (quadratics in T).
+#[inline(always)]
+fn krystek_terms(t: f64) -> [f64; 4] {
     let t2 = t * t;
-    let u = (0.860_117_757 + 1.541_182_54e-4 * t + 1.286_412_12e-7 * t2)
-        / (1.0 + 8.424_202_35e-4 * t + 7.081_451_63e-7 * t2);
-    let v = (0.317_398_726 + 4.228_062_45e-5 * t + 4.204_816_91e-8 * t2)
-        / (1.0 - 2.897_418_16e-5 * t + 1.614_560_53e-7 * t2);
-    (u, v)
+    [
+        0.860_117_757 + 1.541_182_54e-4 * t + 1.286_412_12e-7 * t2,
+        1.0 + 8.424_202_35e-4 * t + 7.081_451_63e-7 * t2,
+        0.317_398_726 + 4.228_062_45e-5 * t + 4.204_816_91e-8 * t2,
+        1.0 - 2.897_418_16e-5 * t + 1.614_560_53e-7 * t2,
+    ]
 }
 
 /// The `HdEmbree` profile's colorTemperature colour: [`krystek_planckian_uv`] → xy
@@ -199,11 +207,7 @@ pub fn hdembree_blackbody_rgb(kelvin: f64) -> DVec3 {
     } else {
         6500.0
     };
-    let t2 = t * t;
-    let nu = 0.860_117_757 + 1.541_182_54e-4 * t + 1.286_412_12e-7 * t2;
-    let du = 1.0 + 8.424_202_35e-4 * t + 7.081_451_63e-7 * t2;
-    let nv = 0.317_398_726 + 4.228_062_45e-5 * t + 4.204_816_91e-8 * t2;
-    let dv = 1.0 - 2.897_418_16e-5 * t + 1.614_560_53e-7 * t2;
+    let [nu, du, nv, dv] = krystek_terms(t);
     let q = 1.0 / (2.0 * du * nv);
     let x = 3.0 * nu * dv * q;
     let z = (4.0 * du * dv - nu * dv - 10.0 * nv * du) * q;

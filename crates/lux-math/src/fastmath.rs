@@ -866,8 +866,8 @@ mod tests {
             let want = r2.sqrt().atan2(x);
             worst = worst.max(ulps(atan2_sqrt(r2, x), want));
         }
-        eprintln!("atan2_sqrt: {worst} ulp");
-        assert!(worst <= 2.5, "atan2_sqrt {worst} ulp");
+        // measured: 2 ulp, the bound the module states for atan2
+        assert!(worst <= 2.0, "atan2_sqrt {worst} ulp");
         for (r2, x) in [
             (0.0, 0.0),
             (0.0, -0.0),

@@ -50,7 +50,7 @@ pub use polar::{
     polar_angle_fast, polar_angles_fast,
 };
 pub use profile::{Profile, UnknownProfile};
-pub use scalar::{lerp, lerp_f32, smooth_step, smooth_step_f32};
+pub use scalar::{lerp, lerp_f32, smooth_step, smooth_step_f32, smooth_step_fraction};
 pub use shadow::{shadow_strength, shadowed};
 pub use shape::{LightKind, LightShape};
 pub use size::{

@@ -22,12 +22,18 @@ pub fn lerp_f32(t: f32, a: f32, b: f32) -> f32 {
 #[inline]
 pub fn smooth_step(x: f64, e0: f64, e1: f64) -> f64 {
     let w = e1 - e0;
-    let t = if w == 0.0 {
-        if x >= e0 { 1.0 } else { 0.0 }
-    } else {
-        let t = (x - e0) / w;
-        if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) }
-    };
+    if w == 0.0 {
+        return if x >= e0 { 1.0 } else { 0.0 };
+    }
+    smooth_step_fraction((x - e0) / w)
+}
+
+/// The cubic of [`smooth_step`] at the unclamped fraction `t = (x − e0)/(e1 − e0)`:
+/// `3t² − 2t³` on `clamp(t, 0, 1)`, 0 for NaN. For callers that prepare `1/(e1 − e0)` once
+/// and multiply (the ShapingAPI cone ramp `smoothStep(θ, start, cut)` per direction).
+#[inline]
+pub fn smooth_step_fraction(t: f64) -> f64 {
+    let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
     t * t * (3.0 - 2.0 * t)
 }
 

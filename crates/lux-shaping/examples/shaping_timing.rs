@@ -20,17 +20,13 @@ fn cpu_ns() -> Option<u64> {
     s.split_whitespace().next()?.parse().ok()
 }
 
-/// Best of 5 runs of 2²² calls, cycling through `dirs`.
-fn measure(name: &str, dirs: &[DVec3], f: impl Fn(DVec3) -> [f32; 3]) {
-    let n = 1usize << 22;
+/// Prints the best of 5 runs of `run` (which makes `n` calls) as on-CPU and wall-clock
+/// nanoseconds per call.
+fn report(name: &str, n: usize, mut run: impl FnMut()) {
     let mut best = (f64::INFINITY, f64::INFINITY);
     for _ in 0..5 {
         let (c0, t0) = (cpu_ns(), Instant::now());
-        let mut acc = 0.0f32;
-        for i in 0..n {
-            acc += f(black_box(dirs[i & (N - 1)]))[0];
-        }
-        black_box(acc);
+        run();
         let wall = t0.elapsed().as_nanos() as f64 / n as f64;
         let cpu = match (c0, cpu_ns()) {
             (Some(a), Some(b)) => (b - a) as f64 / n as f64,
@@ -44,14 +40,22 @@ fn measure(name: &str, dirs: &[DVec3], f: impl Fn(DVec3) -> [f32; 3]) {
     );
 }
 
-/// Best of 5 runs of 2¹⁰ passes over `pairs`, as `benches/ies.rs` does: the sum of
-/// `f(θ, φ)`; per call.
+/// 2²² calls, cycling through `dirs`.
+fn measure(name: &str, dirs: &[DVec3], f: impl Fn(DVec3) -> [f32; 3]) {
+    let n = 1usize << 22;
+    report(name, n, || {
+        let mut acc = 0.0f32;
+        for i in 0..n {
+            acc += f(black_box(dirs[i & (N - 1)]))[0];
+        }
+        black_box(acc);
+    });
+}
+
+/// 2¹⁰ passes over `pairs`, as `benches/ies.rs` does: the sum of `f(θ, φ)`.
 fn measure_lookup(name: &str, pairs: &[(f64, f64)], f: impl Fn(f64, f64) -> f64) {
     let passes = 1usize << 10;
-    let n = passes * pairs.len();
-    let mut best = (f64::INFINITY, f64::INFINITY);
-    for _ in 0..5 {
-        let (c0, t0) = (cpu_ns(), Instant::now());
+    report(name, passes * pairs.len(), || {
         let mut acc = 0.0;
         for _ in 0..passes {
             for &(t, p) in pairs {
@@ -59,17 +63,7 @@ fn measure_lookup(name: &str, pairs: &[(f64, f64)], f: impl Fn(f64, f64) -> f64)
             }
         }
         black_box(acc);
-        let wall = t0.elapsed().as_nanos() as f64 / n as f64;
-        let cpu = match (c0, cpu_ns()) {
-            (Some(a), Some(b)) => (b - a) as f64 / n as f64,
-            _ => wall,
-        };
-        best = (best.0.min(cpu), best.1.min(wall));
-    }
-    println!(
-        "{name:<40} {:>7.1} ns/call CPU  ({:>7.1} wall)",
-        best.0, best.1
-    );
+    });
 }
 
 /// `N` directions uniform on the sphere, or within `max_theta` of the light's −Z.

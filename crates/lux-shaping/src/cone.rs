@@ -1,7 +1,7 @@
 //! `inputs:shaping:cone:angle` and `inputs:shaping:cone:softness`, prepared.
 
 use core::f64::consts::{FRAC_PI_2, PI};
-use lux_math::{Profile, lerp, smooth_step};
+use lux_math::{Profile, lerp, smooth_step, smooth_step_fraction};
 
 /// The prepared cone. θ is the angle off the light's −Z axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -169,11 +169,9 @@ impl ConeHit {
         match self {
             ConeHit::Dark => 0.0,
             ConeHit::Full => 1.0,
+            // smoothStep(θ, start, cut) with the division by cut − start prepared
             ConeHit::Ramp { start, inv_width } => {
-                // smoothStep(θ, start, cut) with the division by cut − start prepared
-                let t = (theta() - start) * inv_width;
-                let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
-                1.0 - t * t * (3.0 - 2.0 * t)
+                1.0 - smooth_step_fraction((theta() - start) * inv_width)
             }
         }
     }
