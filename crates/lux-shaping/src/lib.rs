@@ -55,6 +55,7 @@
 mod angle;
 mod cone;
 mod error;
+mod grid;
 mod ies;
 mod params;
 mod quad;

@@ -273,7 +273,12 @@ impl Shaping {
     /// looked up), an integer focus uses multiplications only, the azimuth is computed only for
     /// IES profiles that depend on it, and the angles are those of
     /// [`lux_math::light_polar_fast`] (θ = atan2(√(x² + y²), −z), φ the IES azimuth, by the
-    /// libm-free [`lux_math::fastmath`], within a few ulp of [`lux_math::light_polar`]).
+    /// libm-free [`lux_math::fastmath`], within a few ulp of [`lux_math::light_polar`]). A type C
+    /// profile with evenly spaced angles and bilinear interpolation is looked up on a copy of
+    /// its table with the `ies:normalize` divisor folded in, the cell found by arithmetic
+    /// (`u = θies/Δv`, `⌊u⌋`, `u − ⌊u⌋`); the value is the same bilinear interpolant as
+    /// [`PhotometricWeb::intensity`] times the scale, to within `4ε·(nv + nh + 2)` of the
+    /// largest value (the rounding of `θies/Δv` and of the web's radian knots).
     #[inline]
     pub fn factor(&self, dir_light_space: DVec3) -> [f32; 3] {
         let mut d = dir_light_space;
@@ -314,7 +319,8 @@ impl Shaping {
 
     /// With an IES profile: θ = atan2(√(x² + y²), −z) and φ as [`lux_math::light_polar`]
     /// (by [`lux_math::fastmath`]; φ is not computed for an axially symmetric type C profile),
-    /// the cone tested on the cosine as without IES.
+    /// the cone tested on the cosine as without IES, the profile looked up on its even grid
+    /// when it has one (see `IesPart::sample_for_factor`).
     #[inline(always)]
     fn factor_ies(&self, d: DVec3, len2: f64, ies: &IesPart) -> [f32; 3] {
         let w = -d.z;
@@ -328,7 +334,7 @@ impl Shaping {
             polar_angles_fast(d)
         };
         let cone = hit.factor(|| theta);
-        let s = cone * ies.sample(theta, phi);
+        let s = cone * ies.sample_for_factor(theta, phi);
         match &self.focus {
             None => [to_f32(s); 3],
             Some(f) => f.color_cos2(w * w / len2).map(|x| to_f32(x * s)),
@@ -891,6 +897,13 @@ mod tests {
                     ..Default::default()
                 };
                 let s = Shaping::new(&params, Some(web.clone()), options).unwrap();
+                // the two bega profiles take the even-grid lookup, the others the web's own
+                let grid = s.ies.as_ref().unwrap().grid.is_some();
+                let even = name.starts_with("luxtest/bega");
+                assert_eq!(
+                    grid,
+                    even && interpolation == lux_ies::Interpolation::Bilinear
+                );
                 let m = s.max_factor() as f64;
                 for _ in 0..4000 {
                     let z = 2.0 * next() - 1.0;
