@@ -2,7 +2,7 @@
 //! angles: the `ies:normalize` scale folded into a padded copy of the candela table, the cell
 //! found by arithmetic.
 
-use core::f64::consts::TAU;
+use core::f64::consts::{PI, TAU};
 use lux_ies::{PhotometricType, PhotometricWeb, Symmetry};
 
 /// Adding 1.5·2⁵² to a value in \[0, 2⁵¹) rounds it to an integer, in the low bits of the sum.
@@ -13,8 +13,9 @@ const ROUND: f64 = 6_755_399_441_055_744.0;
 /// 10⁻¹³ of a 0.5° step); an axis that deviates more keeps the general lookup.
 const EVEN_TOLERANCE: f64 = 1e-12;
 
-/// Most table entries copied (2²⁴ doubles, 128 MiB): beyond it, the general lookup.
-const MAX_ENTRIES: usize = 1 << 24;
+/// Most table entries copied (2²¹ doubles, 16 MiB; a 0.25° × 0.25° full-sphere profile has
+/// about 2²⁰): beyond it, the general lookup.
+const MAX_ENTRIES: usize = 1 << 21;
 
 /// A type C profile with evenly spaced vertical and horizontal angles, bilinear, prepared for
 /// `inputs:shaping:ies:file` lookups with the `ies:normalize` factor `s` already applied:
@@ -27,14 +28,17 @@ const MAX_ENTRIES: usize = 1 << 24;
 ///
 /// the same interpolant as `PhotometricWeb::intensity` (linear in the vertical angle, then in
 /// the horizontal one) times `s`, with the fractions taken from the even grid rather than from
-/// each knot: within [`EVEN_TOLERANCE`] of a cell, and a few ulps of rounding. `⌊u⌋` is found by
-/// adding 1.5·2⁵² to `u − ½` (no float → integer conversion); at an odd integer `u` that gives
-/// the cell below with fraction 1, the same value. The table has one more column and one more
-/// row than the web (copies of the last ones), so the cell `i + 1`, `j + 1` of the last knot is
-/// inside it and no index needs clamping.
+/// each knot. The rounding of `u` is ε·u absolute in the fraction (and ε·w for φ), the same
+/// order as the web's own knots, which are the degrees rounded to radians: the two agree to
+/// `4ε·(nv + nh + 2)` of the largest value (the tests measure at most a seventh of that).
+/// `⌊u⌋` is found by adding 1.5·2⁵² to `u − ½` (no float → integer conversion); at an odd
+/// integer `u` that gives the cell below with fraction 1, the same value. The table has one
+/// more column and one more row than the web (copies of the last ones), so the cell `i + 1`,
+/// `j + 1` of the last knot is inside it and no index needs clamping for φ < 2π.
 ///
-/// Lookups outside `[v₀, v_last]` (the web's edge rules: 0, or the last vertical angle for
-/// θies ≥ π) are left to the general path: [`eval`](Self::eval) returns `None`.
+/// Outside `[v₀, v_last]` the web's edge rules: 0 below the range (θies < 0 and NaN included)
+/// and above it short of π; at θies ≥ π the values of the last vertical angle, which
+/// [`eval`](Self::eval) leaves to the web (`None`).
 #[derive(Clone, Debug)]
 pub(crate) struct EvenGrid {
     /// 1/Δv.
@@ -99,13 +103,13 @@ impl EvenGrid {
     }
 
     /// The scaled intensity at lookup angles (θies, φ), φ ∈ \[0, 2π) (the azimuth of
-    /// [`lux_math::fastmath::azimuth`]; ignored for an axial profile); `None` when θies is
-    /// outside the vertical range (or NaN).
+    /// [`lux_math::fastmath::azimuth`]; ignored for an axial profile); `None` for θies ≥ π
+    /// beyond the last vertical angle, where the web's last-angle rule applies.
     #[inline(always)]
     pub(crate) fn eval(&self, theta: f64, phi: f64) -> Option<f64> {
         // the web's own range test, on the angle
         if !(theta >= self.lo && theta <= self.hi) {
-            return None;
+            return if theta >= PI { None } else { Some(0.0) };
         }
         // u − ½ in one multiply-add (the rounding in `cell_half` wants it), kept ≥ −½ where
         // the product rounds below the first knot; above the last knot the padding column
@@ -155,7 +159,6 @@ fn even_step(a: &[f64]) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use core::f64::consts::PI;
     use lux_ies::IesFile;
     use lux_math::Profile;
 
@@ -330,17 +333,22 @@ mod tests {
         let web = PhotometricWeb::new(&IesFile::parse(&text).unwrap(), Profile::Spec).unwrap();
         let g = EvenGrid::new(&web, 2.0).unwrap();
         let (v0, v1) = (10f64.to_radians(), 170f64.to_radians());
-        // outside the vertical range, and NaN: left to the web's edge rules
+        // outside the vertical range: 0 as the web, except θies ≥ π (the web's last-angle rule)
         for t in [
             v0.next_down(),
             v1.next_up(),
             -1.0,
-            PI,
-            4.0,
+            0.0,
+            3.0,
             f64::NAN,
-            f64::INFINITY,
+            f64::NEG_INFINITY,
         ] {
+            assert_eq!(g.eval(t, 1.0), Some(0.0), "{t}");
+            assert_eq!(web.intensity(t, 1.0), 0.0, "{t}");
+        }
+        for t in [PI, 4.0, f64::INFINITY] {
             assert_eq!(g.eval(t, 1.0), None, "{t}");
+            assert_eq!(web.intensity(t, 1.0), web.intensity(v1, 1.0), "{t}");
         }
         // both ends of the range are inside, with the tabulated values
         let tol = 1e-13 * web.max_candela();
