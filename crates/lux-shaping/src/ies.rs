@@ -115,9 +115,9 @@ impl IesPart {
     }
 
     /// [`sample`](Self::sample) for `Shaping::factor`: on the profile's [`EvenGrid`] (type C,
-    /// bilinear, evenly spaced angles; the normalize scale folded into its table) while θies is
-    /// inside the vertical range, else `sample` itself. The two agree to a few ulps of the
-    /// largest value (see `grid.rs`).
+    /// bilinear, evenly spaced angles; the normalize scale folded into its table) except for
+    /// θies ≥ π beyond the last vertical angle, else `sample` itself. The two agree to
+    /// `4ε·(nv + nh + 2)` of the largest value (see `grid.rs`).
     #[inline(always)]
     pub(crate) fn sample_for_factor(&self, theta: f64, phi: f64) -> f64 {
         if let Some(g) = &self.grid
