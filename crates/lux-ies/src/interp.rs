@@ -201,6 +201,12 @@ impl Axis {
         }
     }
 
+    /// The knot spacing when the knots are evenly spaced (to [`UNIFORM_TOLERANCE`] of it).
+    pub fn step(&self) -> Option<f64> {
+        self.uniform
+            .then(|| (self.hi - self.lo) / self.knots.len() as f64)
+    }
+
     /// The Hermite segment of interval `i`.
     #[inline(always)]
     pub fn segment(&self, i: usize) -> &CubicSegment {

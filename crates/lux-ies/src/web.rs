@@ -282,6 +282,19 @@ impl PhotometricWeb {
         &self.h
     }
 
+    /// The spacing of the vertical angles (LM-63 vertical angle list, radians) when they are
+    /// evenly spaced — every angle within 10⁻¹² of a step of `first + k·step`, which angles
+    /// converted from degrees meet — else `None`. Evenly spaced axes are located by arithmetic
+    /// (`k = ⌊(x − first)/step⌋`) rather than by a bin table.
+    pub fn vertical_step(&self) -> Option<f64> {
+        self.vaxis.step()
+    }
+
+    /// [`vertical_step`](Self::vertical_step) for the expanded horizontal angles.
+    pub fn horizontal_step(&self) -> Option<f64> {
+        self.haxis.step()
+    }
+
     /// Candela values, one row of `vertical_angles().len()` per expanded horizontal angle.
     pub fn values(&self) -> &[f64] {
         &self.values

@@ -385,3 +385,35 @@ fn fuzz_seed_regressions() {
         }
     }
 }
+
+/// `vertical_step` / `horizontal_step`: bega_omni001 is tabulated every 1.5° (0..180) and,
+/// bilateral, every 2.5° (0..180, expanded to 0..360); the non-uniform luxtest profile is not
+/// evenly spaced in either; for every corpus file a step is reported exactly when the angles are
+/// within 10⁻¹² of a step of an even grid.
+#[test]
+fn even_steps_of_corpus_profiles() {
+    let w = web("luxtest/bega_omni001_1238lm.ies");
+    let (v, h) = (w.vertical_step().unwrap(), w.horizontal_step().unwrap());
+    assert!((v - 1.5f64.to_radians()).abs() < 1e-15, "{v}");
+    assert!((h - 2.5f64.to_radians()).abs() < 1e-15, "{h}");
+    let w = web("luxtest/test_vstripes_hquadrants_nonuniform.ies");
+    assert_eq!((w.vertical_step(), w.horizontal_step()), (None, None));
+    let even = |a: &[f64]| {
+        let step = (a[a.len() - 1] - a[0]) / (a.len() - 1) as f64;
+        let dev = (0..a.len())
+            .map(|k| (a[k] - (a[0] + k as f64 * step)).abs())
+            .fold(0.0, f64::max);
+        (dev <= 1e-12 * step).then_some(step)
+    };
+    let mut evenly = 0;
+    for rel in all_files()
+        .iter()
+        .filter(|f| !MALFORMED.contains(&f.as_str()))
+    {
+        let w = web(rel);
+        assert_eq!(w.vertical_step(), even(w.vertical_angles()), "{rel}");
+        assert_eq!(w.horizontal_step(), even(w.horizontal_angles()), "{rel}");
+        evenly += w.vertical_step().is_some() as usize;
+    }
+    assert!(evenly >= 12, "{evenly}");
+}

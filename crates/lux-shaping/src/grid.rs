@@ -8,16 +8,12 @@ use lux_ies::{PhotometricType, PhotometricWeb, Symmetry};
 /// Adding 1.5·2⁵² to a value in \[0, 2⁵¹) rounds it to an integer, in the low bits of the sum.
 const ROUND: f64 = 6_755_399_441_055_744.0;
 
-/// Largest deviation of a knot from `a0 + k·step`, relative to the step, for an axis to count
-/// as evenly spaced here. Angles converted from degrees deviate by a few ulps of 2π (about
-/// 10⁻¹³ of a 0.5° step); an axis that deviates more keeps the general lookup.
-const EVEN_TOLERANCE: f64 = 1e-12;
-
 /// Most table entries copied (2²¹ doubles, 16 MiB; a 0.25° × 0.25° full-sphere profile has
 /// about 2²⁰): beyond it, the general lookup.
 const MAX_ENTRIES: usize = 1 << 21;
 
-/// A type C profile with evenly spaced vertical and horizontal angles, bilinear, prepared for
+/// A type C profile with evenly spaced vertical and horizontal angles
+/// ([`PhotometricWeb::vertical_step`], [`PhotometricWeb::horizontal_step`]), bilinear, prepared for
 /// `inputs:shaping:ies:file` lookups with the `ies:normalize` factor `s` already applied:
 ///
 /// ```text
@@ -69,12 +65,14 @@ impl EvenGrid {
         let h = web.horizontal_angles();
         let (nv, nh) = (v.len(), h.len());
         let axial = web.symmetry() == Symmetry::Axial;
-        let dv = even_step(v)?;
+        let dv = web.vertical_step()?;
         let (rows, dh) = if axial {
             (1, 0.0)
         } else {
-            let dh = even_step(h)?;
-            if h[0] != 0.0 || (h[nh - 1] - TAU).abs() > EVEN_TOLERANCE * dh {
+            // the expansion of a type C profile spans 0..360°; a table that did not would
+            // need φ outside it
+            let dh = web.horizontal_step()?;
+            if h[0] != 0.0 || (h[nh - 1] - TAU).abs() > 1e-9 * dh {
                 return None;
             }
             (nh, dh)
@@ -143,17 +141,6 @@ fn pair(values: &[f64], k: usize) -> [f64; 2] {
 fn cell_half(m: f64) -> (usize, f64) {
     let r = m + ROUND;
     (r.to_bits() as u32 as usize, (m - (r - ROUND)) + 0.5)
-}
-
-/// The step of evenly spaced `a` (at least 2 knots, increasing), or `None`.
-fn even_step(a: &[f64]) -> Option<f64> {
-    let n = a.len();
-    let step = (a[n - 1] - a[0]) / (n - 1) as f64;
-    let even = step > 0.0
-        && a.iter()
-            .enumerate()
-            .all(|(k, &x)| (x - (a[0] + k as f64 * step)).abs() <= EVEN_TOLERANCE * step);
-    even.then_some(step)
 }
 
 #[cfg(test)]
