@@ -15,8 +15,8 @@ use lux::render::conformance::{ProfileSource, ResolvedProfile};
 use lux::render::geometry::{Geometry, offset_scale};
 use lux::render::lights::{LightOptions, LightSelection, LightSet, SamplingMode};
 use lux::render::render::{RenderOptions, Renderer};
-use lux::render::scene::{Scene, load_stage};
 use lux::sample::{Reference, SplitMix64};
+use lux::usd::{Scene, load_stage};
 use std::hint::black_box;
 use std::path::PathBuf;
 

@@ -16,11 +16,11 @@ use lux::render::conformance::{ProfileSource, ResolvedProfile};
 use lux::render::image_io::{ImageRgba, Texture, write_exr};
 use lux::render::lights::SamplingMode;
 use lux::render::render::{RenderOptions, Renderer};
-use lux::render::scene::load_stage;
+use lux::usd::load_stage;
 use std::path::PathBuf;
 
 fn render(
-    scene: &lux::render::scene::Scene,
+    scene: &lux::usd::Scene,
     mode: SamplingMode,
     spp: u32,
     seed: u64,

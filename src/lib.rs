@@ -9,3 +9,4 @@ pub use lux_render as render;
 pub use lux_sample as sample;
 pub use lux_shaping as shaping;
 pub use lux_spectral as spectral;
+pub use lux_usd as usd;

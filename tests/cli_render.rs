@@ -194,7 +194,7 @@ fn failures_exit_non_zero_and_leave_no_file() {
 
 #[test]
 fn info_failures_exit_non_zero_naming_the_file_and_prim() {
-    let bad = root().join("crates/lux-render/tests/data/scenes/bad");
+    let bad = root().join("crates/lux-usd/tests/data/scenes/bad");
     // missing file
     let o = lux(&["info", "/no/such/stage.usda"], &[]);
     assert!(!o.status.success());

@@ -26,7 +26,7 @@ use lux::math::Profile;
 use lux::render::conformance::{ProfileSource, ResolvedProfile};
 use lux::render::lights::SamplingMode;
 use lux::render::render::{RenderOptions, Renderer};
-use lux::render::scene::load_stage;
+use lux::usd::load_stage;
 use rayon::prelude::*;
 use std::path::PathBuf;
 
@@ -95,11 +95,7 @@ fn windows(r: &Renderer) -> Vec<(f64, f64, DVec3)> {
     out
 }
 
-fn renderer<'s>(
-    scene: &'s lux::render::scene::Scene,
-    sampling: SamplingMode,
-    spp: u32,
-) -> Renderer<'s> {
+fn renderer<'s>(scene: &'s lux::usd::Scene, sampling: SamplingMode, spp: u32) -> Renderer<'s> {
     let mut o = RenderOptions::new(ResolvedProfile {
         profile: Profile::HdEmbree,
         source: ProfileSource::CommandLine,

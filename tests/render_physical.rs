@@ -10,11 +10,11 @@ use lux::math::{LightShape, Profile};
 use lux::render::conformance::{ProfileSource, ResolvedProfile};
 use lux::render::lights::{LightOptions, LightSelection, LightSet};
 use lux::render::render::{RenderOptions, Renderer};
-use lux::render::scene::{Light, PoleAxis, RawValue, Scene, load_stage};
 use lux::shaping::{Shaping, ShapingOptions, ShapingParams};
 use lux::spectral::{
     ColorSpace, IlluminantKind, PhysicalLightInputs, PhysicalQuantity, resolve_illuminant,
 };
+use lux::usd::{Light, PoleAxis, RawValue, Scene, load_stage};
 use std::f64::consts::PI;
 use std::path::PathBuf;
 
@@ -195,7 +195,7 @@ fn rendered_irradiance_matches_the_authored_power() {
     let g = shaping.integral_cos_hemisphere()[0];
     let mut l = lumen_rect("/Lumens", d);
     l.api_schemas.push("ShapingAPI".into());
-    l.shaping = Some(lux::render::scene::ShapingInputs {
+    l.shaping = Some(lux::usd::ShapingInputs {
         focus: 1.5,
         cone_angle_deg: 30.0,
         cone_softness: 0.4,
@@ -280,7 +280,7 @@ fn textured_rect_power_counts_the_texture() {
         ]
     });
     let mut l = lumen_rect("/TexturedLumens", d);
-    l.texture = Some(lux::render::scene::AssetRef {
+    l.texture = Some(lux::usd::AssetRef {
         authored: "rect_texture.exr".into(),
         resolved: Some(tex),
     });
@@ -313,7 +313,7 @@ fn dome_illuminance_follows_the_stage_up_axis_through_pole_axis() {
         dome.physical
             .values
             .insert("photometric:illuminance".into(), RawValue::Number(20000.0));
-        dome.texture = Some(lux::render::scene::AssetRef {
+        dome.texture = Some(lux::usd::AssetRef {
             authored: "half_sky.exr".into(),
             resolved: Some(tex.clone()),
         });

@@ -10,7 +10,7 @@ use lux::math::{LightShape, Profile};
 use lux::render::image_io::{ImageRgba, write_png};
 use lux::render::lights::{LightOptions, LightSelection, LightSet};
 use lux::render::render::Renderer;
-use lux::render::scene::{AssetRef, Camera, Light, Projection, Scene, load_stage};
+use lux::usd::{AssetRef, Camera, Light, Projection, Scene, load_stage};
 use std::path::PathBuf;
 
 fn luxtest() -> PathBuf {
@@ -269,7 +269,7 @@ fn light_bvh_with_shaping_cones_agrees_with_sampling_every_light() {
             DMat4::from_translation(pos) * DMat4::from_rotation_x(-std::f64::consts::FRAC_PI_2),
         );
         l.params.intensity = 10.0 + 7.0 * (i % 5) as f64;
-        l.shaping = Some(lux::render::scene::ShapingInputs {
+        l.shaping = Some(lux::usd::ShapingInputs {
             cone_angle_deg: rho.atan().to_degrees() + 3.0,
             cone_softness: 0.2 * (i % 3) as f64,
             ..Default::default()

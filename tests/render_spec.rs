@@ -14,7 +14,7 @@ use glam::{DMat4, DVec3};
 use lux::math::{LightShape, Profile};
 use lux::render::lights::SamplingMode;
 use lux::render::render::{RenderOptions, Renderer};
-use lux::render::scene::{Light, Mesh, Scene};
+use lux::usd::{Light, Mesh, Scene};
 use std::f64::consts::PI;
 
 fn scene(light: Light, x: f64, z: f64) -> Scene {

@@ -7,7 +7,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use lux_render::scene::{LoadOptions, Scene, load_usda_str};
+use lux_usd::{LoadOptions, Scene, load_usda_str};
 
 fn check(s: &Scene) {
     for m in &s.meshes {

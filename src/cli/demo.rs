@@ -64,7 +64,7 @@ mod tests {
             );
         }
         // the copy loads with its textures and IES profile resolved next to it
-        let scene = lux_render::scene::load_stage(&usda, 1.0).unwrap();
+        let scene = lux_usd::load_stage(&usda, 1.0).unwrap();
         assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
         assert!(scene.lights.iter().all(|l| {
             l.texture

@@ -13,7 +13,7 @@ use lux_render::conformance::{
     PROFILE_ENV, ResolvedProfile, default_config_paths, resolve_profile,
 };
 use lux_render::lights::{LightOptions, LightSelection, LightSet};
-use lux_render::scene::{RawValue, Scene, load_stage};
+use lux_usd::{RawValue, Scene, load_stage};
 use serde_json::{Value, json};
 use std::fmt::Write;
 use std::path::PathBuf;

@@ -8,7 +8,7 @@ use lux_render::conformance::{PROFILE_ENV, default_config_paths, resolve_profile
 use lux_render::image_io::{stage_exr, stage_png};
 use lux_render::lights::{LightSelection, SamplingMode};
 use lux_render::render::{RenderOptions, RenderStats, Renderer};
-use lux_render::scene::load_stage;
+use lux_usd::load_stage;
 use std::path::PathBuf;
 
 /// `--sampling`.

@@ -8,7 +8,7 @@ use glam::{DMat4, DVec3};
 use lux::math::Profile;
 use lux::render::conformance::{ProfileSource, ResolvedProfile};
 use lux::render::render::{RenderOptions, Renderer};
-use lux::render::scene::{Camera, Light, Mesh, Projection, Scene};
+use lux::usd::{Camera, Light, Mesh, Projection, Scene};
 
 /// A 200 × 200 single-sided floor at y = 0, front side up.
 pub fn floor() -> Mesh {

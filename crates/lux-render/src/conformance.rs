@@ -14,8 +14,8 @@
 //! (never a silent fallback); a config file that does not exist is skipped, one that exists but
 //! cannot be read or parsed is an error naming the file.
 
-use crate::scene::Scene;
 use lux_math::Profile;
+use lux_usd::Scene;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -167,7 +167,7 @@ pub fn resolve_profile(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{RenderBase, RenderSettings, Scene, UpAxis};
+    use lux_usd::{RenderBase, RenderSettings, Scene, UpAxis};
 
     fn scene(attr: Option<&str>) -> Scene {
         Scene {

@@ -12,8 +12,8 @@
 //! closest-hit queries (UsdGeom: single-sided geometry may be back-face culled), but it
 //! occludes shadow rays from both sides, so a one-sided wall still casts a shadow.
 
-use crate::scene::Scene;
 use glam::{DVec2, DVec3, Vec3A};
+use lux_usd::Scene;
 use obvhs::BvhBuildParams;
 use obvhs::cwbvh::CwBvh;
 use obvhs::cwbvh::builder::build_cwbvh_from_tris;
@@ -245,7 +245,7 @@ fn barycentric(p: DVec3, a: DVec3, b: DVec3, c: DVec3, n: DVec3) -> DVec2 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{Mesh, Scene, UpAxis};
+    use lux_usd::{Mesh, Scene, UpAxis};
     use std::path::PathBuf;
 
     fn quad(double_sided: bool, y: f64) -> Mesh {

@@ -13,7 +13,7 @@
 //! ```no_run
 //! use lux_render::conformance::{default_config_paths, resolve_profile};
 //! use lux_render::render::{RenderOptions, Renderer};
-//! use lux_render::scene::load_stage;
+//! use lux_usd::load_stage;
 //!
 //! let scene = load_stage("scene.usda", 1.0)?;
 //! let profile = resolve_profile(None, &scene, None, &default_config_paths())?;
@@ -36,7 +36,6 @@ pub mod lights;
 pub mod physical;
 pub mod render;
 pub mod rng;
-pub mod scene;
 pub mod surface;
 pub mod view;
 
@@ -47,7 +46,7 @@ use std::path::PathBuf;
 pub enum RenderError {
     /// The stage failed to load.
     #[error(transparent)]
-    Load(#[from] scene::LoadError),
+    Load(#[from] lux_usd::LoadError),
     /// An asset a light or material references (IES profile, texture) is missing or malformed.
     #[error("{}: {message}", file.display())]
     Asset {

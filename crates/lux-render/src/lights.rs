@@ -21,7 +21,6 @@
 use crate::RenderError;
 use crate::image_io::Texture;
 use crate::physical;
-use crate::scene::{Light, PoleAxis, Scene, ShadowInputs, UpAxis};
 use glam::{DMat3, DMat4, DVec3};
 use lux_ies::{IesFile, ParseOptions, PhotometricWeb};
 use lux_math::{LightKind, LightShape, Profile};
@@ -32,6 +31,7 @@ use lux_sample::{
     SphereTechnique,
 };
 use lux_shaping::{Shaping, ShapingOptions, ShapingParams};
+use lux_usd::{Light, PoleAxis, Scene, ShadowInputs, UpAxis};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -533,7 +533,7 @@ fn load_ies(
     if let Some(w) = cache.get(path) {
         return Ok(w.clone());
     }
-    let bytes = crate::assets::read_asset(path).map_err(|e| RenderError::Asset {
+    let bytes = lux_usd::asset::read_asset(path).map_err(|e| RenderError::Asset {
         file: path.to_path_buf(),
         message: e.to_string(),
     })?;
@@ -545,7 +545,7 @@ fn load_ies(
     // TILT=<file>: next to the IES file (inside the same package for a packaged profile).
     let ies_path = path.to_path_buf();
     let resolver = move |name: &str| {
-        crate::assets::read_asset(&crate::assets::sibling(&ies_path, name))
+        lux_usd::asset::read_asset(&lux_usd::asset::sibling(&ies_path, name))
             .ok()
             .map(|b| String::from_utf8_lossy(&b).into_owned())
     };

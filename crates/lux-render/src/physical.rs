@@ -20,7 +20,6 @@
 
 use crate::RenderError;
 use crate::image_io::Texture;
-use crate::scene::{Light, RawValue, SpectralAttributes};
 use glam::DVec3;
 use lux_math::{LightKind, LightShape, Profile};
 use lux_shaping::Shaping;
@@ -28,6 +27,7 @@ use lux_spectral::{
     ColorSpace, EmitterShape, IlluminantKind, Interpolation, LightGeometry, PhysicalLightInputs,
     PhysicalQuantity, ShapingIntegral, SpectralAttribute, SpectralInputs, WavelengthUnit,
 };
+use lux_usd::{Light, RawValue, SpectralAttributes};
 
 /// The API schemas that carry a physical quantity, with the quantity they author.
 const QUANTITY_APIS: [&str; 6] = [

@@ -5,8 +5,8 @@
 use crate::RenderError;
 use crate::geometry::Hit;
 use crate::image_io::{Texture, linear_to_srgb};
-use crate::scene::{Diffuse, Scene, SpectralAttributes, TextureInput};
 use glam::{DVec2, DVec3, DVec4};
+use lux_usd::{Diffuse, Scene, SpectralAttributes, TextureInput};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;

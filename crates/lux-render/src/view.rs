@@ -13,8 +13,8 @@
 //! Pixel (x, y) covers `[x, x+1) × [y, y+1)` with y = 0 the **top** row; a sample at continuous
 //! coordinates (x + jx, y + jy) maps linearly onto the window (box pixel filter).
 
-use crate::scene::{Camera, Projection};
 use glam::{DMat4, DVec3, DVec4};
+use lux_usd::{Camera, Projection};
 
 /// The orthographic aperture unit of GfCamera: apertures are in tenths of a scene unit.
 pub const APERTURE_UNIT: f64 = 0.1;

@@ -3,7 +3,7 @@
 
 use glam::{DMat4, DVec3};
 use lux_math::{LightKind, LightShape};
-use lux_render::scene::{Light, load_stage};
+use lux_usd::{Light, load_stage};
 use serde_json::Value;
 use std::path::PathBuf;
 

@@ -1,9 +1,9 @@
 //! UsdLux lights: `LightAPI` inputs with the schema defaults filled in, geometry, `ShapingAPI`,
 //! `ShadowAPI`, physical-unit attributes, all at the load frame.
 
-use super::error::{LoadError, WarningKind};
-use super::reader::{AssetRef, Reader};
-use super::value;
+use crate::error::{LoadError, WarningKind};
+use crate::reader::{AssetRef, Reader};
+use crate::value;
 use glam::{DMat4, DVec3};
 use lux_math::{LightKind, LightParams, LightShape};
 use openusd::usd::Prim;

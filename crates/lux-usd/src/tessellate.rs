@@ -1,7 +1,7 @@
 //! Tessellation of the implicit UsdGeom gprims (Sphere, Cube, Cylinder, Cone, Capsule, Plane)
 //! with their schema defaults, as right-handed triangle lists in local space.
 
-use super::mesh::Topology;
+use crate::mesh::Topology;
 use glam::{DVec2, DVec3};
 
 /// Segments around the axis of every surface of revolution.

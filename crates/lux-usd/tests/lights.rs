@@ -5,7 +5,7 @@
 
 use glam::{DMat4, DVec3};
 use lux_math::{LightKind, LightShape};
-use lux_render::scene::{Light, PoleAxis, Scene, WarningKind, load_stage};
+use lux_usd::{Light, PoleAxis, Scene, WarningKind, load_stage};
 use std::path::PathBuf;
 
 fn scenes() -> PathBuf {

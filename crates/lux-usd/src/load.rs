@@ -1,18 +1,18 @@
 //! The stage walk: composition via `openusd`, then one pass over the composed prims that
 //! accumulates transforms, visibility, purpose and material bindings.
 
-use super::camera::{read_camera, read_render_settings};
-use super::error::{LoadError, Warning, WarningKind};
-use super::light::{is_unsupported_light_type, kind_of_type, read_light};
-use super::material::read_material;
-use super::mesh::{
+use crate::camera::{read_camera, read_render_settings};
+use crate::error::{LoadError, Warning, WarningKind};
+use crate::light::{is_unsupported_light_type, kind_of_type, read_light};
+use crate::material::read_material;
+use crate::mesh::{
     Mesh, Topology, expand_primvar, mesh_topology, mirror_corners, normals_to_world, to_world,
 };
-use super::reader::Reader;
-use super::resolver::LuxResolver;
-use super::tessellate::{self, Axis};
-use super::xform::local_transform;
-use super::{Scene, UpAxis};
+use crate::reader::Reader;
+use crate::resolver::LuxResolver;
+use crate::tessellate::{self, Axis};
+use crate::xform::local_transform;
+use crate::{Scene, UpAxis};
 use glam::DMat4;
 use lux_math::LightKind;
 use openusd::sdf::Path as SdfPath;
@@ -35,7 +35,7 @@ pub struct LoadOptions {
 impl Default for LoadOptions {
     fn default() -> LoadOptions {
         LoadOptions {
-            max_array_len: super::reader::MAX_ARRAY_LEN,
+            max_array_len: crate::reader::MAX_ARRAY_LEN,
             max_depth: 256,
         }
     }
@@ -132,7 +132,7 @@ fn load_with(
         .stage_metadata("upAxis")
         .ok()
         .flatten()
-        .and_then(|v| super::value::as_text(&v))
+        .and_then(|v| crate::value::as_text(&v))
         .as_deref()
     {
         Some("Z") => UpAxis::Z,
@@ -142,14 +142,14 @@ fn load_with(
         .stage_metadata("metersPerUnit")
         .ok()
         .flatten()
-        .and_then(|v| super::value::as_f64(&v))
+        .and_then(|v| crate::value::as_f64(&v))
         .filter(|m| m.is_finite() && *m > 0.0)
         .unwrap_or(0.01);
     let unit_for_wavelength = stage
         .stage_metadata("unitForWavelength")
         .ok()
         .flatten()
-        .and_then(|v| super::value::as_text(&v));
+        .and_then(|v| crate::value::as_text(&v));
     let mut walk = Walk {
         r: Reader {
             stage: &stage,
@@ -325,7 +325,7 @@ impl Walk<'_> {
             };
             for r in refs {
                 let target = r.prim_path.as_str();
-                let missing = if !target.is_empty() && !super::reader::is_prim_path(target) {
+                let missing = if !target.is_empty() && !crate::reader::is_prim_path(target) {
                     true
                 } else if r.asset_path.is_empty() {
                     !target.is_empty()
@@ -376,7 +376,7 @@ impl Walk<'_> {
         // then recurses without end when composing them: such prims (and everything below)
         // are skipped before any other query.
         let path = prim.path().to_string();
-        if !super::reader::is_prim_path(&path) {
+        if !crate::reader::is_prim_path(&path) {
             self.r.warnings.push(Warning {
                 prim: path,
                 kind: WarningKind::InvalidValue,
@@ -569,11 +569,11 @@ impl Walk<'_> {
         };
         let mut uvs = None;
         if let Some(m) = material
-            && let super::material::Diffuse::Texture(t) = &self.scene.materials[m].diffuse
+            && let crate::material::Diffuse::Texture(t) = &self.scene.materials[m].diffuse
         {
             let name = format!("primvars:{}", t.st_primvar);
             if let Some(v) = self.r.raw(prim, &name)?
-                && let Some(st) = super::value::as_vec2_array(&v)
+                && let Some(st) = crate::value::as_vec2_array(&v)
             {
                 uvs = expand_primvar(&mut self.r, prim, &name, st, "constant", &topo)?
                     .map(|c| mirror_corners(c, mirror));
@@ -581,10 +581,10 @@ impl Walk<'_> {
         }
         // UsdGeomPlane overrides the Gprim fallback: planes are double-sided unless authored.
         let double_sided = self.r.bool_or(prim, "doubleSided", type_name == "Plane")?;
-        let spectral = super::light::read_spectral_attributes(
+        let spectral = crate::light::read_spectral_attributes(
             &mut self.r,
             prim,
-            &super::light::SURFACE_NAMESPACES,
+            &crate::light::SURFACE_NAMESPACES,
         )?;
         let mut light = None;
         if api.iter().any(|a| a == "MeshLightAPI") {

@@ -2,7 +2,7 @@
 //! name the file and the prim; renderer-specific attributes and unknown prim types are ignored
 //! without a warning; absurd sizes hit the limits; nothing panics.
 
-use lux_render::scene::{LoadError, LoadOptions, WarningKind, load_stage, load_usda_str};
+use lux_usd::{LoadError, LoadOptions, WarningKind, load_stage, load_usda_str};
 use std::path::{Path, PathBuf};
 
 fn scenes() -> PathBuf {
@@ -315,7 +315,7 @@ fn fuzz_regressions_non_identifier_paths() {
     assert_eq!(s.meshes.len(), 1);
     assert_eq!(
         s.materials[0].diffuse,
-        lux_render::scene::Diffuse::Color(lux_render::scene::material::DEFAULT_DIFFUSE)
+        lux_usd::Diffuse::Color(lux_usd::material::DEFAULT_DIFFUSE)
     );
     // prim names that are not identifiers: skipped with their subtree, with a warning
     let names = "#usda 1.0\ndef Xform \"a b\"\n{\n    def Sphere \"c}d\"\n    {\n    }\n}\ndef Sphere \"ok\"\n{\n}\n";

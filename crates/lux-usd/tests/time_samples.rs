@@ -4,7 +4,7 @@
 //! the last sample. Samples are authored at frames 1 and 3 in `time_samples.usda`.
 
 use glam::{DVec2, DVec3};
-use lux_render::scene::{Projection, Scene, load_stage};
+use lux_usd::{Projection, Scene, load_stage};
 use std::path::PathBuf;
 
 fn file() -> PathBuf {
@@ -114,7 +114,7 @@ fn non_interpolable_values_are_held() {
         let want_tex = if later {
             "../luxtest/04f377f94ce81cd7b5101fffdf571454.jpg"
         } else {
-            "../luxtest/dome_grid_2k.exr"
+            "textures/latlong_4x2.png"
         };
         assert_eq!(tex.authored, want_tex, "asset at {frame}");
         assert!(tex.resolved.as_ref().unwrap().is_file());

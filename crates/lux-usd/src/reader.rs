@@ -1,14 +1,14 @@
 //! Typed attribute reads at the load frame, with file/prim/attribute context for errors.
 
-use super::error::{LoadError, Warning, WarningKind};
-use super::value;
+use crate::error::{LoadError, Warning, WarningKind};
+use crate::value;
 use glam::{DMat4, DVec2, DVec3, DVec4};
 use openusd::sdf::{FieldKey, Value};
 use openusd::usd::{Prim, Stage, TimeCode};
 use std::path::PathBuf;
 
 /// Default upper bound on any array the loader copies (points, indices, primvars) and on one
-/// mesh's triangulation: 2^27 elements ([`super::LoadOptions::max_array_len`]).
+/// mesh's triangulation: 2^27 elements ([`crate::LoadOptions::max_array_len`]).
 pub const MAX_ARRAY_LEN: usize = 1 << 27;
 
 /// Reads attributes of a composed stage at one time code. A property name that is not a USD
@@ -27,7 +27,7 @@ pub struct Reader<'s> {
     /// Collected warnings.
     pub warnings: Vec<Warning>,
     /// Size limits of this load.
-    pub limits: super::LoadOptions,
+    pub limits: crate::LoadOptions,
 }
 
 impl<'s> Reader<'s> {

@@ -1,3 +1,5 @@
+//! # lux-usd
+//!
 //! USD scene loading: a composed `openusd` stage evaluated at one frame into a plain [`Scene`].
 //!
 //! The loader is the only part of lux that touches USD. It fills in every UsdLux schema default
@@ -12,6 +14,9 @@
 //! triangulation, primvar expansion and implicit-gprim tessellation. [`load_usda_str`] loads
 //! `.usda` text from memory.
 
+#![warn(missing_docs)]
+
+pub mod asset;
 pub mod camera;
 pub mod error;
 pub mod light;
@@ -123,6 +128,11 @@ impl Scene {
         }
     }
 }
+
+/// The README's examples, compiled as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
 
 #[cfg(test)]
 mod tests {

@@ -1,7 +1,7 @@
 //! `UsdGeomCamera`, `UsdRenderSettings` and `UsdRenderProduct` as plain data.
 
-use super::error::LoadError;
-use super::reader::Reader;
+use crate::error::LoadError;
+use crate::reader::Reader;
 use glam::{DMat4, DVec2, DVec4};
 use openusd::usd::Prim;
 
@@ -154,7 +154,7 @@ pub fn read_render_base(r: &mut Reader<'_>, prim: &Prim) -> Result<RenderBase, L
         Some(v) => {
             r.warn(
                 prim,
-                super::error::WarningKind::InvalidValue,
+                crate::error::WarningKind::InvalidValue,
                 format!("resolution {v} outside 1..=65536; ignored"),
             );
             None

@@ -1,7 +1,7 @@
 //! `UsdGeomMesh` triangulation and primvar expansion into world-space triangle meshes.
 
-use super::error::{LoadError, WarningKind};
-use super::reader::Reader;
+use crate::error::{LoadError, WarningKind};
+use crate::reader::Reader;
 use glam::{DMat3, DMat4, DVec2, DVec3};
 use openusd::usd::Prim;
 
@@ -32,7 +32,7 @@ pub struct Mesh {
     pub light: Option<usize>,
     /// LTESpectralAPI inputs authored on the gprim itself (`wavelength:reflectance`, …); a
     /// reflectance here wins over the material's.
-    pub spectral: super::light::SpectralAttributes,
+    pub spectral: crate::light::SpectralAttributes,
 }
 
 impl Mesh {
@@ -163,7 +163,7 @@ pub fn expand_primvar<T: Copy>(
         .unwrap_or_else(|| default_interp.to_owned());
     let idx_name = format!("{name}:indices");
     let indices = match r.raw(prim, &idx_name)? {
-        Some(v) => super::value::as_int_array(&v),
+        Some(v) => crate::value::as_int_array(&v),
         None => None,
     };
     let longest = values.len().max(indices.as_ref().map_or(0, Vec::len));

@@ -5,9 +5,9 @@
 //! first: row-vector `p' = p · C · B · A`, i.e. column form `local = A * B * C` — the ops multiply
 //! in list order. The world transform is `parent_world * local` unless the prim resets the stack.
 
-use super::error::{LoadError, WarningKind};
-use super::reader::Reader;
-use super::value;
+use crate::error::{LoadError, WarningKind};
+use crate::reader::Reader;
+use crate::value;
 use glam::{DMat4, DQuat, DVec3};
 use openusd::usd::Prim;
 

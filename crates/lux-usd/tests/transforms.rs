@@ -4,7 +4,7 @@
 //! documents (`xformOpOrder = [A, B, C]` → `M = C · B · A`, the last op applies first).
 
 use glam::{DMat4, DVec3};
-use lux_render::scene::{Scene, load_stage};
+use lux_usd::{Scene, load_stage};
 use std::path::PathBuf;
 
 type Rows = [[f64; 4]; 4];

@@ -1,8 +1,8 @@
 //! `material:binding` → `UsdPreviewSurface.inputs:diffuseColor`, as a value or a `UsdUVTexture`.
 
-use super::error::{LoadError, WarningKind};
-use super::light::{SURFACE_NAMESPACES, SpectralAttributes, read_spectral_attributes};
-use super::reader::{AssetRef, Reader, is_prim_path, is_property_name};
+use crate::error::{LoadError, WarningKind};
+use crate::light::{SURFACE_NAMESPACES, SpectralAttributes, read_spectral_attributes};
+use crate::reader::{AssetRef, Reader, is_prim_path, is_property_name};
 use glam::{DVec3, DVec4};
 use openusd::usd::Prim;
 

@@ -154,7 +154,7 @@ pub fn as_f64_array(v: &Value) -> Option<Vec<f64>> {
 }
 
 /// An asset path: `(authored, resolved)`. A one-element `asset[]` is accepted too (see
-/// [`super::usda_fix`]).
+/// [`crate::usda_fix`]).
 pub fn as_asset(v: &Value) -> Option<(String, Option<String>)> {
     match v {
         Value::AssetPath(a) => Some((

@@ -3,7 +3,7 @@
 //! single-layer package, `usdz::ArchiveWriter` for one that also carries the scene's assets),
 //! and every form loads to the same `Scene` at every frame tested.
 
-use lux_render::scene::{AssetRef, Diffuse, RawValue, Scene, WarningKind, load_stage, usda_fix};
+use lux_usd::{AssetRef, Diffuse, RawValue, Scene, WarningKind, load_stage, usda_fix};
 use std::fs;
 use std::path::{Path, PathBuf};
 
@@ -74,7 +74,7 @@ fn write_binary_forms(dir: &Path) {
 }
 
 fn for_each_asset(scene: &mut Scene, f: &mut dyn FnMut(&mut AssetRef)) {
-    fn raw(values: &mut lux_render::scene::SpectralAttributes, f: &mut dyn FnMut(&mut AssetRef)) {
+    fn raw(values: &mut lux_usd::SpectralAttributes, f: &mut dyn FnMut(&mut AssetRef)) {
         for v in values.values.values_mut() {
             if let RawValue::Asset(a) = v {
                 f(a);
@@ -198,50 +198,4 @@ fn resolved_package_assets_name_the_package_entry() {
         .to_string_lossy()
         .into_owned();
     assert!(text.ends_with("roundtrip.usdz[assets/tiny.ies]"), "{text}");
-}
-
-/// The renderer reads IES profiles and textures from inside the package: the lights prepared
-/// from the .usdz emit exactly what those of the loose .usda emit.
-#[test]
-fn packaged_assets_render_like_loose_files() {
-    use lux_math::Profile;
-    use lux_render::lights::{LightOptions, LightSelection, LightSet};
-    let dir = workdir("pkg-render");
-    write_binary_forms(&dir);
-    let opts = LightOptions {
-        profile: Profile::Spec,
-        selection: LightSelection::All,
-    };
-    let loose = load_stage(dir.join("roundtrip.usda"), 1.0).unwrap();
-    let packed = load_stage(dir.join("roundtrip.usdz"), 1.0).unwrap();
-    let a = LightSet::new(&loose, opts).unwrap();
-    let b = LightSet::new(&packed, opts).unwrap();
-    assert_eq!(a.lights.len(), b.lights.len());
-    let dirs = [
-        glam::DVec3::new(0.0, 0.0, -1.0),
-        glam::DVec3::new(0.3, -0.2, -0.9),
-        glam::DVec3::new(-0.5, 0.4, -0.6),
-    ];
-    let points = [
-        glam::DVec3::ZERO,
-        glam::DVec3::new(0.2, -0.1, 0.0),
-        glam::DVec3::new(-0.3, 0.25, 0.0),
-    ];
-    let mut compared = 0;
-    for (x, y) in a.lights.iter().zip(&b.lights) {
-        assert_eq!(x.path, y.path);
-        assert_eq!(x.radiance, y.radiance, "{}", x.path);
-        assert_eq!(x.shaping.has_ies(), y.shaping.has_ies(), "{}", x.path);
-        for d in dirs {
-            for p in points {
-                assert_eq!(x.emitted(p, d, true), y.emitted(p, d, true), "{}", x.path);
-                compared += 1;
-            }
-        }
-    }
-    assert!(compared > 0);
-    assert!(
-        b.lights.iter().any(|l| l.shaping.has_ies()),
-        "the packaged IES is used"
-    );
 }

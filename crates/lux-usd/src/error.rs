@@ -1,4 +1,4 @@
-//! Load errors (fatal) and warnings (recorded in the [`super::Scene`]).
+//! Load errors (fatal) and warnings (recorded in the [`crate::Scene`]).
 
 use std::path::PathBuf;
 

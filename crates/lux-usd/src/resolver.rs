@@ -1,8 +1,8 @@
 //! The asset resolver the loader hands to `openusd`: the crate's `DefaultResolver` plus the
-//! `.usda` text fix of [`super::usda_fix`] applied when a layer is opened, and the refusal of
-//! layers holding paths that would hang composition ([`super::path_guard`]).
+//! `.usda` text fix of [`crate::usda_fix`] applied when a layer is opened, and the refusal of
+//! layers holding paths that would hang composition ([`crate::path_guard`]).
 
-use super::path_guard::{first_unwalkable_path, usda_may_hold_unwalkable_path};
+use crate::path_guard::{first_unwalkable_path, usda_may_hold_unwalkable_path};
 use openusd::ar::{self, Asset, DefaultResolver, ResolvedPath, Resolver};
 use openusd::usdc::CrateData;
 use std::io;
@@ -44,7 +44,7 @@ impl LuxResolver {
     }
 }
 
-/// The error for a layer holding a path `openusd` cannot walk ([`super::path_guard`]).
+/// The error for a layer holding a path `openusd` cannot walk ([`crate::path_guard`]).
 fn unwalkable(layer: &str, path: &str) -> io::Error {
     io::Error::new(
         io::ErrorKind::InvalidData,
@@ -104,7 +104,7 @@ impl Resolver for LuxResolver {
         };
         let fixed = std::str::from_utf8(&bytes)
             .ok()
-            .and_then(super::usda_fix::rewrite_asset_time_samples);
+            .and_then(crate::usda_fix::rewrite_asset_time_samples);
         let bytes = match fixed {
             Some(text) => text.into_bytes(),
             None => bytes,

@@ -2,7 +2,7 @@
 //! visibility / purpose of `imageable.usda`.
 
 use glam::{DVec2, DVec3, DVec4};
-use lux_render::scene::{Diffuse, Mesh, Projection, Scene, load_stage};
+use lux_usd::{Diffuse, Mesh, Projection, Scene, load_stage};
 use std::path::PathBuf;
 
 fn scenes() -> PathBuf {
@@ -260,7 +260,7 @@ fn camera_schema_defaults() {
 
 #[test]
 fn normals_interpolation_and_precedence() {
-    use lux_render::scene::{LoadOptions, load_usda_str};
+    use lux_usd::{LoadOptions, load_usda_str};
     // `normals` defaults to vertex interpolation; `primvars:normals` (constant by default)
     // wins over it when both are authored; a right-handed quad keeps its winding.
     let quad = |extra: &str| {
@@ -305,8 +305,5 @@ fn normals_interpolation_and_precedence() {
     )
     .unwrap();
     assert!(s.meshes[0].colors.is_none());
-    assert_eq!(
-        s.warnings[0].kind,
-        lux_render::scene::WarningKind::InvalidGeometry
-    );
+    assert_eq!(s.warnings[0].kind, lux_usd::WarningKind::InvalidGeometry);
 }

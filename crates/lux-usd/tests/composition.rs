@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 use lux_math::{LightKind, LightShape};
-use lux_render::scene::{Light, Scene, UpAxis, load_stage};
+use lux_usd::{Light, Scene, UpAxis, load_stage};
 use std::path::{Path, PathBuf};
 
 fn data() -> PathBuf {
@@ -35,7 +35,7 @@ fn same_file(p: Option<&PathBuf>, want: &Path) -> bool {
     p.and_then(|p| p.canonicalize().ok()).as_deref() == Some(want)
 }
 
-fn ies(l: &Light) -> &lux_render::scene::AssetRef {
+fn ies(l: &Light) -> &lux_usd::AssetRef {
     l.shaping
         .as_ref()
         .and_then(|s| s.ies_file.as_ref())
