@@ -167,20 +167,10 @@ pub fn resolve_profile(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use lux_usd::{RenderBase, RenderSettings, Scene, UpAxis};
+    use lux_usd::{RenderBase, RenderSettings, Scene};
 
     fn scene(attr: Option<&str>) -> Scene {
         Scene {
-            source: PathBuf::from("s.usda"),
-            frame: 1.0,
-            up_axis: UpAxis::Y,
-            meters_per_unit: 1.0,
-            unit_for_wavelength: None,
-            time_code_range: None,
-            meshes: vec![],
-            lights: vec![],
-            materials: vec![],
-            cameras: vec![],
             render_settings: vec![RenderSettings {
                 path: "/Render/Settings".into(),
                 base: RenderBase::default(),
@@ -188,8 +178,7 @@ mod tests {
                 products: vec![],
                 conformance_profile: attr.map(str::to_owned),
             }],
-            warnings: vec![],
-            prim_count: 0,
+            ..Scene::empty("s.usda")
         }
     }
 

@@ -245,8 +245,7 @@ fn barycentric(p: DVec3, a: DVec3, b: DVec3, c: DVec3, n: DVec3) -> DVec2 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use lux_usd::{Mesh, Scene, UpAxis};
-    use std::path::PathBuf;
+    use lux_usd::{Mesh, Scene};
 
     fn quad(double_sided: bool, y: f64) -> Mesh {
         Mesh {
@@ -266,19 +265,8 @@ mod tests {
 
     pub(crate) fn scene_with(meshes: Vec<Mesh>) -> Scene {
         Scene {
-            source: PathBuf::from("test.usda"),
-            frame: 1.0,
-            up_axis: UpAxis::Y,
-            meters_per_unit: 1.0,
-            unit_for_wavelength: None,
-            time_code_range: None,
             meshes,
-            lights: vec![],
-            materials: vec![],
-            cameras: vec![],
-            render_settings: vec![],
-            warnings: vec![],
-            prim_count: 0,
+            ..Scene::empty("test.usda")
         }
     }
 

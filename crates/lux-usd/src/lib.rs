@@ -36,7 +36,7 @@ pub use error::{LoadError, Warning, WarningKind};
 pub use light::{Light, PoleAxis, RawValue, ShadowInputs, ShapingInputs, SpectralAttributes};
 pub use load::{LoadOptions, MEMORY_LAYER, load_stage, load_stage_with, load_usda_str};
 pub use material::{Diffuse, Material, TextureInput};
-pub use mesh::Mesh;
+pub use mesh::{Gprim, Instance, Mesh, Prototype};
 pub use reader::AssetRef;
 
 use std::path::PathBuf;
@@ -67,8 +67,13 @@ pub struct Scene {
     pub unit_for_wavelength: Option<String>,
     /// `[startTimeCode, endTimeCode]` when authored.
     pub time_code_range: Option<[f64; 2]>,
-    /// Drawn gprims (visible, purpose default/render) as world-space triangle meshes.
+    /// Drawn gprims (visible, purpose default/render) as triangle meshes: in world space, or
+    /// in a prototype's space (`Mesh::prototype`) for instanced geometry.
     pub meshes: Vec<Mesh>,
+    /// Instancing prototypes: geometry stored once, drawn by every [`Instance`] of it.
+    pub prototypes: Vec<Prototype>,
+    /// Placements of prototypes (native instances and PointInstancer instances).
+    pub instances: Vec<Instance>,
     /// Supported lights (mesh lights also appear in `meshes`).
     pub lights: Vec<Light>,
     /// Materials bound to the meshes (indexed by `Mesh::material`).
@@ -94,6 +99,8 @@ impl Scene {
             unit_for_wavelength: None,
             time_code_range: None,
             meshes: Vec::new(),
+            prototypes: Vec::new(),
+            instances: Vec::new(),
             lights: Vec::new(),
             materials: Vec::new(),
             cameras: Vec::new(),

@@ -168,6 +168,8 @@ fn load_with(
                 .has_authored_time_code_range()
                 .then(|| [stage.start_time_code(), stage.end_time_code()]),
             meshes: Vec::new(),
+            prototypes: Vec::new(),
+            instances: Vec::new(),
             lights: Vec::new(),
             materials: Vec::new(),
             cameras: Vec::new(),
@@ -622,6 +624,8 @@ impl Walk<'_> {
             material,
             light,
             spectral,
+            prototype: None,
+            gprim: crate::mesh::Gprim::of_type(type_name).unwrap_or(crate::mesh::Gprim::Mesh),
         });
         Ok(())
     }

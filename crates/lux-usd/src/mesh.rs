@@ -5,20 +5,22 @@ use crate::reader::Reader;
 use glam::{DMat3, DMat4, DVec2, DVec3};
 use openusd::usd::Prim;
 
-/// A renderable triangle mesh in world space.
+/// A renderable triangle mesh: in world space, or — when [`Mesh::prototype`] is set — in the
+/// space of an instancing prototype, drawn once per [`Instance`] of that prototype.
 ///
-/// Triangles are wound so that `(b − a) × (c − a)` points to the USD **front** side (the
-/// `orientation` and a mirroring transform are already accounted for).
+/// Triangles are wound so that `(b − a) × (c − a)` points to the USD **front** side in the
+/// mesh's own space (the `orientation` and a mirroring transform up to that space are already
+/// accounted for; an instance transform that mirrors flips it again).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Mesh {
     /// The gprim's prim path.
     pub path: String,
-    /// World-space vertex positions.
+    /// Vertex positions (world space, or prototype space for a prototype's mesh).
     pub positions: Vec<DVec3>,
     /// Vertex indices of each triangle.
     pub triangles: Vec<[u32; 3]>,
-    /// Unit world-space shading normals per triangle corner (`normals` /
-    /// `primvars:normals`), when authored.
+    /// Unit shading normals per triangle corner (`normals` / `primvars:normals`) in the
+    /// mesh's space, when authored.
     pub normals: Option<Vec<[DVec3; 3]>>,
     /// `primvars:displayColor` per triangle corner, when authored.
     pub colors: Option<Vec<[DVec3; 3]>>,
@@ -26,13 +28,85 @@ pub struct Mesh {
     pub uvs: Option<Vec<[DVec2; 3]>>,
     /// `doubleSided` (Gprim fallback false; UsdGeomPlane's fallback true).
     pub double_sided: bool,
-    /// Index into `Scene::materials` of the bound material.
+    /// Index into `Scene::materials` of the bound material (`material:binding`, resolved
+    /// within the prototype for a prototype's mesh; see [`Instance::material`]).
     pub material: Option<usize>,
     /// Index into `Scene::lights` when the gprim has `MeshLightAPI`.
     pub light: Option<usize>,
     /// LTESpectralAPI inputs authored on the gprim itself (`wavelength:reflectance`, …); a
     /// reflectance here wins over the material's.
     pub spectral: crate::light::SpectralAttributes,
+    /// The [`Prototype`] (index into `Scene::prototypes`) this mesh belongs to: `None` for a
+    /// mesh drawn once in world space.
+    pub prototype: Option<usize>,
+    /// The gprim schema the triangles came from.
+    pub gprim: Gprim,
+}
+
+/// The UsdGeom gprim type a [`Mesh`] was made from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Gprim {
+    /// `Mesh` (polygons, fan-triangulated).
+    Mesh,
+    /// `Sphere`, tessellated.
+    Sphere,
+    /// `Cube`, tessellated.
+    Cube,
+    /// `Cylinder`, tessellated.
+    Cylinder,
+    /// `Cone`, tessellated.
+    Cone,
+    /// `Capsule`, tessellated.
+    Capsule,
+    /// `Plane`, tessellated.
+    Plane,
+}
+
+impl Gprim {
+    /// The gprim of a prim type name, `None` for anything else.
+    pub fn of_type(type_name: &str) -> Option<Gprim> {
+        Some(match type_name {
+            "Mesh" => Gprim::Mesh,
+            "Sphere" => Gprim::Sphere,
+            "Cube" => Gprim::Cube,
+            "Cylinder" => Gprim::Cylinder,
+            "Cone" => Gprim::Cone,
+            "Capsule" => Gprim::Capsule,
+            "Plane" => Gprim::Plane,
+            _ => return None,
+        })
+    }
+}
+
+/// Geometry shared by instances: the meshes of a native-instancing prototype
+/// (`/__Prototype_N`, the shared subtree of every `instanceable` prim with the same
+/// composition) or of a `UsdGeomPointInstancer` prototype (a target of its `prototypes`
+/// relationship), in the prototype root's space.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Prototype {
+    /// The prototype's prim path (`/__Prototype_1`, or the PointInstancer's target).
+    pub path: String,
+    /// Indices into `Scene::meshes` of its meshes (whose `prototype` is this one).
+    pub meshes: Vec<usize>,
+}
+
+/// One placement of a [`Prototype`] in the world: a native instance (an `instanceable` prim)
+/// or one entry of a PointInstancer's `protoIndices`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Instance {
+    /// The instance prim's path, or for a PointInstancer `"/Path/To/Instancer[i]"` (`i` the
+    /// index into `protoIndices`).
+    pub path: String,
+    /// Index into `Scene::prototypes`.
+    pub prototype: usize,
+    /// Prototype-to-world transform (glam column form). Native: the instance prim's world
+    /// transform. PointInstancer: the instancer's world transform after the instance's own
+    /// (`scale`, `orientation`, `position`, UsdGeomPointInstancer's
+    /// `ComputeInstanceTransformsAtTime`) after the prototype root's local transform.
+    pub to_world: DMat4,
+    /// The material bound on the instance's side (inherited from the instance prim or its
+    /// ancestors): used by prototype meshes that have no binding of their own.
+    pub material: Option<usize>,
 }
 
 impl Mesh {
@@ -50,6 +124,8 @@ impl Mesh {
             material: None,
             light: None,
             spectral: Default::default(),
+            prototype: None,
+            gprim: Gprim::Mesh,
         }
     }
 }
