@@ -1,14 +1,15 @@
 //! The asset resolver the loader hands to `openusd`: the crate's `DefaultResolver` plus the
-//! `.usda` text fix of [`crate::usda_fix`] applied when a layer is opened, and the refusal of
-//! layers holding paths that would hang composition ([`crate::path_guard`]).
+//! compatibility rewrites of [`crate::compat`] applied when a layer is opened (the `.usda` pass
+//! of [`crate::compat::usda`], the crate time-sample fix of [`crate::compat::usdc`]), and the
+//! refusal of layers holding paths that would hang composition ([`crate::path_guard`]).
 
 use crate::path_guard::{first_unwalkable_path, usda_may_hold_unwalkable_path};
 use openusd::ar::{self, Asset, DefaultResolver, ResolvedPath, Resolver};
-use openusd::usdc::CrateData;
 use std::io;
 
 /// `DefaultResolver` (filesystem paths relative to the authoring layer, `.usdz` packages) that
-/// rewrites scalar asset time samples in `.usda` layers before `openusd` parses them.
+/// serves `openusd` each layer rewritten by [`crate::compat`] (text layers by its `.usda` pass,
+/// crate layers older than 0.7.0 by its time-sample fix).
 ///
 /// It can also serve one in-memory `.usda` layer under a fixed identifier (for loading a stage
 /// from a string).
@@ -55,6 +56,18 @@ fn unwalkable(layer: &str, path: &str) -> io::Error {
     )
 }
 
+/// The scheme of a URI-like asset path (`http` in `http://host/a.usda`): letters, digits, `+`,
+/// `-`, `.` before `://`, at least two characters (so `C:/…` stays a Windows path).
+pub(crate) fn uri_scheme(path: &str) -> Option<&str> {
+    let (scheme, _) = path.split_once("://")?;
+    let ok = scheme.len() >= 2
+        && scheme.starts_with(|c: char| c.is_ascii_alphabetic())
+        && scheme
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '+' | '-' | '.'));
+    ok.then_some(scheme)
+}
+
 /// Whether a resolved path names a text layer, including a `.usda` inside a package
 /// (`pkg.usdz[inner.usda]`).
 fn is_text_layer(path: &str) -> bool {
@@ -64,9 +77,18 @@ fn is_text_layer(path: &str) -> bool {
         .is_some_and(|ext| ext.eq_ignore_ascii_case("usda"))
 }
 
+/// The `#usda` magic a text layer starts with (a `.usd` file may hold text, and `openusd`
+/// reads such a file as text when it does not start with the crate magic).
+const USDA_MAGIC: &[u8] = b"#usda";
+
 impl Resolver for LuxResolver {
     fn create_identifier(&self, asset_path: &str, anchor: Option<&ResolvedPath>) -> String {
         if anchor.is_none() && self.memory(asset_path).is_some() {
+            return asset_path.to_owned();
+        }
+        // A URI (`http://…`, `omniverse://…`) is an identifier of its own: anchoring it at a
+        // layer's directory would mangle it into a local path (`dir/http:/host/…`).
+        if uri_scheme(asset_path).is_some() {
             return asset_path.to_owned();
         }
         self.inner.create_identifier(asset_path, anchor)
@@ -75,6 +97,11 @@ impl Resolver for LuxResolver {
     fn resolve(&self, asset_path: &str) -> Option<ResolvedPath> {
         if self.memory(asset_path).is_some() {
             return Some(ResolvedPath::new(asset_path));
+        }
+        // lux resolves files and package entries only: a URI does not resolve (the arc is
+        // reported unresolved, naming the URI as written).
+        if uri_scheme(asset_path).is_some() {
+            return None;
         }
         self.inner.resolve(asset_path)
     }
@@ -89,12 +116,21 @@ impl Resolver for LuxResolver {
             b.to_vec()
         } else {
             let mut asset = self.inner.open_asset(resolved_path)?;
-            let bytes = asset.read_all()?;
-            if !is_text_layer(&name) {
-                if bytes.starts_with(b"PXR-USDC") {
-                    // a crate layer: the same path screen as for text, on its own parse
-                    let data = CrateData::open(io::Cursor::new(&bytes[..]), true);
-                    if let Some(p) = data.ok().and_then(|d| first_unwalkable_path(&d)) {
+            let mut bytes = asset.read_all()?;
+            if !is_text_layer(&name) && !bytes.starts_with(USDA_MAGIC) {
+                if bytes.starts_with(openusd::usdc::MAGIC) {
+                    // a crate layer: times of old crate versions in the layout openusd reads,
+                    // then the same path screen as for text, on its own parse
+                    crate::compat::usdc::fix_time_samples(&mut bytes);
+                    let screened =
+                        crate::compat::usdc::read_crate(&bytes, |d| first_unwalkable_path(d))
+                            .map_err(|why| {
+                                io::Error::new(
+                                    io::ErrorKind::InvalidData,
+                                    format!("{name}: malformed crate layer ({why})"),
+                                )
+                            })?;
+                    if let Some(p) = screened.flatten() {
                         return Err(unwalkable(&name, &p));
                     }
                 }
@@ -104,9 +140,9 @@ impl Resolver for LuxResolver {
         };
         let fixed = std::str::from_utf8(&bytes)
             .ok()
-            .and_then(crate::usda_fix::rewrite_asset_time_samples);
+            .and_then(crate::compat::usda::rewrite);
         let bytes = match fixed {
-            Some(text) => text.into_bytes(),
+            Some(r) => r.text.into_bytes(),
             None => bytes,
         };
         if let Ok(text) = std::str::from_utf8(&bytes)
