@@ -1,0 +1,157 @@
+//! One set of triangles in one space and its obvhs CWBVH: the world-space meshes, or the
+//! meshes of one instancing prototype in prototype space (a bottom-level BVH).
+//!
+//! Triangles are stored once, in `f32`, in BVH leaf order; each keeps a [`PrimRef`] back to its
+//! mesh and triangle so that hits are re-intersected in `f64` against the scene's own vertices.
+
+use super::MAX_TRIANGLES;
+use glam::DVec3;
+use lux_usd::Scene;
+use obvhs::BvhBuildParams;
+use obvhs::cwbvh::CwBvh;
+use obvhs::cwbvh::builder::build_cwbvh_from_tris;
+use obvhs::ray::{Ray, RayHit};
+use obvhs::triangle::Triangle;
+use std::time::Duration;
+
+/// One triangle's provenance: which mesh, which triangle of it, and its culling flag.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct PrimRef {
+    /// Index into `Scene::meshes`.
+    pub mesh: u32,
+    /// Triangle index within the mesh.
+    pub tri: u32,
+    /// The mesh's `doubleSided`: false = invisible from behind to closest-hit queries.
+    pub double_sided: bool,
+}
+
+/// Triangles of some meshes, in their meshes' common space, and their BVH.
+pub(super) struct Blas {
+    bvh: CwBvh,
+    /// Triangles in BVH primitive order (`f32`, for traversal).
+    tris: Vec<Triangle>,
+    /// Per BVH primitive: its source.
+    pub prims: Vec<PrimRef>,
+    /// `f64` bounds of the stored triangles' vertices (the meshes' space).
+    pub bounds: (DVec3, DVec3),
+}
+
+impl Blas {
+    /// Builds the BVH over every valid triangle of the meshes `meshes` (in order) of `scene`:
+    /// triangles with an out-of-range index, a non-finite vertex or zero area are kept out, and
+    /// no triangle is stored once `*stored` (the count over every BVH of the scene) reaches
+    /// [`MAX_TRIANGLES`]. `None` when no triangle remains. Deterministic: obvhs builds
+    /// single-threaded without its `parallel` feature.
+    pub fn build(
+        scene: &Scene,
+        meshes: impl Iterator<Item = usize>,
+        stored: &mut usize,
+    ) -> Option<Blas> {
+        let mut tris = Vec::new();
+        let mut prims = Vec::new();
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for mi in meshes {
+            let m = &scene.meshes[mi];
+            for (ti, t) in m.triangles.iter().enumerate() {
+                let v = t.map(|i| m.positions.get(i as usize).copied());
+                let [Some(a), Some(b), Some(c)] = v else {
+                    continue;
+                };
+                if !(a.is_finite() && b.is_finite() && c.is_finite())
+                    || (b - a).cross(c - a).length_squared() == 0.0
+                {
+                    continue;
+                }
+                if *stored >= MAX_TRIANGLES {
+                    break;
+                }
+                *stored += 1;
+                lo = lo.min(a).min(b).min(c);
+                hi = hi.max(a).max(b).max(c);
+                tris.push(Triangle {
+                    v0: a.as_vec3().into(),
+                    v1: b.as_vec3().into(),
+                    v2: c.as_vec3().into(),
+                });
+                prims.push(PrimRef {
+                    mesh: mi as u32,
+                    tri: ti as u32,
+                    double_sided: m.double_sided,
+                });
+            }
+        }
+        if tris.is_empty() {
+            return None;
+        }
+        let mut bvh = build_cwbvh_from_tris(
+            &tris,
+            BvhBuildParams::medium_build(),
+            &mut Duration::default(),
+        );
+        // obvhs reserves one node per primitive; a CWBVH needs about one per 8–16.
+        bvh.nodes.shrink_to_fit();
+        // Lay the triangles out in BVH order so that leaves index them directly.
+        let tris_ordered: Vec<Triangle> = bvh
+            .primitive_indices
+            .iter()
+            .map(|&i| tris[i as usize])
+            .collect();
+        let prims_ordered: Vec<PrimRef> = bvh
+            .primitive_indices
+            .iter()
+            .map(|&i| prims[i as usize])
+            .collect();
+        Some(Blas {
+            bvh,
+            tris: tris_ordered,
+            prims: prims_ordered,
+            bounds: (lo, hi),
+        })
+    }
+
+    /// Number of stored triangles.
+    pub fn len(&self) -> usize {
+        self.tris.len()
+    }
+
+    /// Bytes held by the BVH, the triangles and their provenance (capacity, not length).
+    pub fn heap_bytes(&self) -> usize {
+        self.bvh.nodes.capacity() * size_of::<obvhs::cwbvh::node::CwBvhNode>()
+            + self.bvh.primitive_indices.capacity() * size_of::<u32>()
+            + self.tris.capacity() * size_of::<Triangle>()
+            + self.prims.capacity() * size_of::<PrimRef>()
+    }
+
+    /// Closest triangle on `ray` within `[ray.tmin, ray.tmax]`, back faces of single-sided
+    /// meshes skipped (the front is the side of `(v1 − v0) × (v2 − v0)`, tested in this BVH's
+    /// space). On a hit, `hit` holds the primitive (index into `prims`) and the `f32` distance.
+    #[inline]
+    pub fn closest(&self, ray: Ray, hit: &mut RayHit) -> bool {
+        self.bvh.ray_traverse(ray, hit, |r, id| {
+            let tri = &self.tris[id];
+            let t = tri.intersect(r);
+            if t.is_finite() && !self.prims[id].double_sided {
+                let n = (tri.v1 - tri.v0).cross(tri.v2 - tri.v0);
+                if n.dot(r.direction) > 0.0 {
+                    return f32::INFINITY;
+                }
+            }
+            t
+        })
+    }
+
+    /// Closest triangle on `ray`, either side.
+    #[inline]
+    pub fn nearest(&self, ray: Ray, hit: &mut RayHit) -> bool {
+        self.bvh
+            .ray_traverse(ray, hit, |r, id| self.tris[id].intersect(r))
+    }
+
+    /// True when any triangle (either side) lies on `ray`; stops at the first one found.
+    #[inline]
+    pub fn any(&self, ray: Ray) -> bool {
+        !self
+            .bvh
+            .ray_traverse_miss(ray, |r, id| self.tris[id].intersect(r))
+    }
+}

@@ -1,0 +1,429 @@
+//! The scene's triangles in `obvhs` compressed-wide BVHs (CWBVH): closest-hit queries for
+//! camera and BSDF rays, any-hit queries for shadow rays.
+//!
+//! Two levels (`geometry/instances.rs`): the world-space meshes in one BVH
+//! (`geometry/blas.rs`), exactly as a scene without instancing; each instanced prototype's
+//! meshes in one BVH in prototype space, and a top-level BVH over the instances' world boxes.
+//! A query traverses the world BVH, then the instances with the closest distance found so far;
+//! the closer hit wins (the world one on a tie).
+//!
+//! Traversal and the first intersection test run in `f32` (what obvhs provides); the hit is then
+//! re-intersected in `f64` against the exact triangle (an instance's prototype triangle mapped to
+//! the world in `f64`) so that positions, barycentrics and normals carry double precision. Ray
+//! origins are offset along the geometric normal by [`Hit::offset`] (for world geometry
+//! [`offset_scale`]`(p)`), which bounds the `f32` rounding of vertices and hit distances (a few
+//! ulps of the largest coordinate involved), so shadow and continuation rays never re-hit the
+//! surface they leave.
+//!
+//! Back faces: a triangle of a mesh that is not `doubleSided` is invisible from behind to
+//! closest-hit queries (UsdGeom: single-sided geometry may be back-face culled), but it
+//! occludes shadow rays from both sides, so a one-sided wall still casts a shadow.
+
+mod blas;
+mod instances;
+
+use blas::Blas;
+use glam::{DVec2, DVec3, Vec3A};
+use instances::Instances;
+use lux_usd::Scene;
+use obvhs::ray::{Ray, RayHit};
+
+/// Largest triangle count the renderer stores (indices are `u32`): world triangles plus each
+/// instanced prototype's triangles once.
+pub const MAX_TRIANGLES: usize = 1 << 28;
+
+/// A closest hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Distance along the (unit) ray direction.
+    pub t: f64,
+    /// Index into `Scene::meshes` (for an instance, its prototype's mesh).
+    pub mesh: usize,
+    /// Triangle index within the mesh.
+    pub tri: usize,
+    /// Index into `Scene::instances` of the instance hit; `None` for a world-space mesh.
+    pub instance: Option<usize>,
+    /// Barycentric coordinates of the hit on the mesh's triangle `[a, b, c]` (its own corner
+    /// order; for an instance, the prototype triangle mapped to the world):
+    /// `p = (1 − b1 − b2)·a + b1·b + b2·c`.
+    pub bary: DVec2,
+    /// The hit point (world space).
+    pub p: DVec3,
+    /// Unit geometric normal on the triangle's front side (USD orientation), world space: for
+    /// an instance with transform `M`, along `M⁻ᵀ·((b − a) × (c − a))` of the prototype
+    /// triangle, i.e. `sign(det M)·(Mb − Ma) × (Mc − Ma)`.
+    pub ng: DVec3,
+    /// True when the ray arrived from the back side (`ng · dir > 0`).
+    pub back: bool,
+    /// How far along `±ng` a ray leaving `p` must start to clear the `f32` rounding of the
+    /// BVH geometry: [`offset_scale`]`(p)` for world meshes, more for an instance whose
+    /// prototype coordinates are large (see the instance hit).
+    pub offset: f64,
+}
+
+/// The scene's triangles and their BVHs.
+pub struct Geometry {
+    /// The world-space meshes (`Mesh::prototype == None`).
+    world: Option<Blas>,
+    /// Instanced prototypes and their placements.
+    instances: Option<Instances>,
+}
+
+/// `max(1, max |coordinate|)`-relative offset that clears the `f32` rounding of the BVH
+/// triangles and of the `f32` hit distance (≈ 2⁻¹⁵ relative: about 256 ulps of `f32`).
+#[inline]
+pub fn offset_scale(p: DVec3) -> f64 {
+    3.0e-5 * p.abs().max_element().max(1.0)
+}
+
+/// The `f64` re-intersection of a ray with a triangle.
+struct ExactHit {
+    t: f64,
+    p: DVec3,
+    bary: DVec2,
+    ng: DVec3,
+    back: bool,
+}
+
+/// Re-intersects `origin + t·dir` with the plane of triangle `(a, b, c)` in `f64`:
+/// `t = n·(a − o) / n·d` with `n = ±(b − a) × (c − a)` the front normal (`−` when `mirror`),
+/// falling back to the traversal's `t_approx` when that is not a positive finite number;
+/// barycentrics of `p = o + t·d` in the corner order `(a, b, c)`.
+#[inline]
+fn exact_hit(
+    a: DVec3,
+    b: DVec3,
+    c: DVec3,
+    mirror: bool,
+    origin: DVec3,
+    dir: DVec3,
+    t_approx: f32,
+) -> ExactHit {
+    let n = (b - a).cross(c - a);
+    let front = if mirror { -n } else { n };
+    let ng = front.normalize();
+    let denom = front.dot(dir);
+    let t = if denom != 0.0 {
+        front.dot(a - origin) / denom
+    } else {
+        t_approx as f64
+    };
+    let t = if t.is_finite() && t > 0.0 {
+        t
+    } else {
+        t_approx as f64
+    };
+    let p = origin + t * dir;
+    ExactHit {
+        t,
+        p,
+        bary: barycentric(p, a, b, c, n),
+        ng,
+        back: denom > 0.0,
+    }
+}
+
+impl Geometry {
+    /// Builds the world BVH over every triangle of the world-space meshes of `scene`, one BVH per
+    /// instanced prototype and the top-level BVH over the instances (deterministic: obvhs builds
+    /// single-threaded without its `parallel` feature). Degenerate triangles are kept out.
+    pub fn new(scene: &Scene) -> Geometry {
+        let mut stored = 0;
+        let world = Blas::build(
+            scene,
+            (0..scene.meshes.len()).filter(|&i| scene.meshes[i].prototype.is_none()),
+            &mut stored,
+        );
+        let instances = Instances::build(scene, &mut stored);
+        Geometry { world, instances }
+    }
+
+    /// Number of triangles stored in the BVHs: the world meshes' plus each drawn prototype's
+    /// once, whatever its instance count.
+    pub fn triangle_count(&self) -> usize {
+        self.world.as_ref().map_or(0, Blas::len)
+            + self
+                .instances
+                .as_ref()
+                .map_or(0, Instances::stored_triangles)
+    }
+
+    /// Number of triangles drawn: the world meshes' plus every instance's prototype triangles
+    /// (what flattening the instances would store).
+    pub fn drawn_triangle_count(&self) -> u64 {
+        self.world.as_ref().map_or(0, |w| w.len() as u64)
+            + self.instances.as_ref().map_or(0, |i| i.drawn_triangles)
+    }
+
+    /// Number of drawn instances (`Scene::instances` minus the undrawable ones: out-of-range or
+    /// empty prototype, non-finite or singular transform).
+    pub fn instance_count(&self) -> usize {
+        self.instances.as_ref().map_or(0, Instances::len)
+    }
+
+    /// Bytes held by the BVHs, their triangles and the instance placements.
+    pub fn heap_bytes(&self) -> usize {
+        self.world.as_ref().map_or(0, Blas::heap_bytes)
+            + self.instances.as_ref().map_or(0, Instances::heap_bytes)
+    }
+
+    /// World-space bounds `(min, max)` of everything drawn, `None` when nothing is: the exact
+    /// box of the world meshes' triangles, joined with each instance's prototype box mapped by
+    /// its transform (the box of the 8 mapped corners: it contains the instance, and is exact
+    /// for translations, scales and quarter turns).
+    pub fn world_bounds(&self) -> Option<(DVec3, DVec3)> {
+        let boxes = [
+            self.world.as_ref().map(|w| w.bounds),
+            self.instances.as_ref().map(|i| i.bounds),
+        ];
+        boxes
+            .into_iter()
+            .flatten()
+            .reduce(|(l0, h0), (l1, h1)| (l0.min(l1), h0.max(h1)))
+    }
+
+    fn ray(origin: DVec3, dir: DVec3, tmin: f64, tmax: f64) -> Option<Ray> {
+        let o = origin.as_vec3();
+        let d = dir.as_vec3();
+        if !(o.is_finite() && d.is_finite()) || d == glam::Vec3::ZERO {
+            return None;
+        }
+        let tmax = if tmax.is_finite() {
+            tmax as f32
+        } else {
+            f32::INFINITY
+        };
+        Some(Ray::new(Vec3A::from(o), Vec3A::from(d), tmin as f32, tmax))
+    }
+
+    /// Closest hit along `origin + t·dir`, `t ∈ (tmin, tmax)`, `dir` unit. Back faces of
+    /// single-sided meshes are skipped.
+    pub fn intersect(
+        &self,
+        scene: &Scene,
+        origin: DVec3,
+        dir: DVec3,
+        tmin: f64,
+        tmax: f64,
+    ) -> Option<Hit> {
+        let ray = Self::ray(origin, dir, tmin, tmax)?;
+        if let Some(inst) = &self.instances {
+            return self.intersect_instanced(inst, scene, ray, origin, dir);
+        }
+        // Without instances, the world BVH alone (the code path of a scene without instancing).
+        let world = self.world.as_ref()?;
+        let mut hit = RayHit::none();
+        world
+            .closest(ray, &mut hit)
+            .then(|| Self::world_hit(world, scene, hit, origin, dir))
+    }
+
+    /// [`Geometry::intersect`] with instances: the world BVH, then the instances up to the
+    /// world hit's distance; the closer hit wins, the world one on a tie.
+    #[inline(never)]
+    fn intersect_instanced(
+        &self,
+        inst: &Instances,
+        scene: &Scene,
+        ray: Ray,
+        origin: DVec3,
+        dir: DVec3,
+    ) -> Option<Hit> {
+        let mut hit = RayHit::none();
+        let world = self.world.as_ref().filter(|w| w.closest(ray, &mut hit));
+        let mut r = ray;
+        if world.is_some() {
+            r.tmax = hit.t;
+        }
+        match inst.closest(origin, dir, r, true) {
+            Some(h) => Some(inst.hit(scene, h, origin, dir)),
+            None => world.map(|w| Self::world_hit(w, scene, hit, origin, dir)),
+        }
+    }
+
+    /// The exact hit of the world BVH's traversal hit `hit`.
+    #[inline]
+    fn world_hit(world: &Blas, scene: &Scene, hit: RayHit, origin: DVec3, dir: DVec3) -> Hit {
+        let pr = world.prims[hit.primitive_id as usize];
+        let mesh = &scene.meshes[pr.mesh as usize];
+        let [ia, ib, ic] = mesh.triangles[pr.tri as usize];
+        let (a, b, c) = (
+            mesh.positions[ia as usize],
+            mesh.positions[ib as usize],
+            mesh.positions[ic as usize],
+        );
+        let e = exact_hit(a, b, c, false, origin, dir, hit.t);
+        Hit {
+            t: e.t,
+            mesh: pr.mesh as usize,
+            tri: pr.tri as usize,
+            instance: None,
+            bary: e.bary,
+            p: e.p,
+            ng: e.ng,
+            back: e.back,
+            offset: offset_scale(e.p),
+        }
+    }
+
+    /// Distance to the closest triangle (either side) on `origin + t·dir`, `t ∈ (tmin, tmax)`:
+    /// the occluder distance of `ShadowAPI`'s shadow distance and falloff (the `f32` traversal
+    /// distance; for an instance, found in prototype space with the same parameter `t`).
+    pub fn first_occluder(&self, origin: DVec3, dir: DVec3, tmin: f64, tmax: f64) -> Option<f64> {
+        let ray = Self::ray(origin, dir, tmin, tmax)?;
+        if let Some(inst) = &self.instances {
+            return self.first_occluder_instanced(inst, ray, origin, dir);
+        }
+        let mut hit = RayHit::none();
+        (self.world.as_ref()?.nearest(ray, &mut hit)).then_some(hit.t as f64)
+    }
+
+    /// [`Geometry::first_occluder`] with instances.
+    #[inline(never)]
+    fn first_occluder_instanced(
+        &self,
+        inst: &Instances,
+        ray: Ray,
+        origin: DVec3,
+        dir: DVec3,
+    ) -> Option<f64> {
+        let mut hit = RayHit::none();
+        let found = self
+            .world
+            .as_ref()
+            .is_some_and(|w| w.nearest(ray, &mut hit));
+        let mut r = ray;
+        if found {
+            r.tmax = hit.t;
+        }
+        match inst.closest(origin, dir, r, false) {
+            Some(h) => Some(h.t as f64),
+            None => found.then_some(hit.t as f64),
+        }
+    }
+
+    /// True when any triangle (either side) lies on `origin + t·dir`, `t ∈ (tmin, tmax)`.
+    pub fn occluded(&self, origin: DVec3, dir: DVec3, tmin: f64, tmax: f64) -> bool {
+        let Some(ray) = Self::ray(origin, dir, tmin, tmax) else {
+            return false;
+        };
+        if let Some(inst) = &self.instances {
+            return self.occluded_instanced(inst, ray, origin, dir);
+        }
+        self.world.as_ref().is_some_and(|w| w.any(ray))
+    }
+
+    /// [`Geometry::occluded`] with instances: the world BVH, then the instances.
+    #[inline(never)]
+    fn occluded_instanced(&self, inst: &Instances, ray: Ray, origin: DVec3, dir: DVec3) -> bool {
+        self.world.as_ref().is_some_and(|w| w.any(ray)) || inst.any(origin, dir, ray)
+    }
+}
+
+/// Barycentric coordinates (b1, b2) of `p` in triangle (a, b, c) with unnormalised normal `n`.
+#[inline]
+fn barycentric(p: DVec3, a: DVec3, b: DVec3, c: DVec3, n: DVec3) -> DVec2 {
+    let inv = 1.0 / n.length_squared();
+    let b1 = (c - a).cross(p - a).dot(n) * -inv;
+    let b2 = (b - a).cross(p - a).dot(n) * inv;
+    DVec2::new(b1, b2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lux_usd::{Mesh, Scene};
+
+    fn quad(double_sided: bool, y: f64) -> Mesh {
+        Mesh {
+            double_sided,
+            ..Mesh::new(
+                "/q",
+                vec![
+                    DVec3::new(-1.0, y, -1.0),
+                    DVec3::new(-1.0, y, 1.0),
+                    DVec3::new(1.0, y, 1.0),
+                    DVec3::new(1.0, y, -1.0),
+                ],
+                vec![[0, 1, 2], [0, 2, 3]],
+            )
+        }
+    }
+
+    pub(crate) fn scene_with(meshes: Vec<Mesh>) -> Scene {
+        Scene {
+            meshes,
+            ..Scene::empty("test.usda")
+        }
+    }
+
+    #[test]
+    fn closest_hit_culling_and_barycentrics() {
+        let scene = scene_with(vec![quad(false, 0.0), quad(true, 1.0)]);
+        let g = Geometry::new(&scene);
+        assert_eq!(g.triangle_count(), 4);
+        // From above: hits the double-sided quad at y = 1 first, from its front.
+        let h = g
+            .intersect(
+                &scene,
+                DVec3::new(0.25, 5.0, 0.5),
+                DVec3::NEG_Y,
+                0.0,
+                f64::INFINITY,
+            )
+            .unwrap();
+        assert_eq!(h.mesh, 1);
+        assert!((h.t - 4.0).abs() < 1e-12 && !h.back);
+        assert!((h.ng - DVec3::Y).length() < 1e-12);
+        // Barycentrics reproduce the point.
+        let m = &scene.meshes[1];
+        let [a, b, c] = m.triangles[h.tri].map(|i| m.positions[i as usize]);
+        let q = (1.0 - h.bary.x - h.bary.y) * a + h.bary.x * b + h.bary.y * c;
+        assert!((q - h.p).length() < 1e-12, "{q} vs {}", h.p);
+        // From below: the single-sided floor is culled from behind; the double-sided quad is hit
+        // from its back.
+        let h = g
+            .intersect(
+                &scene,
+                DVec3::new(0.25, -5.0, 0.5),
+                DVec3::Y,
+                0.0,
+                f64::INFINITY,
+            )
+            .unwrap();
+        assert_eq!(h.mesh, 1);
+        assert!(h.back && (h.t - 6.0).abs() < 1e-12);
+        // Shadow rays see both sides.
+        assert!(g.occluded(DVec3::new(0.25, -5.0, 0.5), DVec3::Y, 0.0, 5.5));
+        assert!(!g.occluded(DVec3::new(0.25, -5.0, 0.5), DVec3::Y, 0.0, 4.5));
+        assert!(!g.occluded(DVec3::new(3.0, -5.0, 0.5), DVec3::Y, 0.0, 100.0));
+        // tmax bounds the closest-hit query too.
+        assert!(
+            g.intersect(&scene, DVec3::new(0.25, 5.0, 0.5), DVec3::NEG_Y, 0.0, 3.5)
+                .is_none()
+        );
+    }
+
+    #[test]
+    fn empty_and_degenerate_scenes() {
+        let scene = scene_with(vec![]);
+        let g = Geometry::new(&scene);
+        assert!(
+            g.intersect(&scene, DVec3::ZERO, DVec3::Y, 0.0, 1.0)
+                .is_none()
+        );
+        assert!(!g.occluded(DVec3::ZERO, DVec3::Y, 0.0, 1.0));
+        let mut q = quad(false, 0.0);
+        q.positions[2] = DVec3::new(f64::NAN, 0.0, 0.0);
+        q.triangles.push([0, 0, 1]);
+        q.triangles.push([0, 9, 1]);
+        let scene = scene_with(vec![q]);
+        let g = Geometry::new(&scene);
+        assert_eq!(g.triangle_count(), 0);
+        // NaN rays are misses, not panics.
+        assert!(
+            g.intersect(&scene, DVec3::NAN, DVec3::Y, 0.0, 1.0)
+                .is_none()
+        );
+    }
+}
