@@ -58,6 +58,7 @@ fn light_sample_vs_shadow_ray(c: &mut Criterion) {
         LightOptions {
             profile: Profile::HdEmbree,
             selection: LightSelection::All,
+            strict: false,
         },
     )
     .expect("lights prepare");

@@ -42,11 +42,13 @@ fn main() -> ExitCode {
                 eprintln!("lux: rendering the demo scene {}", scene.display());
                 cli::render::run(&cli::render::RenderArgs {
                     scene,
-                    frame: 1.0,
+                    frame: Some(1.0),
                     spp: 32,
                     resolution: None,
                     crop: None,
                     camera: None,
+                    strict: false,
+                    disable_camera_light: false,
                     profile: None,
                     sampling: cli::render::SamplingArg::Lux,
                     light_selection: cli::render::SelectionArg::Auto,

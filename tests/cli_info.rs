@@ -17,8 +17,10 @@ fn json_report_of_rect_frame_11() {
     // rect frame 11: intensity 5, normalize on, width 0.2, height 2 → sizeFactor 0.4, L = 12.5.
     let args = info::InfoArgs {
         scene: scene("rect.usda"),
-        frame: 11.0,
+        frame: Some(11.0),
         json: true,
+        strict: false,
+        disable_camera_light: false,
     };
     let v: serde_json::Value = serde_json::from_str(&info::report(&args).unwrap()).unwrap();
     let l = &v["lights"][0];
@@ -35,8 +37,10 @@ fn json_report_of_rect_frame_11() {
 fn missing_file_is_an_error_naming_it() {
     let args = info::InfoArgs {
         scene: scene("nope.usda"),
-        frame: 1.0,
+        frame: Some(1.0),
         json: false,
+        strict: false,
+        disable_camera_light: false,
     };
     let e = info::report(&args).unwrap_err();
     assert!(e.contains("nope.usda") && e.contains("no such file"), "{e}");
@@ -46,8 +50,10 @@ fn missing_file_is_an_error_naming_it() {
 fn physical_units_and_spectra_are_reported_with_their_converted_radiance() {
     let args = info::InfoArgs {
         scene: PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/physical_lights.usda"),
-        frame: 1.0,
+        frame: Some(1.0),
         json: true,
+        strict: false,
+        disable_camera_light: false,
     };
     let v: serde_json::Value = serde_json::from_str(&info::report(&args).unwrap()).unwrap();
     let light = |p: &str| {
@@ -60,8 +66,9 @@ fn physical_units_and_spectra_are_reported_with_their_converted_radiance() {
             .clone()
     };
     let l = light("/World/Lumens");
-    assert_eq!(l["physical"]["photometric:power"], 800.0);
-    assert_eq!(l["physical"]["physical:illuminant"], "blackbody");
+    assert_eq!(l["physical"]["quantity"]["attribute"], "photometric:power");
+    assert_eq!(l["physical"]["quantity"]["value"], 800.0);
+    assert_eq!(l["physical"]["illuminant"], "Blackbody");
     // 800 lm over 2 × 0.5 with G = π: luminance 800/π nits (the blackbody colour has
     // Rec.709 luminance 1).
     let rgb: Vec<f64> = l["profiles"]["spec"]["luminance_rgb"]
@@ -77,10 +84,7 @@ fn physical_units_and_spectra_are_reported_with_their_converted_radiance() {
     );
     assert!(rgb[0] > rgb[2], "3000 K is warm: {rgb:?}");
     let p = light("/World/Preset");
-    assert_eq!(
-        p["physical_metadata"]["wavelength:emission"]["illuminantPreset"],
-        "d65"
-    );
+    assert_eq!(p["emission_spectrum"]["illuminant_preset"], "D65");
     let text = info::report(&info::InfoArgs {
         json: false,
         ..args

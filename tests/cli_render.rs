@@ -199,9 +199,21 @@ fn info_failures_exit_non_zero_naming_the_file_and_prim() {
     let o = lux(&["info", "/no/such/stage.usda"], &[]);
     assert!(!o.status.success());
     assert!(stderr(&o).contains("/no/such/stage.usda"), "{}", stderr(&o));
-    // a reference cycle: the layer and the prim are named
+    // a reference cycle: usd-core's policy composes without the arc and says so (layer and
+    // prim named); --strict makes it an error
     let cycle = bad.join("cycle_a.usda");
     let o = lux(&["info", cycle.to_str().unwrap(), "--json"], &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let warned = v["warnings"].as_array().unwrap().iter().any(|w| {
+        let w = w.as_str().unwrap();
+        w.contains("cycle_a.usda") && w.contains("</A>") && w.contains("cycle")
+    });
+    assert!(warned, "{}", v["warnings"]);
+    let o = lux(
+        &["info", cycle.to_str().unwrap(), "--json", "--strict"],
+        &[],
+    );
     assert!(!o.status.success());
     let e = stderr(&o);
     assert!(
@@ -214,7 +226,12 @@ fn info_failures_exit_non_zero_naming_the_file_and_prim() {
     std::fs::write(&garbage, "#usda 1.0\ndef Xform \"A\" {\n  float x = \n").unwrap();
     let o = lux(&["info", garbage.to_str().unwrap()], &[]);
     assert!(!o.status.success());
-    assert!(stderr(&o).contains("garbage.usda"), "{}", stderr(&o));
+    // the file, the line and the column of the parse failure
+    assert!(
+        stderr(&o).contains("garbage.usda:3:11: Unexpected end of tokens"),
+        "{}",
+        stderr(&o)
+    );
     // and a good stage succeeds, with the light's world position and axis in the report
     let o = lux(
         &["info", luxtest("rect.usda").to_str().unwrap(), "--json"],

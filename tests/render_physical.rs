@@ -12,9 +12,10 @@ use lux::render::lights::{LightOptions, LightSelection, LightSet};
 use lux::render::render::{RenderOptions, Renderer};
 use lux::shaping::{Shaping, ShapingOptions, ShapingParams};
 use lux::spectral::{
-    ColorSpace, IlluminantKind, PhysicalLightInputs, PhysicalQuantity, resolve_illuminant,
+    ColorSpace, Illuminant, IlluminantKind, Interpolation, IorInterpolation, PhysicalLightInputs,
+    PhysicalQuantity, SpectralAttribute, WavelengthUnit, resolve_illuminant,
 };
-use lux::usd::{Light, PoleAxis, RawValue, Scene, load_stage};
+use lux::usd::{Light, PhysicalLight, PoleAxis, Scene, load_stage};
 use std::f64::consts::PI;
 use std::path::PathBuf;
 
@@ -28,6 +29,7 @@ fn lights(scene: &Scene) -> LightSet {
         LightOptions {
             profile: Profile::Spec,
             selection: LightSelection::All,
+            strict: false,
         },
     )
     .unwrap()
@@ -51,40 +53,38 @@ fn close3(got: DVec3, want: DVec3, rel: f64, what: &str) {
 #[test]
 fn loader_reads_physical_attributes_and_spectral_metadata() {
     let scene = load_stage(data(), 1.0).unwrap();
-    assert_eq!(scene.unit_for_wavelength.as_deref(), Some("nanometers"));
+    assert_eq!(scene.unit_for_wavelength, WavelengthUnit::Nanometers);
     let l = scene.light("/World/Lumens").unwrap();
     assert!(l.api_schemas.iter().any(|a| a == "PhotometricAreaLightAPI"));
-    assert_eq!(
-        l.physical.values["photometric:power"],
-        RawValue::Number(800.0)
-    );
-    assert_eq!(
-        l.physical.values["physical:illuminant"],
-        RawValue::Text("blackbody".into())
-    );
+    let p = l.physical.as_ref().expect("physical light units");
+    assert_eq!(p.quantity, Some(PhysicalQuantity::PhotometricPower(800.0)));
+    assert_eq!(p.illuminant, IlluminantKind::Blackbody);
     let p = scene.light("/World/Preset").unwrap();
-    assert_eq!(
-        p.physical.metadata["wavelength:emission"]["illuminantPreset"],
-        "d65"
-    );
+    let e = p.emission_spectrum.as_ref().unwrap();
+    assert_eq!(e.illuminant_preset, Some(Illuminant::D65));
+    assert!(e.values.is_empty());
     let m = scene.light("/World/Micrometres").unwrap();
-    assert_eq!(
-        m.physical.metadata["wavelength:emission"]["unitForWavelength"],
-        "micrometers"
-    );
-    assert_eq!(
-        m.physical.metadata["wavelength:emission"]["emissionInterpolation"],
-        "held"
-    );
+    let e = m.emission_spectrum.as_ref().unwrap();
+    assert_eq!(e.unit_for_wavelength, Some(WavelengthUnit::Micrometers));
+    assert_eq!(e.interpolation, Interpolation::Held);
     let grey = scene
         .meshes
         .iter()
         .find(|m| m.path == "/World/Grey")
         .unwrap();
     assert_eq!(
-        grey.spectral.metadata["wavelength:ior"]["iorInterpolation"],
-        "sellmeier"
+        grey.spectral.ior.as_ref().unwrap().interpolation,
+        IorInterpolation::Sellmeier
     );
+}
+
+/// Physical light units of `quantity` with a white illuminant.
+fn physical(quantity: PhysicalQuantity) -> Option<PhysicalLight> {
+    Some(PhysicalLight {
+        quantity: Some(quantity),
+        illuminant: IlluminantKind::White,
+        custom_illuminant: Vec::new(),
+    })
 }
 
 #[test]
@@ -173,9 +173,7 @@ fn lumen_rect(path: &str, d: f64) -> Light {
         ),
     );
     l.api_schemas = vec!["PhotometricAreaLightAPI".into()];
-    l.physical
-        .values
-        .insert("photometric:power".into(), RawValue::Number(800.0));
+    l.physical = physical(PhysicalQuantity::PhotometricPower(800.0));
     l
 }
 
@@ -215,9 +213,7 @@ fn rendered_irradiance_matches_the_authored_power() {
         )),
     );
     sun.api_schemas = vec!["PhotometricDistantLightAPI".into()];
-    sun.physical
-        .values
-        .insert("photometric:illuminance".into(), RawValue::Number(50000.0));
+    sun.physical = physical(PhysicalQuantity::PhotometricIlluminance(50000.0));
     let e = probe(&floor_probe_scene(sun, 0.0, 0.0), 64) * PI;
     let want = 50000.0 * (3f64.sqrt() / 2.0);
     assert!((e - want).abs() < 1e-3 * want, "sun E = {e}, want {want}");
@@ -225,9 +221,7 @@ fn rendered_irradiance_matches_the_authored_power() {
     // A PhotometricDomeLightAPI of 20 000 lux without a texture: the upward floor receives it.
     let mut dome = Light::with_defaults("/Sky", LightShape::Dome, DMat4::IDENTITY);
     dome.api_schemas = vec!["PhotometricDomeLightAPI".into()];
-    dome.physical
-        .values
-        .insert("photometric:illuminance".into(), RawValue::Number(20000.0));
+    dome.physical = physical(PhysicalQuantity::PhotometricIlluminance(20000.0));
     let e = probe(&floor_probe_scene(dome, 0.0, 0.0), 1024) * PI;
     assert!((e - 20000.0).abs() < 2e-3 * 20000.0, "dome E = {e}");
 }
@@ -310,9 +304,7 @@ fn dome_illuminance_follows_the_stage_up_axis_through_pole_axis() {
         dome.type_name = "DomeLight_1".into();
         dome.pole_axis = pole;
         dome.api_schemas = vec!["PhotometricDomeLightAPI".into()];
-        dome.physical
-            .values
-            .insert("photometric:illuminance".into(), RawValue::Number(20000.0));
+        dome.physical = physical(PhysicalQuantity::PhotometricIlluminance(20000.0));
         dome.texture = Some(lux::usd::AssetRef {
             authored: "half_sky.exr".into(),
             resolved: Some(tex.clone()),
@@ -358,23 +350,37 @@ fn spectral_reflectance_sets_the_albedo() {
     }
 }
 
+/// Spectra lux-spectral refuses: the light (or surface) is named in a warning and left out (or
+/// shaded with its colour) — the other lights still render; a strict render refuses them.
 #[test]
-fn bad_spectra_are_errors_naming_the_prim() {
+fn bad_spectra_are_warnings_naming_the_prim_and_errors_when_strict() {
+    let options = |strict| LightOptions {
+        profile: Profile::Spec,
+        selection: LightSelection::All,
+        strict,
+    };
     let mut l = Light::with_defaults("/Bad", LightShape::Sphere { radius: 0.1 }, DMat4::IDENTITY);
-    l.physical.values.insert(
-        "wavelength:emission".into(),
-        RawValue::Numbers(vec![600.0, 1.0, 500.0, 1.0]),
+    l.emission_spectrum = Some(SpectralAttribute {
+        values: vec![[600.0, 1.0], [500.0, 1.0]],
+        ..SpectralAttribute::default()
+    });
+    let mut s = floor_probe_scene(l, 0.0, 0.0);
+    s.lights.push(lumen_rect("/Good", 2.0));
+    let set = LightSet::new(&s, options(false)).unwrap();
+    assert_eq!(set.lights.len(), 1, "the good light still renders");
+    assert_eq!(set.lights[0].path, "/Good");
+    let w = set
+        .warnings
+        .iter()
+        .find(|w| w.contains("/Bad"))
+        .expect("a warning names the light");
+    assert!(
+        w.contains("wavelength:emission") && w.ends_with("the light is not rendered"),
+        "{w}"
     );
-    let s = floor_probe_scene(l, 0.0, 0.0);
-    let e = LightSet::new(
-        &s,
-        LightOptions {
-            profile: Profile::Spec,
-            selection: LightSelection::All,
-        },
-    )
-    .err()
-    .expect("unsorted wavelengths are refused");
+    let e = LightSet::new(&s, options(true))
+        .err()
+        .expect("unsorted wavelengths are refused when strict");
     let msg = e.to_string();
     assert!(
         msg.contains("/Bad") && msg.contains("wavelength:emission"),
@@ -386,37 +392,33 @@ fn bad_spectra_are_errors_naming_the_prim() {
         LightShape::Sphere { radius: 0.1 },
         DMat4::IDENTITY,
     );
-    l.physical
-        .values
-        .insert("wavelength:emission".into(), RawValue::Numbers(vec![]));
-    assert!(
-        LightSet::new(
-            &floor_probe_scene(l, 0.0, 0.0),
-            LightOptions {
-                profile: Profile::Spec,
-                selection: LightSelection::All,
-            },
-        )
-        .is_err()
-    );
-    // A bad reflectance on a gprim fails the render set-up, naming the gprim.
+    l.emission_spectrum = Some(SpectralAttribute::default());
+    let s = floor_probe_scene(l, 0.0, 0.0);
+    assert!(LightSet::new(&s, options(true)).is_err());
+    assert!(LightSet::new(&s, options(false)).unwrap().lights.is_empty());
+    // A bad reflectance on a gprim: a warning naming the gprim, its own colour used; an error
+    // when strict.
     let mut s = floor_probe_scene(
         Light::with_defaults("/L", LightShape::Sphere { radius: 0.1 }, DMat4::IDENTITY),
         0.0,
         0.0,
     );
-    s.meshes[0].spectral.values.insert(
-        "wavelength:reflectance".into(),
-        RawValue::Numbers(vec![400.0, 1.5, 700.0, 0.5]),
+    s.meshes[0].spectral.reflectance = Some(SpectralAttribute {
+        values: vec![[400.0, 1.5], [700.0, 0.5]],
+        ..SpectralAttribute::default()
+    });
+    let mut o = RenderOptions::new(ResolvedProfile {
+        profile: Profile::Spec,
+        source: ProfileSource::CommandLine,
+    });
+    let r = Renderer::new(&s, o.clone()).unwrap();
+    assert!(
+        r.warnings().any(|w| w.contains("/Floor")),
+        "a warning names the gprim"
     );
-    let e = Renderer::new(
-        &s,
-        RenderOptions::new(ResolvedProfile {
-            profile: Profile::Spec,
-            source: ProfileSource::CommandLine,
-        }),
-    )
-    .err()
-    .expect("reflectance above 1 is refused");
+    o.strict = true;
+    let e = Renderer::new(&s, o)
+        .err()
+        .expect("reflectance above 1 is refused when strict");
     assert!(e.to_string().contains("/Floor"), "{e}");
 }

@@ -133,6 +133,7 @@ fn textured_rect(profile: Profile) -> lux::render::lights::RenderLight {
         LightOptions {
             profile,
             selection: LightSelection::All,
+            strict: false,
         },
     )
     .unwrap();

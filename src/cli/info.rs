@@ -13,7 +13,9 @@ use lux_render::conformance::{
     PROFILE_ENV, ResolvedProfile, default_config_paths, resolve_profile,
 };
 use lux_render::lights::{LightOptions, LightSelection, LightSet};
-use lux_usd::{RawValue, Scene, load_stage};
+use lux_spectral::SpectralAttribute;
+use lux_usd::defaults::{CAMERA_LIGHT_PATH, FRAMING_CAMERA_PATH};
+use lux_usd::{LoadOptions, PhysicalLight, Scene, Time, load_stage_with};
 use serde_json::{Value, json};
 use std::fmt::Write;
 use std::path::PathBuf;
@@ -23,9 +25,15 @@ use std::path::PathBuf;
 pub struct InfoArgs {
     /// The USD stage (.usda, .usdc or .usdz).
     pub scene: PathBuf,
-    /// Time code to evaluate (default 1).
-    #[arg(long, default_value_t = 1.0)]
-    pub frame: f64,
+    /// Time code to evaluate (default: the stage's startTimeCode, as usdrecord).
+    #[arg(long, allow_hyphen_values = true)]
+    pub frame: Option<f64>,
+    /// Turn composition warnings into errors (as `lux render --strict`).
+    #[arg(long)]
+    pub strict: bool,
+    /// Report without usdrecord's camera light (as `lux render --disable-camera-light`).
+    #[arg(long)]
+    pub disable_camera_light: bool,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -35,18 +43,32 @@ fn v3(v: glam::DVec3) -> Value {
     json!([v.x, v.y, v.z])
 }
 
-fn raw_json(v: &RawValue) -> Value {
-    match v {
-        RawValue::Bool(b) => json!(b),
-        RawValue::Number(x) => json!(x),
-        RawValue::Numbers(xs) => json!(xs),
-        RawValue::Text(t) => json!(t),
-        RawValue::Asset(a) => json!(a.authored),
-    }
+/// A spectral attribute as JSON: its pairs and metadata.
+fn spectrum_json(a: &SpectralAttribute) -> Value {
+    json!({
+        "values": a.values,
+        "unit_for_wavelength": a.unit_for_wavelength.map(|u| format!("{u:?}")),
+        "interpolation": format!("{:?}", a.interpolation),
+        "illuminant_preset": a.illuminant_preset.map(|p| format!("{p:?}")),
+    })
 }
 
-/// The report as a JSON value. `profile` is the resolved profile (or the error resolving it).
-pub fn report_json(scene: &Scene, profile: &Result<ResolvedProfile, String>) -> Value {
+/// A light's physical-unit inputs as JSON.
+fn physical_json(p: &PhysicalLight) -> Value {
+    json!({
+        "quantity": p.quantity.map(|q| json!({ "attribute": q.attribute(), "value": q.value() })),
+        "illuminant": format!("{:?}", p.illuminant),
+        "custom_illuminant": p.custom_illuminant,
+    })
+}
+
+/// The report as a JSON value. `profile` is the resolved profile (or the error resolving it);
+/// `defaults` the usdrecord defaults added to the stage ([`Scene::add_usdrecord_defaults`]).
+pub fn report_json(
+    scene: &Scene,
+    profile: &Result<ResolvedProfile, String>,
+    defaults: &[String],
+) -> Value {
     // The renderer's light set-up in each profile (IES and textures loaded, physical units
     // converted); a failure is reported instead of the values.
     let sets: Vec<(Profile, Result<LightSet, String>)> = Profile::ALL
@@ -55,6 +77,7 @@ pub fn report_json(scene: &Scene, profile: &Result<ResolvedProfile, String>) -> 
             let opts = LightOptions {
                 profile: p,
                 selection: LightSelection::All,
+                strict: false,
             };
             (p, LightSet::new(scene, opts).map_err(|e| e.to_string()))
         })
@@ -85,18 +108,13 @@ pub fn report_json(scene: &Scene, profile: &Result<ResolvedProfile, String>) -> 
                     "ies_angle_scale": s.ies_angle_scale, "ies_normalize": s.ies_normalize,
                 })
             });
-            let physical: serde_json::Map<String, Value> = l
-                .physical
-                .values
-                .iter()
-                .map(|(k, v)| (k.clone(), raw_json(v)))
-                .collect();
             json!({
                 "path": l.path, "type": l.type_name,
                 "position": v3(l.position()), "axis": v3(l.axis()),
                 "api_schemas": l.api_schemas,
                 "profiles": per_profile, "shaping": shaping,
-                "physical": physical, "physical_metadata": l.physical.metadata,
+                "physical": l.physical.as_ref().map(physical_json),
+                "emission_spectrum": l.emission_spectrum.as_ref().map(spectrum_json),
             })
         })
         .collect();
@@ -118,18 +136,41 @@ pub fn report_json(scene: &Scene, profile: &Result<ResolvedProfile, String>) -> 
             Err(e) => json!({ "error": e }),
         },
         "prims": scene.prim_count,
-        "meshes": scene.meshes.len(),
+        "counts": {
+            "meshes": scene.gprims.meshes,
+            "other_gprims": scene.gprims.other_gprims(),
+            "implicit_gprims": scene.gprims.implicit,
+            "not_drawn": scene.gprims.skipped,
+            "native_instances": scene.gprims.native_instances,
+            "point_instances": scene.gprims.point_instances,
+            "cameras": scene.cameras.iter().filter(|c| c.path != FRAMING_CAMERA_PATH).count(),
+            "lights": scene.lights.iter().filter(|l| l.path != CAMERA_LIGHT_PATH).count()
+                + scene.gprims.unsupported_lights,
+            "lights_not_rendered": scene.gprims.unsupported_lights,
+        },
+        "unique_meshes": scene.meshes.len(),
+        "prototypes": scene.prototypes.len(),
+        "instances": scene.instances.len(),
         "triangles": scene.meshes.iter().map(|m| m.triangles.len()).sum::<usize>(),
         "cameras": scene.cameras.iter().map(|c| c.path.clone()).collect::<Vec<_>>(),
-        "unit_for_wavelength": scene.unit_for_wavelength,
+        "defaults": defaults,
+        "unit_for_wavelength": format!("{:?}", scene.unit_for_wavelength),
         "lights": lights,
         "warnings": warnings,
     })
 }
 
+fn plural(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
 /// The report as text (the same facts as [`report_json`]).
-pub fn report_text(scene: &Scene, profile: &Result<ResolvedProfile, String>) -> String {
-    let j = report_json(scene, profile);
+pub fn report_text(
+    scene: &Scene,
+    profile: &Result<ResolvedProfile, String>,
+    defaults: &[String],
+) -> String {
+    let j = report_json(scene, profile, defaults);
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -141,15 +182,44 @@ pub fn report_text(scene: &Scene, profile: &Result<ResolvedProfile, String>) -> 
         Ok(r) => writeln!(s, "conformance profile {} (from {})", r.profile, r.source),
         Err(e) => writeln!(s, "conformance profile: {e}"),
     };
+    let g = &scene.gprims;
+    let not_drawn: Vec<String> = g.skipped.iter().map(|(t, n)| format!("{n} {t}")).collect();
     let _ = writeln!(
         s,
-        "{} prims, {} meshes ({} triangles), {} cameras, {} lights",
-        scene.prim_count,
-        scene.meshes.len(),
-        j["triangles"],
-        scene.cameras.len(),
-        scene.lights.len()
+        "{}: {}, {} ({} implicit{}), {}, {}, {}, {}",
+        plural(scene.prim_count, "prim", "prims"),
+        plural(g.meshes, "mesh", "meshes"),
+        plural(g.other_gprims(), "other gprim", "other gprims"),
+        g.implicit,
+        if not_drawn.is_empty() {
+            String::new()
+        } else {
+            format!(", not drawn: {}", not_drawn.join(", "))
+        },
+        plural(g.native_instances, "native instance", "native instances"),
+        plural(g.point_instances, "point instance", "point instances"),
+        plural(
+            j["counts"]["cameras"].as_u64().unwrap_or(0) as usize,
+            "camera",
+            "cameras"
+        ),
+        plural(
+            j["counts"]["lights"].as_u64().unwrap_or(0) as usize,
+            "light",
+            "lights"
+        ),
     );
+    let _ = writeln!(
+        s,
+        "geometry: {} ({} triangles) stored once, {} drawn through {}",
+        plural(scene.meshes.len(), "mesh", "meshes"),
+        j["triangles"],
+        plural(scene.prototypes.len(), "prototype", "prototypes"),
+        plural(scene.instances.len(), "instance", "instances"),
+    );
+    for d in defaults {
+        let _ = writeln!(s, "default: {d}");
+    }
     for (l, lj) in scene
         .lights
         .iter()
@@ -194,19 +264,35 @@ pub fn report_text(scene: &Scene, profile: &Result<ResolvedProfile, String>) -> 
                 let _ = writeln!(s, "  shaping: not applied");
             }
         }
-        for (k, v) in &l.physical.values {
-            let meta = l
-                .physical
-                .metadata
-                .get(k)
-                .map(|m| format!("  {m:?}"))
-                .unwrap_or_default();
-            let _ = writeln!(s, "  {k} = {}{meta}", raw_json(v));
-        }
-        for (k, m) in &l.physical.metadata {
-            if !l.physical.values.contains_key(k) {
-                let _ = writeln!(s, "  {k} (no value)  {m:?}");
+        if let Some(p) = &l.physical {
+            match p.quantity {
+                Some(q) => {
+                    let _ = writeln!(s, "  {} = {}", q.attribute(), q.value());
+                }
+                None => {
+                    let _ = writeln!(s, "  PhysicalLightIlluminantAPI");
+                }
             }
+            let _ = writeln!(
+                s,
+                "  physical:illuminant = {:?}{}",
+                p.illuminant,
+                if p.custom_illuminant.is_empty() {
+                    String::new()
+                } else {
+                    format!(" ({} custom pairs)", p.custom_illuminant.len())
+                }
+            );
+        }
+        if let Some(e) = &l.emission_spectrum {
+            let _ = writeln!(
+                s,
+                "  wavelength:emission = {} pairs, preset {:?}, unit {:?}, {:?}",
+                e.values.len(),
+                e.illuminant_preset,
+                e.unit_for_wavelength,
+                e.interpolation
+            );
         }
     }
     for w in j["warnings"].as_array().into_iter().flatten() {
@@ -217,14 +303,19 @@ pub fn report_text(scene: &Scene, profile: &Result<ResolvedProfile, String>) -> 
 
 /// Loads the stage and renders the report (text or JSON) as a string.
 pub fn report(args: &InfoArgs) -> Result<String, String> {
-    let scene = load_stage(&args.scene, args.frame).map_err(|e| e.to_string())?;
+    let mut options = LoadOptions::default();
+    options.strict = args.strict;
+    let time = args.frame.map_or(Time::Start, Time::Code);
+    let mut scene = load_stage_with(&args.scene, time, &options).map_err(|e| e.to_string())?;
+    let defaults = scene.add_usdrecord_defaults(!args.disable_camera_light);
     let env = std::env::var(PROFILE_ENV).ok();
     let profile = resolve_profile(None, &scene, env.as_deref(), &default_config_paths())
         .map_err(|e| e.to_string());
     Ok(if args.json {
-        serde_json::to_string_pretty(&report_json(&scene, &profile)).map_err(|e| e.to_string())?
+        serde_json::to_string_pretty(&report_json(&scene, &profile, &defaults))
+            .map_err(|e| e.to_string())?
     } else {
-        report_text(&scene, &profile)
+        report_text(&scene, &profile, &defaults)
     })
 }
 

@@ -8,7 +8,7 @@ use lux_render::conformance::{PROFILE_ENV, default_config_paths, resolve_profile
 use lux_render::image_io::{stage_exr, stage_png};
 use lux_render::lights::{LightSelection, SamplingMode};
 use lux_render::render::{RenderOptions, RenderStats, Renderer};
-use lux_usd::load_stage;
+use lux_usd::{LoadOptions, Time, load_stage_with};
 use std::path::PathBuf;
 
 /// `--sampling`.
@@ -38,21 +38,30 @@ pub enum SelectionArg {
 pub struct RenderArgs {
     /// The USD stage (.usda, .usdc or .usdz).
     pub scene: PathBuf,
-    /// Time code to render.
-    #[arg(long, default_value_t = 1.0)]
-    pub frame: f64,
+    /// Time code to render (default: the stage's startTimeCode, as usdrecord).
+    #[arg(long, allow_hyphen_values = true)]
+    pub frame: Option<f64>,
     /// Samples per pixel.
     #[arg(long, default_value_t = 64)]
     pub spp: u32,
-    /// Output resolution WxH (default: the stage's RenderSettings).
+    /// Output resolution WxH (default: the stage's RenderSettings, else usdrecord's 960 wide at
+    /// the camera's aspect).
     #[arg(long, value_parser = parse_resolution)]
     pub resolution: Option<[u32; 2]>,
     /// Render only pixels X0,Y0,X1,Y1 (end exclusive, y from the top); the rest stays black.
     #[arg(long, value_parser = parse_crop)]
     pub crop: Option<[u32; 4]>,
-    /// Camera prim path (default: the RenderSettings' camera, else the first camera).
+    /// Camera prim path, or a camera's bare name when unique (default: the RenderSettings'
+    /// camera, else the first camera, else usdrecord's camera framing the scene).
     #[arg(long)]
     pub camera: Option<String>,
+    /// Turn composition warnings (missing sublayers, references, payloads, unknown formats,
+    /// cycles) and unreadable assets into errors.
+    #[arg(long)]
+    pub strict: bool,
+    /// No camera light (usdrecord's default light when the stage has none).
+    #[arg(long)]
+    pub disable_camera_light: bool,
     /// Conformance profile; else RenderSettings `lux:conformanceProfile`, else
     /// $LUX_CONFORMANCE_PROFILE, else the config files, else spec.
     #[arg(long, value_parser = parse_profile)]
@@ -116,6 +125,18 @@ fn parse_crop(s: &str) -> Result<[u32; 4], String> {
     parse_list::<4>(s, ',', "crop")
 }
 
+/// Loads `scene` at `frame` (default: its startTimeCode), strictly or with usd-core's policy.
+pub fn load(
+    scene: &std::path::Path,
+    frame: Option<f64>,
+    strict: bool,
+) -> Result<lux_usd::Scene, String> {
+    let mut options = LoadOptions::default();
+    options.strict = strict;
+    let time = frame.map_or(Time::Start, Time::Code);
+    load_stage_with(scene, time, &options).map_err(|e| e.to_string())
+}
+
 /// Renders according to `args`; returns the summary lines printed at the end.
 pub fn run(args: &RenderArgs) -> Result<(), String> {
     if !args.exposure.is_finite() {
@@ -124,7 +145,16 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
             args.exposure
         ));
     }
-    let scene = load_stage(&args.scene, args.frame).map_err(|e| e.to_string())?;
+    if args.spp == 0 {
+        return Err("--spp 0: samples per pixel must be at least 1".into());
+    }
+    if args.threads == Some(0) {
+        return Err("--threads 0: expected at least 1".into());
+    }
+    let mut scene = load(&args.scene, args.frame, args.strict)?;
+    for note in scene.add_usdrecord_defaults(!args.disable_camera_light) {
+        eprintln!("lux: {note}");
+    }
     let env = std::env::var(PROFILE_ENV).ok();
     let profile = resolve_profile(
         args.profile,
@@ -137,11 +167,21 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         "lux: profile {} (from {}), sampling {:?}, {} spp",
         profile.profile, profile.source, args.sampling, args.spp
     );
+    let camera = match &args.camera {
+        Some(name) => scene.find_camera(name)?,
+        None => scene
+            .render_camera()
+            .ok_or_else(|| format!("{} has no camera", scene.source.display()))?,
+    };
     let mut options = RenderOptions::new(profile);
     options.spp = args.spp;
-    options.resolution = args.resolution;
+    options.resolution = Some(
+        args.resolution
+            .unwrap_or_else(|| scene.default_resolution(camera)),
+    );
     options.crop = args.crop;
-    options.camera = args.camera.clone();
+    options.camera = Some(camera.path.clone());
+    options.strict = args.strict;
     options.seed = args.seed;
     options.sampling = match args.sampling {
         SamplingArg::Lux => SamplingMode::Lux,
@@ -157,7 +197,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     for w in &scene.warnings {
         eprintln!("lux: warning: {w}");
     }
-    for w in &renderer.lights().warnings {
+    for w in renderer.warnings() {
         eprintln!("lux: warning: {w}");
     }
     let [x0, y0, x1, y1] = renderer.window();

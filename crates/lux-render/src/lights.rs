@@ -371,6 +371,10 @@ pub struct LightOptions {
     pub profile: Profile,
     /// Light selection strategy.
     pub selection: LightSelection,
+    /// An IES profile or light texture that does not resolve or cannot be read is an error
+    /// (`true`) or a warning, the light emitting without it (`false`, usd-core's and Hydra's
+    /// behaviour).
+    pub strict: bool,
 }
 
 /// Every light of a scene, prepared, with the selection strategy.
@@ -387,7 +391,10 @@ pub struct LightSet {
 
 impl LightSet {
     /// Prepares every light of `scene`. IES profiles and textures are loaded once per file.
-    /// A malformed or missing IES/texture file referenced by a light is an error naming it.
+    /// A malformed or missing IES/texture file referenced by a light is a warning naming the
+    /// light and the file, and the light emits without it (an error with
+    /// [`LightOptions::strict`]); a light whose inputs cannot be converted at all is left out
+    /// with a warning naming it, so one bad light never takes the others with it.
     pub fn new(scene: &Scene, options: LightOptions) -> Result<LightSet, RenderError> {
         let mut ies_cache: HashMap<PathBuf, PhotometricWeb> = HashMap::new();
         let mut tex_cache: HashMap<PathBuf, Arc<Texture>> = HashMap::new();
@@ -395,8 +402,13 @@ impl LightSet {
         let mut warnings = Vec::new();
         let mut mesh_light = vec![None; scene.meshes.len()];
         for (li, l) in scene.lights.iter().enumerate() {
-            let mesh = scene.meshes.iter().position(|m| m.light == Some(li));
-            if let Some(rl) = prepare(
+            // Only a world-space mesh is drawn where its positions say (a prototype's mesh is in
+            // prototype space; the loader never gives one MeshLightAPI).
+            let mesh = scene
+                .meshes
+                .iter()
+                .position(|m| m.light == Some(li) && m.prototype.is_none());
+            let prepared = prepare(
                 scene,
                 l,
                 mesh,
@@ -404,7 +416,18 @@ impl LightSet {
                 &mut ies_cache,
                 &mut tex_cache,
                 &mut warnings,
-            )? {
+            );
+            let prepared = match prepared {
+                Ok(p) => p,
+                Err(e) if options.strict => return Err(e),
+                // One light's unusable inputs (a spectrum lux-spectral refuses…) leave that
+                // light out, named, and never the others.
+                Err(e) => {
+                    warnings.push(format!("{e}; the light is not rendered"));
+                    None
+                }
+            };
+            if let Some(rl) = prepared {
                 if let Some(m) = mesh {
                     mesh_light[m] = Some(lights.len());
                 }
@@ -628,6 +651,21 @@ fn prepare(
         Ok(xf) => xf,
         Err(e) => return skip(warnings, format!("unusable transform ({e})")),
     };
+    // A light's asset that cannot be used: an error when strict, else a warning and `None`.
+    let asset = |warnings: &mut Vec<String>, file: &Path, what: &str, message: String| {
+        if options.strict {
+            return Err(RenderError::Asset {
+                file: file.to_path_buf(),
+                message,
+            });
+        }
+        warnings.push(format!(
+            "{}: {message}; {} emits without its {what}",
+            file.display(),
+            l.path
+        ));
+        Ok(())
+    };
     // Shaping.
     let shaping = match &l.shaping {
         None => Shaping::identity(),
@@ -635,15 +673,25 @@ fn prepare(
             let ies = match s.ies_file.as_ref() {
                 None => None,
                 Some(a) => match &a.resolved {
-                    Some(p) => Some(load_ies(ies_cache, p, profile, warnings)?),
+                    Some(p) => match load_ies(ies_cache, p, profile, warnings) {
+                        Ok(w) => Some(w),
+                        Err(RenderError::Asset { file, message }) => {
+                            asset(warnings, &file, "IES profile", message)?;
+                            None
+                        }
+                        Err(e) => return Err(e),
+                    },
                     None => {
-                        return Err(RenderError::Asset {
-                            file: PathBuf::from(&a.authored),
-                            message: format!(
+                        asset(
+                            warnings,
+                            Path::new(&a.authored),
+                            "IES profile",
+                            format!(
                                 "inputs:shaping:ies:file of {} does not resolve to a file",
                                 l.path
                             ),
-                        });
+                        )?;
+                        None
                     }
                 },
             };
@@ -668,18 +716,28 @@ fn prepare(
     // Texture (rect and dome).
     let texture = match (&l.texture, l.kind) {
         (Some(a), LightKind::Rect | LightKind::Dome) => match &a.resolved {
-            Some(p) => Some(LightTexture {
-                tex: load_texture(tex_cache, p)?,
-                nearest: profile == Profile::HdEmbree,
-            }),
+            Some(p) => match load_texture(tex_cache, p) {
+                Ok(tex) => Some(LightTexture {
+                    tex,
+                    nearest: profile == Profile::HdEmbree,
+                }),
+                Err(RenderError::Asset { file, message }) => {
+                    asset(warnings, &file, "texture", message)?;
+                    None
+                }
+                Err(e) => return Err(e),
+            },
             None => {
-                return Err(RenderError::Asset {
-                    file: PathBuf::from(&a.authored),
-                    message: format!(
+                asset(
+                    warnings,
+                    Path::new(&a.authored),
+                    "texture",
+                    format!(
                         "inputs:texture:file of {} does not resolve to a file",
                         l.path
                     ),
-                });
+                )?;
+                None
             }
         },
         _ => None,
@@ -715,6 +773,21 @@ fn prepare(
             let mk = |t| SphereLight::new(*radius, xf, t).map(lux_sample::Light::Sphere);
             match (mk(SphereTechnique::Cone), mk(SphereTechnique::Area)) {
                 (Ok(a), Ok(b)) => (Geom::Sphere { r: *radius }, a, b, false),
+                (Err(_), _) | (_, Err(_)) if *radius == 0.0 => {
+                    // DCC exports write point lights this way (Maya: treatAsPoint, radius 0).
+                    return skip(
+                        warnings,
+                        format!(
+                            "SphereLight of radius 0{} is a point light, and lux renders \
+                             only lights with an area",
+                            if l.treat_as_point {
+                                " (treatAsPoint, a renderer hint)"
+                            } else {
+                                ""
+                            }
+                        ),
+                    );
+                }
                 (Err(e), _) | (_, Err(e)) => return skip(warnings, e.to_string()),
             }
         }
@@ -800,11 +873,7 @@ fn prepare(
         }
     };
     // Base emission.
-    let stage_unit = physical::stage_wavelength_unit(scene.unit_for_wavelength.as_deref())
-        .map_err(|message| RenderError::Light {
-            light: l.path.clone(),
-            message,
-        })?;
+    let stage_unit = scene.unit_for_wavelength;
     // the stage's up axis in the dome texture's frame (for a photometric dome's illuminance)
     let world_up = match scene.up_axis {
         UpAxis::Z => DVec3::Z,

@@ -60,6 +60,9 @@ pub struct RenderOptions {
     pub selection: LightSelection,
     /// Seed of every random number.
     pub seed: u64,
+    /// An IES profile or texture that does not resolve or cannot be read is an error instead
+    /// of a warning with a fallback (the light without it, the texture's `inputs:fallback`).
+    pub strict: bool,
 }
 
 impl RenderOptions {
@@ -74,6 +77,7 @@ impl RenderOptions {
             sampling: SamplingMode::Lux,
             selection: LightSelection::Auto,
             seed: 0,
+            strict: false,
         }
     }
 }
@@ -113,6 +117,8 @@ pub struct Renderer<'s> {
     lights: LightSet,
     surfaces: Surfaces,
     view: View,
+    /// The camera's UsdGeomCamera linear exposure scale (1 with the schema defaults).
+    exposure_scale: f64,
     options: RenderOptions,
     /// The pixels to render: crop ∩ data window.
     window: [u32; 4],
@@ -153,12 +159,9 @@ impl<'s> Renderer<'s> {
         };
         let settings = scene.render_settings.first();
         let product = settings.and_then(|s| s.products.first());
-        let resolution = options.resolution.unwrap_or_else(|| {
-            product
-                .and_then(|p| p.base.resolution)
-                .or_else(|| settings.map(|s| s.resolution()))
-                .unwrap_or([512, 512])
-        });
+        let resolution = options
+            .resolution
+            .unwrap_or_else(|| scene.default_resolution(camera));
         if resolution[0] == 0
             || resolution[1] == 0
             || resolution[0] > MAX_RESOLUTION
@@ -201,9 +204,10 @@ impl<'s> Renderer<'s> {
             LightOptions {
                 profile,
                 selection: options.selection,
+                strict: options.strict,
             },
         )?;
-        let surfaces = Surfaces::new(scene)?;
+        let surfaces = Surfaces::with_policy(scene, options.strict)?;
         let geometry = Geometry::new(scene);
         let mut visible_finite = Vec::new();
         let mut visible_infinite = Vec::new();
@@ -224,12 +228,14 @@ impl<'s> Renderer<'s> {
                 }
             }
         }
+        let exposure_scale = camera.linear_exposure_scale();
         Ok(Renderer {
             scene,
             geometry,
             lights,
             surfaces,
             view,
+            exposure_scale,
             options,
             window,
             visible_finite,
@@ -244,6 +250,12 @@ impl<'s> Renderer<'s> {
         &self.lights
     }
 
+    /// Everything the render set-up replaced or left out: lights that cannot emit, IES profiles
+    /// and textures that could not be read (each named with the light or material using it).
+    pub fn warnings(&self) -> impl Iterator<Item = &String> {
+        self.lights.warnings.iter().chain(&self.surfaces.warnings)
+    }
+
     /// Output image size.
     pub fn resolution(&self) -> [u32; 2] {
         [self.view.width, self.view.height]
@@ -254,9 +266,14 @@ impl<'s> Renderer<'s> {
         self.window
     }
 
-    /// Number of BVH triangles.
+    /// Number of BVH triangles (each instanced prototype's once).
     pub fn triangle_count(&self) -> usize {
         self.geometry.triangle_count()
+    }
+
+    /// The scene's prepared geometry (BVHs, instances, world bounds).
+    pub fn geometry(&self) -> &Geometry {
+        &self.geometry
     }
 
     /// Renders the image. `progress` is called (from worker threads) with the number of
@@ -361,7 +378,8 @@ impl<'s> Renderer<'s> {
             let (o, d, tmin, tmax) = self.view.ray(x as f64 + j[0], y as f64 + j[1]);
             let (rgb, a) = self.trace_camera(o, d, tmin, tmax, &st, c);
             let rgb = if rgb.is_finite() {
-                rgb
+                // the camera's exposure (UsdGeomCamera ComputeLinearExposureScale; ×1 is exact)
+                rgb * self.exposure_scale
             } else {
                 c.non_finite += 1;
                 DVec3::ZERO
@@ -446,7 +464,7 @@ impl<'s> Renderer<'s> {
             return DVec3::ZERO;
         }
         let r = Reference::surface(sp.p, sp.ns);
-        let origin = sp.p + sp.ng * offset_scale(sp.p);
+        let origin = sp.p + sp.ng * sp.offset;
         let f = sp.albedo * FRAC_1_PI;
         let mode = self.options.sampling;
         let mis = mode == SamplingMode::Lux;

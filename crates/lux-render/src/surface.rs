@@ -1,12 +1,18 @@
 //! What a camera ray sees where it hits geometry: position, facing normals and the diffuse
 //! albedo (UsdPreviewSurface `diffuseColor` as a value or a `UsdUVTexture`, else the gprim's
 //! `primvars:displayColor`, else white — the white Lambertian of the reference renders).
+//!
+//! An instanced hit (`Hit::instance`) shades with its prototype mesh's primvars and
+//! `doubleSided`, the material `mesh.material.or(instance.material)` (the prototype's own binding
+//! wins over the instance's), and shading normals mapped to the world like the loader maps a
+//! world mesh's: each corner normal `n` by the inverse transpose of the instance's linear part,
+//! `normalize(M⁻ᵀ·n)`, then interpolated and renormalised.
 
 use crate::RenderError;
 use crate::geometry::Hit;
 use crate::image_io::{Texture, linear_to_srgb};
-use glam::{DVec2, DVec3, DVec4};
-use lux_usd::{Diffuse, Scene, SpectralAttributes, TextureInput};
+use glam::{DMat3, DVec2, DVec3, DVec4};
+use lux_usd::{Diffuse, Scene, SourceColorSpace, SurfaceSpectral, TextureInput};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -21,13 +27,14 @@ enum Wrap {
 }
 
 impl Wrap {
-    fn parse(token: &str) -> Wrap {
-        match token {
-            "mirror" => Wrap::Mirror,
-            "clamp" => Wrap::Clamp,
-            "black" => Wrap::Black,
-            // "repeat", and "useMetadata" without metadata in the file: repeat.
-            _ => Wrap::Repeat,
+    /// The fold of a `UsdUVTexture` wrap mode; `useMetadata` without metadata in the file
+    /// (lux's image readers carry none) repeats.
+    fn of(mode: lux_usd::Wrap) -> Wrap {
+        match mode {
+            lux_usd::Wrap::Mirror => Wrap::Mirror,
+            lux_usd::Wrap::Clamp => Wrap::Clamp,
+            lux_usd::Wrap::Black => Wrap::Black,
+            lux_usd::Wrap::Repeat | lux_usd::Wrap::UseMetadata => Wrap::Repeat,
         }
     }
 
@@ -104,16 +111,21 @@ enum Albedo {
 
 /// The prepared materials of a scene.
 pub struct Surfaces {
+    /// Textures that could not be read (each replaced by its fallback).
+    pub warnings: Vec<String>,
     materials: Vec<Albedo>,
     /// Per mesh: the albedo of a `wavelength:reflectance` authored on the gprim.
     mesh_reflectance: Vec<Option<DVec3>>,
+    /// Per scene instance: `M⁻ᵀ`, the inverse transpose of its transform's linear part, which
+    /// maps prototype-space normals to the world.
+    instance_normal: Vec<DMat3>,
 }
 
 /// Linear Rec.709 albedo of a `wavelength:reflectance` (lux-spectral, lit by the colour
 /// space's white), if authored.
 fn reflectance_albedo(
     prim: &str,
-    a: &SpectralAttributes,
+    a: &SurfaceSpectral,
     unit: lux_spectral::WavelengthUnit,
 ) -> Result<Option<DVec3>, RenderError> {
     let err = |message: String| RenderError::Surface {
@@ -123,7 +135,7 @@ fn reflectance_albedo(
     if a.is_empty() {
         return Ok(None);
     }
-    let inputs = crate::physical::surface_spectral_inputs(a, unit).map_err(err)?;
+    let inputs = crate::physical::surface_spectral_inputs(a, unit);
     // Validate the IOR too (it does not change a diffuse surface): bad data is an error.
     inputs.ior().map_err(|e| err(e.to_string()))?;
     inputs
@@ -140,6 +152,8 @@ pub struct SurfacePoint {
     pub ng: DVec3,
     /// Shading normal (interpolated `normals` when authored), on the same side as `ng`.
     pub ns: DVec3,
+    /// How far along `±ng` rays leaving `p` start ([`Hit::offset`]).
+    pub offset: f64,
     /// Diffuse albedo (linear RGB, clamped to \[0, 1\]).
     pub albedo: DVec3,
 }
@@ -156,34 +170,58 @@ fn output_index(name: &str) -> u8 {
 
 impl Surfaces {
     /// Loads the textures of every material (once per file). A texture that does not resolve or
-    /// cannot be read is an error naming it.
+    /// cannot be read gives its `UsdUVTexture` fallback, with a warning naming it.
     pub fn new(scene: &Scene) -> Result<Surfaces, RenderError> {
-        let unit = crate::physical::stage_wavelength_unit(scene.unit_for_wavelength.as_deref())
-            .map_err(|message| RenderError::Surface {
-                prim: "/".into(),
-                message,
-            })?;
+        Surfaces::with_policy(scene, false)
+    }
+
+    /// [`Surfaces::new`], where `strict` makes an unreadable texture an error instead of its
+    /// fallback with a warning.
+    pub fn with_policy(scene: &Scene, strict: bool) -> Result<Surfaces, RenderError> {
+        let unit = scene.unit_for_wavelength;
+        let mut warnings = Vec::new();
         let mut cache: HashMap<PathBuf, Arc<Texture>> = HashMap::new();
         let mut materials = Vec::with_capacity(scene.materials.len());
         for m in &scene.materials {
-            // LTESpectralAPI: a spectral reflectance on the surface shader replaces diffuseColor.
-            if let Some(c) = reflectance_albedo(&m.path, &m.spectral, unit)? {
-                materials.push(Albedo::Color(c));
-                continue;
+            // LTESpectralAPI: a spectral reflectance on the surface shader replaces diffuseColor
+            // (one that lux-spectral refuses is a warning, and diffuseColor is used).
+            match reflectance_albedo(&m.path, &m.spectral, unit) {
+                Ok(Some(c)) => {
+                    materials.push(Albedo::Color(c));
+                    continue;
+                }
+                Ok(None) => {}
+                Err(e) if strict => return Err(e),
+                Err(e) => warnings.push(format!("{e}; diffuseColor is used instead")),
             }
             materials.push(match &m.diffuse {
                 Diffuse::Color(c) => Albedo::Color(*c),
-                Diffuse::Texture(t) => texture_shader(&m.path, t, &mut cache)?,
+                Diffuse::Texture(t) => {
+                    texture_shader(&m.path, t, &mut cache, strict, &mut warnings)?
+                }
             });
         }
-        let mesh_reflectance = scene
-            .meshes
+        let mut mesh_reflectance = Vec::with_capacity(scene.meshes.len());
+        for m in &scene.meshes {
+            mesh_reflectance.push(match reflectance_albedo(&m.path, &m.spectral, unit) {
+                Ok(c) => c,
+                Err(e) if strict => return Err(e),
+                Err(e) => {
+                    warnings.push(format!("{e}; the material's colour is used instead"));
+                    None
+                }
+            });
+        }
+        let instance_normal = scene
+            .instances
             .iter()
-            .map(|m| reflectance_albedo(&m.path, &m.spectral, unit))
-            .collect::<Result<Vec<_>, _>>()?;
+            .map(|i| DMat3::from_mat4(i.to_world).inverse().transpose())
+            .collect();
         Ok(Surfaces {
+            warnings,
             materials,
             mesh_reflectance,
+            instance_normal,
         })
     }
 
@@ -195,7 +233,13 @@ impl Surfaces {
         let interp3 = |c: &[DVec3; 3]| b0 * c[0] + b1 * c[1] + b2 * c[2];
         let ng = if hit.ng.dot(d) > 0.0 { -hit.ng } else { hit.ng };
         let mut ns = match &mesh.normals {
-            Some(n) => interp3(&n[hit.tri]).normalize_or_zero(),
+            Some(n) => match hit.instance {
+                None => interp3(&n[hit.tri]).normalize_or_zero(),
+                Some(i) => {
+                    let m = self.instance_normal[i];
+                    interp3(&n[hit.tri].map(|v| (m * v).normalize_or_zero())).normalize_or_zero()
+                }
+            },
             None => DVec3::ZERO,
         };
         if ns == DVec3::ZERO || !ns.is_finite() {
@@ -203,9 +247,12 @@ impl Surfaces {
         } else if ns.dot(ng) < 0.0 {
             ns = -ns;
         }
+        let material = mesh
+            .material
+            .or_else(|| hit.instance.and_then(|i| scene.instances[i].material));
         let albedo = match (
             self.mesh_reflectance[hit.mesh],
-            mesh.material.and_then(|i| self.materials.get(i)),
+            material.and_then(|i| self.materials.get(i)),
         ) {
             (Some(c), _) => c,
             (None, m) => match m {
@@ -232,38 +279,62 @@ impl Surfaces {
             p: hit.p,
             ng,
             ns,
+            offset: hit.offset,
             albedo,
         }
     }
 }
 
+/// The albedo of a `UsdUVTexture`. A texture file that does not resolve or cannot be read
+/// (missing, a format lux does not decode such as RenderMan `.tex`, corrupt) is replaced, with
+/// a warning naming the material and the file (an error when `strict`), by the texture's
+/// `inputs:fallback` when authored, else by `diffuseColor`'s own fallback (0.18 grey): the
+/// surface stays visible and lit, where the schema default (0, 0, 0, 1) would paint it black.
 fn texture_shader(
     material: &str,
     t: &TextureInput,
     cache: &mut HashMap<PathBuf, Arc<Texture>>,
+    strict: bool,
+    warnings: &mut Vec<String>,
 ) -> Result<Albedo, RenderError> {
     let Some(file) = &t.file else {
         return Ok(Albedo::Color(t.fallback.truncate()));
     };
+    let failed = |file: PathBuf, message: String, warnings: &mut Vec<String>| {
+        if strict {
+            return Err(RenderError::Asset { file, message });
+        }
+        let (colour, what) = if t.fallback_authored {
+            (t.fallback.truncate(), "the texture's inputs:fallback")
+        } else {
+            (
+                lux_usd::material::DEFAULT_DIFFUSE,
+                "diffuseColor's fallback",
+            )
+        };
+        warnings.push(format!(
+            "{}: {message}; material {material} uses {what} {colour}",
+            file.display(),
+        ));
+        Ok(Albedo::Color(colour))
+    };
     let Some(path) = &file.resolved else {
-        return Err(RenderError::Asset {
-            file: PathBuf::from(&file.authored),
-            message: format!("texture of material {material} does not resolve to a file"),
-        });
+        return failed(
+            PathBuf::from(&file.authored),
+            format!("texture of material {material} does not resolve to a file"),
+            warnings,
+        );
     };
     let tex = match cache.get(path) {
         Some(t) => t.clone(),
-        None => {
-            let t =
-                Arc::new(
-                    crate::assets::load_texture(path).map_err(|e| RenderError::Asset {
-                        file: path.clone(),
-                        message: e.to_string(),
-                    })?,
-                );
-            cache.insert(path.clone(), t.clone());
-            t
-        }
+        None => match crate::assets::load_texture(path) {
+            Ok(tex) => {
+                let tex = Arc::new(tex);
+                cache.insert(path.clone(), tex.clone());
+                tex
+            }
+            Err(e) => return failed(path.clone(), e.to_string(), warnings),
+        },
     };
     let ext = path
         .extension()
@@ -275,8 +346,9 @@ fn texture_shader(
         scale: t.scale,
         bias: t.bias,
         fallback: t.fallback,
-        wrap: [Wrap::parse(&t.wrap_s), Wrap::parse(&t.wrap_t)],
-        raw: t.source_color_space == "raw" && !matches!(ext.as_str(), "exr" | "hdr"),
+        wrap: [Wrap::of(t.wrap_s), Wrap::of(t.wrap_t)],
+        raw: t.source_color_space == SourceColorSpace::Raw
+            && !matches!(ext.as_str(), "exr" | "hdr"),
         output: output_index(&t.output),
     }))
 }
@@ -295,6 +367,7 @@ mod tests {
         assert_eq!(Wrap::Black.apply(1.5), None);
         assert_eq!(Wrap::Black.apply(0.5), Some(0.5));
         assert_eq!(Wrap::Repeat.apply(f64::NAN), None);
-        assert_eq!(Wrap::parse("useMetadata"), Wrap::Repeat);
+        assert_eq!(Wrap::of(lux_usd::Wrap::UseMetadata), Wrap::Repeat);
+        assert_eq!(Wrap::of(lux_usd::Wrap::Mirror), Wrap::Mirror);
     }
 }

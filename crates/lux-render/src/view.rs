@@ -212,6 +212,7 @@ mod tests {
             clipping_range: DVec2::new(1.0, 1e6),
             f_stop: 0.0,
             focus_distance: 0.0,
+            exposure: Default::default(),
         }
     }
 

@@ -65,6 +65,7 @@ fn packaged_assets_render_like_loose_files() {
     let opts = LightOptions {
         profile: Profile::Spec,
         selection: LightSelection::All,
+        strict: false,
     };
     let loose = load_stage(dir.join("scene.usda"), 1.0).unwrap();
     let packed = load_stage(dir.join("scene.usdz"), 1.0).unwrap();

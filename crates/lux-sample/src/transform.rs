@@ -42,6 +42,10 @@ impl Default for LightTransform {
     }
 }
 
+/// Largest deviation of the last USD column from `(0, 0, 0, 1)` accepted as rounding noise
+/// (DCC exports write `1.0000000000000002`); beyond it a matrix is projective and refused.
+pub const AFFINE_TOLERANCE: f64 = 1e-9;
+
 impl LightTransform {
     /// The identity transform.
     pub const IDENTITY: Self = Self {
@@ -60,8 +64,15 @@ impl LightTransform {
         if !m.is_finite() {
             return Err(SampleError::BadTransform("non-finite matrix entry"));
         }
+        // The last USD column must be (0, 0, 0, 1); a deviation up to AFFINE_TOLERANCE is
+        // rounding noise of the exporting application and is ignored (the map used is affine).
         let r = m.row(3);
-        if r.x != 0.0 || r.y != 0.0 || r.z != 0.0 || r.w != 1.0 {
+        let dev =
+            r.x.abs()
+                .max(r.y.abs())
+                .max(r.z.abs())
+                .max((r.w - 1.0).abs());
+        if dev > AFFINE_TOLERANCE {
             return Err(SampleError::BadTransform(
                 "projective matrix (expected last USD column 0 0 0 1)",
             ));
@@ -323,6 +334,14 @@ mod tests {
         assert!(LightTransform::new(m).is_err());
         m = DMat4::IDENTITY;
         m.y_axis.y = f64::NAN;
+        assert!(LightTransform::new(m).is_err());
+        // rounding noise in the last column (a DCC export's 1.0000000000000002) is accepted
+        m = DMat4::from_translation(DVec3::new(1.0, 2.0, 3.0));
+        m.w_axis.w = 1.000_000_000_000_000_2;
+        m.z_axis.w = 1e-12;
+        let t = LightTransform::new(m).expect("noise is not projective");
+        assert_eq!(t.point(DVec3::ZERO), DVec3::new(1.0, 2.0, 3.0));
+        m.z_axis.w = 2.0 * AFFINE_TOLERANCE;
         assert!(LightTransform::new(m).is_err());
     }
 

@@ -40,9 +40,50 @@ pub struct Camera {
     pub f_stop: f64,
     /// `focusDistance` (default 0).
     pub focus_distance: f64,
+    /// The photographic exposure terms: `exposure` (stops, default 0), `exposure:iso`
+    /// (default 100), `exposure:time` (seconds, default 1), `exposure:fStop` (default 1) and
+    /// `exposure:responsivity` (default 1); see [`Camera::linear_exposure_scale`].
+    pub exposure: CameraExposure,
+}
+
+/// UsdGeomCamera's exposure attributes (schema defaults in `Default`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraExposure {
+    /// `exposure`: compensation in stops.
+    pub exposure: f64,
+    /// `exposure:iso`.
+    pub iso: f64,
+    /// `exposure:time` in seconds.
+    pub time: f64,
+    /// `exposure:fStop`.
+    pub f_stop: f64,
+    /// `exposure:responsivity`.
+    pub responsivity: f64,
+}
+
+impl Default for CameraExposure {
+    fn default() -> CameraExposure {
+        CameraExposure {
+            exposure: 0.0,
+            iso: 100.0,
+            time: 1.0,
+            f_stop: 1.0,
+            responsivity: 1.0,
+        }
+    }
 }
 
 impl Camera {
+    /// UsdGeomCamera `ComputeLinearExposureScale`: the factor from scene radiance to image
+    /// values, `responsivity · time · (iso / 100) · 2^exposure / fStop²` (1 with every
+    /// default); a non-finite or non-positive result is 1.
+    pub fn linear_exposure_scale(&self) -> f64 {
+        let e = &self.exposure;
+        let s =
+            e.responsivity * e.time * (e.iso / 100.0) * e.exposure.exp2() / (e.f_stop * e.f_stop);
+        if s.is_finite() && s > 0.0 { s } else { 1.0 }
+    }
+
     /// A perspective camera with the UsdGeomCamera defaults (focal length 50, aperture
     /// 20.955 × 15.2908, clipping 1 to 10⁶) at `camera_to_world`, for scenes built in code.
     pub fn with_defaults(path: impl Into<String>, camera_to_world: DMat4) -> Camera {
@@ -58,6 +99,7 @@ impl Camera {
             clipping_range: DVec2::new(1.0, 1.0e6),
             f_stop: 0.0,
             focus_distance: 0.0,
+            exposure: CameraExposure::default(),
         }
     }
 }
@@ -83,6 +125,16 @@ pub fn read_camera(r: &mut Reader<'_>, prim: &Prim, world: DMat4) -> Result<Came
             .unwrap_or(DVec2::new(1.0, 1.0e6)),
         f_stop: r.f64_or(prim, "fStop", 0.0)?,
         focus_distance: r.f64_or(prim, "focusDistance", 0.0)?,
+        exposure: {
+            let d = CameraExposure::default();
+            CameraExposure {
+                exposure: r.f64_or(prim, "exposure", d.exposure)?,
+                iso: r.f64_or(prim, "exposure:iso", d.iso)?,
+                time: r.f64_or(prim, "exposure:time", d.time)?,
+                f_stop: r.f64_or(prim, "exposure:fStop", d.f_stop)?,
+                responsivity: r.f64_or(prim, "exposure:responsivity", d.responsivity)?,
+            }
+        },
     })
 }
 

@@ -12,6 +12,12 @@ pub enum LoadError {
         /// The path given to the loader.
         file: PathBuf,
     },
+    /// The root layer path names a directory.
+    #[error("{file}: is a directory, not a USD layer (.usda, .usdc, .usdz)")]
+    IsDirectory {
+        /// The path given to the loader.
+        file: PathBuf,
+    },
     /// The root layer exists but could not be read or parsed (malformed `.usda`, corrupt
     /// `.usdc`/`.usdz`). No prim is involved: the message carries the parser's position.
     #[error("{file}: cannot open stage: {message}")]
@@ -99,6 +105,10 @@ pub enum WarningKind {
     ShapingNotApplied,
     /// Something authored that lux deliberately ignores (GeomSubset bindings, light filters…).
     Ignored,
+    /// A sublayer, reference or payload that could not be composed (missing file, unknown
+    /// file format, missing target prim, cycle): the stage was composed without it, as
+    /// usd-core does.
+    Composition,
 }
 
 /// A non-fatal problem found while loading: what was ignored, replaced or unsupported.

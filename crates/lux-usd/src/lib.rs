@@ -16,9 +16,13 @@
 
 #![warn(missing_docs)]
 
+mod arcs;
 pub mod asset;
 pub mod camera;
+pub mod compat;
+pub mod defaults;
 pub mod error;
+pub mod instancing;
 pub mod light;
 mod load;
 pub mod material;
@@ -26,20 +30,58 @@ pub mod mesh;
 pub mod path_guard;
 pub mod reader;
 mod resolver;
+pub mod spectral;
 pub mod tessellate;
 pub mod usda_fix;
 mod value;
+mod walk;
 pub mod xform;
 
-pub use camera::{Camera, Projection, RenderBase, RenderProduct, RenderSettings};
+pub use camera::{Camera, CameraExposure, Projection, RenderBase, RenderProduct, RenderSettings};
+pub use compat::{
+    UsdaErrorLocation, describe_usda_error, describe_usda_layer_error, locate_usda_error,
+};
 pub use error::{LoadError, Warning, WarningKind};
-pub use light::{Light, PoleAxis, RawValue, ShadowInputs, ShapingInputs, SpectralAttributes};
-pub use load::{LoadOptions, MEMORY_LAYER, load_stage, load_stage_with, load_usda_str};
-pub use material::{Diffuse, Material, TextureInput};
+pub use light::{
+    DomeTextureFormat, Light, MaterialSyncMode, PoleAxis, ShadowInputs, ShapingInputs,
+};
+pub use load::{LoadOptions, MEMORY_LAYER, Time, load_stage, load_stage_with, load_usda_str};
+pub use material::{Diffuse, Material, SourceColorSpace, TextureInput, Wrap};
 pub use mesh::{Gprim, Instance, Mesh, Prototype};
 pub use reader::AssetRef;
+pub use spectral::{PhysicalLight, SurfaceSpectral};
+pub use walk::SKIPPED_GPRIMS;
 
+use std::collections::BTreeMap;
 use std::path::PathBuf;
+
+/// What the stage holds, counted as usd-core's traversal with instance proxies counts it: a
+/// native instance's gprims once per instance, a PointInstancer's prototypes once (where they
+/// are authored), only drawn prims (visible, purpose `default` or `render`).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct GprimCounts {
+    /// `Mesh` prims.
+    pub meshes: usize,
+    /// Implicit surfaces (`Sphere`, `Cube`, `Cylinder`, `Cone`, `Capsule`, `Plane`), drawn
+    /// tessellated.
+    pub implicit: usize,
+    /// Gprims lux does not draw, by type ([`SKIPPED_GPRIMS`]: curves, points, volumes…).
+    pub skipped: BTreeMap<String, usize>,
+    /// Native instances (`instanceable` prims with a prototype).
+    pub native_instances: usize,
+    /// PointInstancer instances: `protoIndices` entries, masked ones included.
+    pub point_instances: usize,
+    /// Light prims lux recognises but does not render (`PluginLight`, `GeometryLight`).
+    pub unsupported_lights: usize,
+}
+
+impl GprimCounts {
+    /// Gprims other than `Mesh` (implicit surfaces and skipped types): usd-core's count of
+    /// non-mesh gprims.
+    pub fn other_gprims(&self) -> usize {
+        self.implicit + self.skipped.values().sum::<usize>()
+    }
+}
 
 /// The stage's `upAxis` metadata.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -62,9 +104,9 @@ pub struct Scene {
     pub up_axis: UpAxis,
     /// `metersPerUnit` stage metadata (0.01 when unauthored); recorded, not applied.
     pub meters_per_unit: f64,
-    /// `unitForWavelength` stage metadata of the LTESpectralAPI (`"nanometers"` when
-    /// unauthored), as authored.
-    pub unit_for_wavelength: Option<String>,
+    /// `unitForWavelength` stage metadata of the LTESpectralAPI (nanometres when unauthored;
+    /// an unknown token is a warning and means nanometres).
+    pub unit_for_wavelength: lux_spectral::WavelengthUnit,
     /// `[startTimeCode, endTimeCode]` when authored.
     pub time_code_range: Option<[f64; 2]>,
     /// Drawn gprims (visible, purpose default/render) as triangle meshes: in world space, or
@@ -84,6 +126,8 @@ pub struct Scene {
     pub render_settings: Vec<RenderSettings>,
     /// What was ignored, replaced or unsupported.
     pub warnings: Vec<Warning>,
+    /// Drawn gprims and instances, counted as usd-core counts them.
+    pub gprims: GprimCounts,
     /// Number of active, defined prims visited.
     pub prim_count: usize,
 }
@@ -96,7 +140,7 @@ impl Scene {
             frame: 1.0,
             up_axis: UpAxis::Y,
             meters_per_unit: 1.0,
-            unit_for_wavelength: None,
+            unit_for_wavelength: lux_spectral::WavelengthUnit::Nanometers,
             time_code_range: None,
             meshes: Vec::new(),
             prototypes: Vec::new(),
@@ -106,8 +150,109 @@ impl Scene {
             cameras: Vec::new(),
             render_settings: Vec::new(),
             warnings: Vec::new(),
+            gprims: GprimCounts::default(),
             prim_count: 0,
         }
+    }
+
+    /// usdrecord's defaults where the stage is silent ([`defaults`]): without a camera, a
+    /// perspective camera framing the drawn bounds (upAxis-aware); without a light and when
+    /// `camera_light` is set, a camera light (headlight) along the render camera's view.
+    /// Returns one line per default added, for the render log and `lux info`.
+    pub fn add_usdrecord_defaults(&mut self, camera_light: bool) -> Vec<String> {
+        let mut notes = Vec::new();
+        if self.cameras.is_empty() {
+            let bounds = defaults::world_bounds(self);
+            let cam = defaults::framing_camera(bounds, self.up_axis);
+            let eye = cam.camera_to_world.transform_point3(glam::DVec3::ZERO);
+            notes.push(match bounds {
+                Some((lo, hi)) => format!(
+                    "no camera on the stage: usdrecord's framing camera at ({:.4}, {:.4}, {:.4}) \
+                     for the bounds ({:.4}, {:.4}, {:.4})..({:.4}, {:.4}, {:.4}), {:?} up",
+                    eye.x, eye.y, eye.z, lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, self.up_axis
+                ),
+                None => "no camera and nothing drawn on the stage: usdrecord's default camera \
+                         at the origin"
+                    .to_owned(),
+            });
+            self.cameras.push(cam);
+        }
+        if camera_light
+            && self.lights.is_empty()
+            && let Some(cam) = self.render_camera()
+        {
+            {
+                let l = defaults::camera_light(cam);
+                let a = l.axis();
+                notes.push(format!(
+                    "no light on the stage: usdrecord's camera light (a DistantLight of \
+                     illuminance π along the view ({:.4}, {:.4}, {:.4}); \
+                     --disable-camera-light turns it off)",
+                    a.x, a.y, a.z
+                ));
+                self.lights.push(l);
+            }
+        }
+        notes
+    }
+
+    /// The camera `name` names: a full prim path, or — as usdrecord's `--camera` takes — a
+    /// bare prim name when exactly one camera has it. The error says what matched.
+    pub fn find_camera(&self, name: &str) -> Result<&Camera, String> {
+        if let Some(c) = self.cameras.iter().find(|c| c.path == name) {
+            return Ok(c);
+        }
+        let bare: Vec<&Camera> = self
+            .cameras
+            .iter()
+            .filter(|c| !name.contains('/') && c.path.rsplit('/').next() == Some(name))
+            .collect();
+        match bare.as_slice() {
+            [one] => Ok(one),
+            [] => Err(format!(
+                "no camera <{name}> in {} (cameras: {})",
+                self.source.display(),
+                if self.cameras.is_empty() {
+                    "none".to_owned()
+                } else {
+                    self.cameras
+                        .iter()
+                        .map(|c| c.path.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                }
+            )),
+            many => Err(format!(
+                "camera name {name:?} is ambiguous in {}: {}",
+                self.source.display(),
+                many.iter()
+                    .map(|c| c.path.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )),
+        }
+    }
+
+    /// The output resolution when none is given: the first RenderSettings' product's, else
+    /// the settings' (`resolution`, schema fallback 1920 × 1080); without RenderSettings,
+    /// usdrecord's: 960 pixels wide and `⌊960 / aspect⌋` high (at least 1), `aspect` the
+    /// camera's `horizontalAperture / verticalAperture` (1 when degenerate).
+    pub fn default_resolution(&self, camera: &Camera) -> [u32; 2] {
+        if let Some(s) = self.render_settings.first() {
+            return s
+                .products
+                .first()
+                .and_then(|p| p.base.resolution)
+                .unwrap_or_else(|| s.resolution());
+        }
+        let aspect = camera.horizontal_aperture / camera.vertical_aperture;
+        let aspect = if aspect.is_finite() && (aspect as f32 - 0.0).abs() > 1e-4 {
+            aspect as f32
+        } else {
+            1.0
+        };
+        let h = (960.0f32 / aspect) as u32;
+        [960, h.clamp(1, 65536)]
     }
 
     /// The light at a prim path.

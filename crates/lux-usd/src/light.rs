@@ -3,11 +3,11 @@
 
 use crate::error::{LoadError, WarningKind};
 use crate::reader::{AssetRef, Reader};
-use crate::value;
+use crate::spectral::PhysicalLight;
 use glam::{DMat4, DVec3};
 use lux_math::{LightKind, LightParams, LightShape};
+use lux_spectral::SpectralAttribute;
 use openusd::usd::Prim;
-use std::collections::BTreeMap;
 
 /// `ShapingAPI` inputs (UsdLux 26.11 `ShapingAPI`), present on a [`Light`] only when the API is
 /// applied. `Default` gives the schema defaults: focus 0, focusTint black, cone angle 90°,
@@ -88,21 +88,6 @@ pub enum PoleAxis {
     Z,
 }
 
-/// A raw physical-unit / spectral attribute value, kept for later conversion by lux-spectral.
-#[derive(Clone, Debug, PartialEq)]
-pub enum RawValue {
-    /// A bool.
-    Bool(bool),
-    /// A number.
-    Number(f64),
-    /// A numeric array or tuple (vectors flattened; e.g. `float2[]` as x0, y0, x1, y1…).
-    Numbers(Vec<f64>),
-    /// A token or string.
-    Text(String),
-    /// An asset path.
-    Asset(AssetRef),
-}
-
 /// A light of the scene, in plain data: everything a renderer needs, nothing from `openusd`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Light {
@@ -132,8 +117,8 @@ pub struct Light {
     pub visible_to_camera: bool,
     /// `inputs:texture:file` (RectLight, DomeLight).
     pub texture: Option<AssetRef>,
-    /// `inputs:texture:format` (DomeLight; default `"automatic"`).
-    pub texture_format: String,
+    /// `inputs:texture:format` (DomeLight; default `automatic`).
+    pub texture_format: DomeTextureFormat,
     /// `poleAxis` (DomeLight_1; `Scene` otherwise).
     pub pole_axis: PoleAxis,
     /// `treatAsPoint` (SphereLight).
@@ -142,17 +127,92 @@ pub struct Light {
     pub treat_as_line: bool,
     /// `portals` targets (DomeLight).
     pub portals: Vec<String>,
-    /// `light:materialSyncMode` (MeshLightAPI default `"materialGlowTintsLight"`, else
-    /// `"noMaterialResponse"`).
-    pub material_sync_mode: String,
+    /// `light:materialSyncMode` (MeshLightAPI default `materialGlowTintsLight`, else
+    /// `noMaterialResponse`).
+    pub material_sync_mode: MaterialSyncMode,
     /// The prim's applied API schemas as composed.
     pub api_schemas: Vec<String>,
-    /// Raw `physical:*`, `photometric:*`, `radiometric:*`, `wavelength:*` attributes (with or
-    /// without the `inputs:` prefix) and their LTESpectralAPI metadata (`unitForWavelength`,
-    /// `emissionInterpolation`, `illuminantPreset`, `iorInterpolation`). An attribute may
-    /// carry metadata without a value (an `illuminantPreset` on an empty
-    /// `wavelength:emission`).
-    pub physical: SpectralAttributes,
+    /// Physical light units ([`PhysicalLight`]), when a Photometric*/Radiometric* light API or
+    /// `PhysicalLightIlluminantAPI` is applied.
+    pub physical: Option<PhysicalLight>,
+    /// LTESpectralAPI `wavelength:emission` (values and/or `illuminantPreset`), if authored.
+    pub emission_spectrum: Option<SpectralAttribute>,
+}
+
+/// `DomeLight.inputs:texture:format`: how the texture maps to directions.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DomeTextureFormat {
+    /// `automatic` (default): latlong for the 2:1 textures lux reads.
+    #[default]
+    Automatic,
+    /// `latlong`.
+    Latlong,
+    /// `mirroredBall`.
+    MirroredBall,
+    /// `angular`.
+    Angular,
+    /// `cubeMapVerticalCross`.
+    CubeMapVerticalCross,
+}
+
+impl DomeTextureFormat {
+    /// The schema token.
+    pub fn token(self) -> &'static str {
+        match self {
+            DomeTextureFormat::Automatic => "automatic",
+            DomeTextureFormat::Latlong => "latlong",
+            DomeTextureFormat::MirroredBall => "mirroredBall",
+            DomeTextureFormat::Angular => "angular",
+            DomeTextureFormat::CubeMapVerticalCross => "cubeMapVerticalCross",
+        }
+    }
+
+    /// The schema token's format; `None` for an unknown token.
+    pub fn parse(token: &str) -> Option<DomeTextureFormat> {
+        Some(match token {
+            "automatic" => DomeTextureFormat::Automatic,
+            "latlong" => DomeTextureFormat::Latlong,
+            "mirroredBall" => DomeTextureFormat::MirroredBall,
+            "angular" => DomeTextureFormat::Angular,
+            "cubeMapVerticalCross" => DomeTextureFormat::CubeMapVerticalCross,
+            _ => return None,
+        })
+    }
+}
+
+/// `light:materialSyncMode` (geometry-lights proposal, `MeshLightAPI` / `VolumeLightAPI`): how
+/// the geometry's material and the light's emission relate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MaterialSyncMode {
+    /// `materialGlowTintsLight` (MeshLightAPI's default): the material's emission tints the
+    /// light's.
+    MaterialGlowTintsLight,
+    /// `independent`: the light emits as authored; the material shades independently.
+    Independent,
+    /// `noMaterialResponse` (the default of other lights): the geometry has no material
+    /// response of its own.
+    NoMaterialResponse,
+}
+
+impl MaterialSyncMode {
+    /// The schema token.
+    pub fn token(self) -> &'static str {
+        match self {
+            MaterialSyncMode::MaterialGlowTintsLight => "materialGlowTintsLight",
+            MaterialSyncMode::Independent => "independent",
+            MaterialSyncMode::NoMaterialResponse => "noMaterialResponse",
+        }
+    }
+
+    /// The schema token's mode; `None` for an unknown token.
+    pub fn parse(token: &str) -> Option<MaterialSyncMode> {
+        Some(match token {
+            "materialGlowTintsLight" => MaterialSyncMode::MaterialGlowTintsLight,
+            "independent" => MaterialSyncMode::Independent,
+            "noMaterialResponse" => MaterialSyncMode::NoMaterialResponse,
+            _ => return None,
+        })
+    }
 }
 
 impl Light {
@@ -177,19 +237,19 @@ impl Light {
             shadow: ShadowInputs::default(),
             visible_to_camera: false,
             texture: None,
-            texture_format: "automatic".to_owned(),
+            texture_format: DomeTextureFormat::Automatic,
             pole_axis: PoleAxis::Scene,
             treat_as_point: false,
             treat_as_line: false,
             portals: Vec::new(),
             material_sync_mode: if kind == LightKind::Mesh {
-                "materialGlowTintsLight"
+                MaterialSyncMode::MaterialGlowTintsLight
             } else {
-                "noMaterialResponse"
-            }
-            .to_owned(),
+                MaterialSyncMode::NoMaterialResponse
+            },
             api_schemas: Vec::new(),
-            physical: SpectralAttributes::default(),
+            physical: None,
+            emission_spectrum: None,
         }
     }
 
@@ -206,101 +266,75 @@ impl Light {
     }
 }
 
-/// Attribute metadata keys of the LTESpectralAPI that the loader records.
-pub const SPECTRAL_METADATA: [&str; 4] = [
-    "unitForWavelength",
-    "emissionInterpolation",
-    "illuminantPreset",
-    "iorInterpolation",
+/// LightAPI inputs that UsdLux before 21.05 authored without the `inputs:` prefix.
+const LEGACY_INPUTS: [&str; 14] = [
+    "intensity",
+    "exposure",
+    "color",
+    "diffuse",
+    "specular",
+    "normalize",
+    "enableColorTemperature",
+    "colorTemperature",
+    "radius",
+    "width",
+    "height",
+    "length",
+    "angle",
+    "texture:file",
 ];
 
-/// Attribute namespaces a light's physical-unit and spectral inputs live in.
-pub const LIGHT_NAMESPACES: [&str; 4] =
-    ["physical:", "photometric:", "radiometric:", "wavelength:"];
-
-/// Attribute namespaces of a surface's spectral inputs (LTESpectralAPI on a gprim or on its
-/// material's surface shader), plus the scalar `ior`.
-pub const SURFACE_NAMESPACES: [&str; 2] = ["wavelength:", "ior"];
-
-/// Raw attributes in some namespaces (with or without the `inputs:` prefix) and their
-/// LTESpectralAPI metadata, for conversion by lux-spectral.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct SpectralAttributes {
-    /// Values keyed by attribute name as authored.
-    pub values: BTreeMap<String, RawValue>,
-    /// String metadata ([`SPECTRAL_METADATA`] keys) keyed by attribute name, then key.
-    pub metadata: BTreeMap<String, BTreeMap<String, String>>,
-}
-
-impl SpectralAttributes {
-    /// Nothing authored.
-    pub fn is_empty(&self) -> bool {
-        self.values.is_empty() && self.metadata.is_empty()
-    }
-}
-
-/// Reads every attribute of `prim` whose name (without `inputs:`) starts with one of
-/// `namespaces` (an entry without a trailing `:` must match the whole name), with its
-/// [`SPECTRAL_METADATA`]. Values of a type lux cannot use are skipped with a warning.
-pub fn read_spectral_attributes(
+/// One warning each for what a light authors that lux does not honour yet: light and shadow
+/// linking (`collection:lightLink`, `collection:shadowLink` restricting the light), light
+/// filters (`light:filters`), and pre-21.05 inputs without the `inputs:` prefix (usd-core
+/// ignores those too; the schema defaults are used).
+fn warn_unsupported_authoring(
     r: &mut Reader<'_>,
     prim: &Prim,
-    namespaces: &[&str],
-) -> Result<SpectralAttributes, LoadError> {
-    let mut out = SpectralAttributes::default();
-    let names = prim.property_names().map_err(|e| r.usd_error(prim, e))?;
-    for name in names {
-        let name = name.as_str();
-        let bare = name.strip_prefix("inputs:").unwrap_or(name);
-        let wanted = namespaces.iter().any(|n| {
-            if n.ends_with(':') {
-                bare.starts_with(n)
-            } else {
-                bare == *n
-            }
-        });
-        if !wanted {
-            continue;
-        }
-        let mut metas = BTreeMap::new();
-        for key in SPECTRAL_METADATA {
-            if let Some(v) = r.metadata_text(prim, name, key) {
-                metas.insert(key.to_owned(), v);
-            }
-        }
-        if !metas.is_empty() {
-            out.metadata.insert(name.to_owned(), metas);
-        }
-        if let Some(v) = r.raw(prim, name)? {
-            let raw = if let Some(b) = value::as_bool(&v) {
-                RawValue::Bool(b)
-            } else if let Some(x) = value::as_f64(&v) {
-                RawValue::Number(x)
-            } else if let Some(t) = value::as_text(&v) {
-                RawValue::Text(t)
-            } else if let Some((authored, resolved)) = value::as_asset(&v) {
-                RawValue::Asset(AssetRef {
-                    authored,
-                    resolved: resolved.map(Into::into),
-                })
-            } else if let Some(a) = value::as_f64_array(&v) {
-                RawValue::Numbers(a)
-            } else if let Some(a) = value::as_vec2_array(&v) {
-                RawValue::Numbers(a.iter().flat_map(|p| [p.x, p.y]).collect())
-            } else if let Some(a) = value::as_vec3_array(&v) {
-                RawValue::Numbers(a.iter().flat_map(|p| [p.x, p.y, p.z]).collect())
-            } else {
-                r.warn(
-                    prim,
-                    WarningKind::Unsupported,
-                    format!("{name}: value type {} not recorded", value::type_label(&v)),
-                );
-                continue;
-            };
-            out.values.insert(name.to_owned(), raw);
+    names: &[openusd::tf::Token],
+) -> Result<(), LoadError> {
+    for (collection, what) in [
+        ("collection:lightLink", "light linking"),
+        ("collection:shadowLink", "shadow linking"),
+    ] {
+        let restricted = names.iter().any(|n| {
+            let n = n.as_str();
+            n == format!("{collection}:includes") || n == format!("{collection}:excludes")
+        }) || r.bool(prim, &format!("{collection}:includeRoot"))? == Some(false);
+        if restricted {
+            r.warn(
+                prim,
+                WarningKind::Unsupported,
+                format!("{what} ({collection}) is not supported yet: the light affects every prim"),
+            );
         }
     }
-    Ok(out)
+    if !r.targets(prim, "light:filters")?.is_empty() {
+        r.warn(
+            prim,
+            WarningKind::Unsupported,
+            "light:filters are not supported yet: ignored",
+        );
+    }
+    let legacy: Vec<&str> = names
+        .iter()
+        .map(|n| n.as_str())
+        .filter(|n| {
+            LEGACY_INPUTS.contains(n) || n.starts_with("shaping:") || n.starts_with("shadow:")
+        })
+        .collect();
+    if !legacy.is_empty() {
+        r.warn(
+            prim,
+            WarningKind::Ignored,
+            format!(
+                "{} authored without the inputs: prefix (UsdLux before 21.05); ignored as \
+                 usd-core does, the schema defaults are used",
+                legacy.join(", ")
+            ),
+        );
+    }
+    Ok(())
 }
 
 /// The light kind of a concrete light prim type, `None` for anything else.
@@ -414,7 +448,9 @@ pub fn read_light(
     let shaping_authored = names
         .iter()
         .any(|n| n.as_str().starts_with("inputs:shaping:"));
-    let physical = read_spectral_attributes(r, prim, &LIGHT_NAMESPACES)?;
+    let physical = crate::spectral::read_physical_light(r, prim, api_schemas)?;
+    let emission_spectrum = crate::spectral::read_emission(r, prim)?;
+    warn_unsupported_authoring(r, prim, &names)?;
     if shaping.is_none() && shaping_authored {
         r.warn(
             prim,
@@ -455,9 +491,34 @@ pub fn read_light(
         PoleAxis::Scene
     };
     let default_sync = if kind == LightKind::Mesh {
-        "materialGlowTintsLight"
+        MaterialSyncMode::MaterialGlowTintsLight
     } else {
-        "noMaterialResponse"
+        MaterialSyncMode::NoMaterialResponse
+    };
+    let texture_format = match r.text(prim, "inputs:texture:format")? {
+        None => DomeTextureFormat::Automatic,
+        Some(t) => DomeTextureFormat::parse(&t).unwrap_or_else(|| {
+            r.warn(
+                prim,
+                WarningKind::InvalidValue,
+                format!("inputs:texture:format {t:?} is not a DomeLight format; using automatic"),
+            );
+            DomeTextureFormat::Automatic
+        }),
+    };
+    let material_sync_mode = match r.text(prim, "light:materialSyncMode")? {
+        None => default_sync,
+        Some(t) => MaterialSyncMode::parse(&t).unwrap_or_else(|| {
+            r.warn(
+                prim,
+                WarningKind::InvalidValue,
+                format!(
+                    "light:materialSyncMode {t:?} is not materialGlowTintsLight, independent or \
+                     noMaterialResponse; using the default"
+                ),
+            );
+            default_sync
+        }),
     };
     Ok(Light {
         path: prim.path().to_string(),
@@ -472,9 +533,7 @@ pub fn read_light(
         shadow,
         visible_to_camera: r.bool_or(prim, "inputs:visibility:camera", false)?,
         texture,
-        texture_format: r
-            .text(prim, "inputs:texture:format")?
-            .unwrap_or_else(|| "automatic".to_owned()),
+        texture_format,
         pole_axis,
         treat_as_point: r.bool_or(prim, "treatAsPoint", false)?,
         treat_as_line: r.bool_or(prim, "treatAsLine", false)?,
@@ -483,10 +542,9 @@ pub fn read_light(
         } else {
             Vec::new()
         },
-        material_sync_mode: r
-            .text(prim, "light:materialSyncMode")?
-            .unwrap_or_else(|| default_sync.to_owned()),
+        material_sync_mode,
         api_schemas: api_schemas.to_vec(),
         physical,
+        emission_spectrum,
     })
 }

@@ -1,8 +1,8 @@
 //! `material:binding` → `UsdPreviewSurface.inputs:diffuseColor`, as a value or a `UsdUVTexture`.
 
 use crate::error::{LoadError, WarningKind};
-use crate::light::{SURFACE_NAMESPACES, SpectralAttributes, read_spectral_attributes};
 use crate::reader::{AssetRef, Reader, is_prim_path, is_property_name};
+use crate::spectral::{SurfaceSpectral, read_surface_spectral};
 use glam::{DVec3, DVec4};
 use openusd::usd::Prim;
 
@@ -26,14 +26,92 @@ pub struct TextureInput {
     pub bias: DVec4,
     /// `inputs:fallback` (default (0, 0, 0, 1)).
     pub fallback: DVec4,
-    /// `inputs:wrapS` (default `"useMetadata"`).
-    pub wrap_s: String,
-    /// `inputs:wrapT` (default `"useMetadata"`).
-    pub wrap_t: String,
-    /// `inputs:sourceColorSpace` (default `"auto"`).
-    pub source_color_space: String,
+    /// Whether `inputs:fallback` is authored (a renderer may prefer the surface input's own
+    /// fallback for an unreadable file when the texture's is only the schema default).
+    pub fallback_authored: bool,
+    /// `inputs:wrapS` (default `useMetadata`).
+    pub wrap_s: Wrap,
+    /// `inputs:wrapT` (default `useMetadata`).
+    pub wrap_t: Wrap,
+    /// `inputs:sourceColorSpace` (default `auto`).
+    pub source_color_space: SourceColorSpace,
     /// The output connected (`rgb`, `r`, …).
     pub output: String,
+}
+
+/// `UsdUVTexture.inputs:wrapS` / `wrapT`: texture coordinates outside [0, 1].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Wrap {
+    /// `black`: the fallback outside.
+    Black,
+    /// `clamp`: the edge texel.
+    Clamp,
+    /// `repeat`: tiled.
+    Repeat,
+    /// `mirror`: tiled, every other tile mirrored.
+    Mirror,
+    /// `useMetadata` (default): the texture file's own wrap metadata; lux's image readers carry
+    /// none, so it means `repeat` (what Hydra Storm does without metadata).
+    #[default]
+    UseMetadata,
+}
+
+impl Wrap {
+    /// The schema token.
+    pub fn token(self) -> &'static str {
+        match self {
+            Wrap::Black => "black",
+            Wrap::Clamp => "clamp",
+            Wrap::Repeat => "repeat",
+            Wrap::Mirror => "mirror",
+            Wrap::UseMetadata => "useMetadata",
+        }
+    }
+
+    /// The schema token's mode; `None` for an unknown token.
+    pub fn parse(token: &str) -> Option<Wrap> {
+        Some(match token {
+            "black" => Wrap::Black,
+            "clamp" => Wrap::Clamp,
+            "repeat" => Wrap::Repeat,
+            "mirror" => Wrap::Mirror,
+            "useMetadata" => Wrap::UseMetadata,
+            _ => return None,
+        })
+    }
+}
+
+/// `UsdUVTexture.inputs:sourceColorSpace`: how texel values are decoded.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SourceColorSpace {
+    /// `auto` (default): by the file — 8-bit images are sRGB-encoded, float images linear.
+    #[default]
+    Auto,
+    /// `raw`: values as stored (no transfer function).
+    Raw,
+    /// `sRGB`: sRGB-encoded.
+    Srgb,
+}
+
+impl SourceColorSpace {
+    /// The schema token.
+    pub fn token(self) -> &'static str {
+        match self {
+            SourceColorSpace::Auto => "auto",
+            SourceColorSpace::Raw => "raw",
+            SourceColorSpace::Srgb => "sRGB",
+        }
+    }
+
+    /// The schema token's colour space; `None` for an unknown token.
+    pub fn parse(token: &str) -> Option<SourceColorSpace> {
+        Some(match token {
+            "auto" => SourceColorSpace::Auto,
+            "raw" => SourceColorSpace::Raw,
+            "sRGB" => SourceColorSpace::Srgb,
+            _ => return None,
+        })
+    }
 }
 
 /// Where a material's diffuse colour comes from.
@@ -55,9 +133,12 @@ pub struct Material {
     pub diffuse: Diffuse,
     /// Other authored UsdPreviewSurface inputs (recorded by name, not used).
     pub other_inputs: Vec<String>,
+    /// Whether the surface asks for transparency or cut-outs (UsdPreviewSurface `opacity`
+    /// below 1 or connected, or `opacityThreshold` above 0), which lux draws opaque.
+    pub uses_opacity: bool,
     /// LTESpectralAPI inputs of the surface shader (`wavelength:reflectance`,
     /// `wavelength:ior`, scalar `ior`); a `wavelength:reflectance` replaces `diffuseColor`.
-    pub spectral: SpectralAttributes,
+    pub spectral: SurfaceSpectral,
 }
 
 /// Follows the connection of `attr` on `prim` through NodeGraph/Material interface inputs;
@@ -87,6 +168,28 @@ fn shader_id(r: &Reader<'_>, prim: &Prim) -> Result<Option<String>, LoadError> {
     r.text(prim, "info:id")
 }
 
+/// A token attribute parsed by `parse`: `None` when unauthored, or (with a warning naming the
+/// prim and attribute) when the token is unknown.
+fn token<T>(
+    r: &mut Reader<'_>,
+    prim: &Prim,
+    name: &str,
+    parse: impl Fn(&str) -> Option<T>,
+) -> Result<Option<T>, LoadError> {
+    let Some(t) = r.text(prim, name)? else {
+        return Ok(None);
+    };
+    let v = parse(&t);
+    if v.is_none() {
+        r.warn(
+            prim,
+            WarningKind::InvalidValue,
+            format!("{name} {t:?} is not a token of the schema; using the default"),
+        );
+    }
+    Ok(v)
+}
+
 /// Reads the Material at `path`.
 pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadError> {
     let mat = r.stage.prim(path);
@@ -94,7 +197,8 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
         path: path.to_owned(),
         diffuse: Diffuse::Color(DEFAULT_DIFFUSE),
         other_inputs: Vec::new(),
-        spectral: SpectralAttributes::default(),
+        uses_opacity: false,
+        spectral: SurfaceSpectral::default(),
     };
     let (shader_path, _) = follow(r, path, "outputs:surface")?;
     if shader_path == path {
@@ -114,7 +218,7 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
         );
         return Ok(out);
     }
-    out.spectral = read_spectral_attributes(r, &shader, &SURFACE_NAMESPACES)?;
+    out.spectral = read_surface_spectral(r, &shader)?;
     for name in shader
         .property_names()
         .map_err(|e| r.usd_error(&shader, e))?
@@ -124,6 +228,10 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
             out.other_inputs.push(n.to_owned());
         }
     }
+    let opacity_connected = !r.connections(&shader, "inputs:opacity")?.is_empty();
+    let opacity = r.f64(&shader, "inputs:opacity")?.unwrap_or(1.0);
+    let threshold = r.f64(&shader, "inputs:opacityThreshold")?.unwrap_or(0.0);
+    out.uses_opacity = opacity_connected || opacity < 1.0 || threshold > 0.0;
     let (src_prim, src_attr) = follow(r, &shader_path, "inputs:diffuseColor")?;
     let src = r.stage.prim(src_prim.as_str());
     if let Some(output) = src_attr.strip_prefix("outputs:") {
@@ -149,6 +257,7 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
             let _ = rp;
         }
         let file = r.asset(&src, "inputs:file")?;
+        let fallback = r.vec4(&src, "inputs:fallback")?;
         if let Some(a) = &file
             && a.resolved.is_none()
         {
@@ -164,18 +273,12 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
             st_primvar,
             scale: r.vec4(&src, "inputs:scale")?.unwrap_or(DVec4::ONE),
             bias: r.vec4(&src, "inputs:bias")?.unwrap_or(DVec4::ZERO),
-            fallback: r
-                .vec4(&src, "inputs:fallback")?
-                .unwrap_or(DVec4::new(0.0, 0.0, 0.0, 1.0)),
-            wrap_s: r
-                .text(&src, "inputs:wrapS")?
-                .unwrap_or_else(|| "useMetadata".into()),
-            wrap_t: r
-                .text(&src, "inputs:wrapT")?
-                .unwrap_or_else(|| "useMetadata".into()),
-            source_color_space: r
-                .text(&src, "inputs:sourceColorSpace")?
-                .unwrap_or_else(|| "auto".into()),
+            fallback: fallback.unwrap_or(DVec4::new(0.0, 0.0, 0.0, 1.0)),
+            fallback_authored: fallback.is_some(),
+            wrap_s: token(r, &src, "inputs:wrapS", Wrap::parse)?.unwrap_or_default(),
+            wrap_t: token(r, &src, "inputs:wrapT", Wrap::parse)?.unwrap_or_default(),
+            source_color_space: token(r, &src, "inputs:sourceColorSpace", SourceColorSpace::parse)?
+                .unwrap_or_default(),
             output: output.to_owned(),
         }));
     } else if let Some(c) = r.vec3(&src, &src_attr)? {

@@ -35,12 +35,37 @@ pub struct Mesh {
     pub light: Option<usize>,
     /// LTESpectralAPI inputs authored on the gprim itself (`wavelength:reflectance`, …); a
     /// reflectance here wins over the material's.
-    pub spectral: crate::light::SpectralAttributes,
+    pub spectral: crate::spectral::SurfaceSpectral,
     /// The [`Prototype`] (index into `Scene::prototypes`) this mesh belongs to: `None` for a
     /// mesh drawn once in world space.
     pub prototype: Option<usize>,
     /// The gprim schema the triangles came from.
     pub gprim: Gprim,
+}
+
+impl Mesh {
+    /// This mesh under the affine map `m` (positions, shading normals by the inverse
+    /// transpose; a mirroring `m` reverses the winding, so the front side stays the USD front
+    /// side, and reorders per-corner primvars with it).
+    pub fn transformed(&self, m: &DMat4) -> Mesh {
+        let mirror = DMat3::from_mat4(*m).determinant() < 0.0;
+        Mesh {
+            positions: self
+                .positions
+                .iter()
+                .map(|p| m.transform_point3(*p))
+                .collect(),
+            triangles: self
+                .triangles
+                .iter()
+                .map(|t| if mirror { [t[0], t[2], t[1]] } else { *t })
+                .collect(),
+            normals: self.normals.clone().map(|n| normals_to_world(n, m, mirror)),
+            colors: self.colors.clone().map(|c| mirror_corners(c, mirror)),
+            uvs: self.uvs.clone().map(|c| mirror_corners(c, mirror)),
+            ..self.clone()
+        }
+    }
 }
 
 /// The UsdGeom gprim type a [`Mesh`] was made from.

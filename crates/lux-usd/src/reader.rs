@@ -26,6 +26,9 @@ pub struct Reader<'s> {
     pub time: f64,
     /// Collected warnings.
     pub warnings: Vec<Warning>,
+    /// Attributes of the wrong type, read as unauthored (taken into `warnings` by
+    /// [`Reader::take_type_warnings`]).
+    pub type_warnings: std::cell::RefCell<Vec<Warning>>,
     /// Size limits of this load.
     pub limits: crate::LoadOptions,
 }
@@ -170,10 +173,31 @@ impl<'s> Reader<'s> {
     ) -> Result<Option<T>, LoadError> {
         match self.raw(prim, name)? {
             None => Ok(None),
-            Some(v) => conv(&v)
-                .map(Some)
-                .ok_or_else(|| self.type_error(prim, name, expected, &v)),
+            Some(v) => match conv(&v) {
+                Some(x) => Ok(Some(x)),
+                // usd-core opens such a stage without complaint (a renderer ignores the value):
+                // a warning naming the attribute, the value read as unauthored; an error in a
+                // strict load.
+                None if self.limits.strict => Err(self.type_error(prim, name, expected, &v)),
+                None => {
+                    self.type_warnings.borrow_mut().push(Warning {
+                        prim: prim.path().to_string(),
+                        kind: WarningKind::InvalidValue,
+                        message: format!(
+                            "{name}: expected {expected}, found {}; ignored (read as unauthored)",
+                            value::type_label(&v)
+                        ),
+                    });
+                    Ok(None)
+                }
+            },
         }
+    }
+
+    /// Moves the wrong-type warnings into `warnings`.
+    pub fn take_type_warnings(&mut self) {
+        let w = std::mem::take(self.type_warnings.get_mut());
+        self.warnings.extend(w);
     }
 
     /// A number, or `None` when unauthored. Wrong type → `LoadError::AttributeType`.
@@ -347,6 +371,52 @@ impl<'s> Reader<'s> {
             Some(v) => self.capped(prim, name, v).map(Some),
             None => Ok(None),
         }
+    }
+
+    /// A quaternion array (`quath[]`, `quatf[]`, `quatd[]`).
+    pub fn quat_array(
+        &self,
+        prim: &Prim,
+        name: &'static str,
+    ) -> Result<Option<Vec<glam::DQuat>>, LoadError> {
+        match self.typed(prim, name, "a quaternion array", value::as_quat_array)? {
+            Some(v) => self.capped(prim, name, v).map(Some),
+            None => Ok(None),
+        }
+    }
+
+    /// An `int64` list-op metadata field of `prim` (e.g. a PointInstancer's `inactiveIds`),
+    /// composed over the prim's layer stack (strongest opinion last applied): the resulting
+    /// list.
+    pub fn int64_list_metadata(&self, prim: &Prim, key: &str) -> Result<Vec<i64>, LoadError> {
+        let stack = prim.prim_stack().map_err(|e| self.usd_error(prim, e))?;
+        let mut list: Vec<i64> = Vec::new();
+        for (layer, spec_path) in stack.iter().rev() {
+            let Some(l) = self.stage.layer(layer) else {
+                continue;
+            };
+            let Some(spec) = l.prim(spec_path.clone()) else {
+                continue;
+            };
+            match spec.field(key) {
+                Ok(Some(Value::Int64ListOp(op))) => list = op.compose_over(&list),
+                // `openusd` 0.6's text parser keeps an unregistered prim metadata list
+                // (`inactiveIds = [3]`) as a plain array: an explicit list.
+                Ok(Some(Value::Int64Vec(v))) => list = v,
+                Ok(Some(Value::IntVec(v))) => list = v.into_iter().map(i64::from).collect(),
+                Ok(Some(Value::IntListOp(op))) => {
+                    let weaker: Vec<i32> =
+                        list.iter().filter_map(|x| i32::try_from(*x).ok()).collect();
+                    list = op
+                        .compose_over(&weaker)
+                        .into_iter()
+                        .map(i64::from)
+                        .collect();
+                }
+                _ => {}
+            }
+        }
+        Ok(list)
     }
 
     /// An integer array.

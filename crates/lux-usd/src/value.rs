@@ -99,6 +99,25 @@ pub fn as_quat(v: &Value) -> Option<DQuat> {
     })
 }
 
+/// An array of quaternions of any precision (`quath[]`, `quatf[]`, `quatd[]`), unnormalised.
+pub fn as_quat_array(v: &Value) -> Option<Vec<DQuat>> {
+    Some(match v {
+        Value::QuathVec(a) => a
+            .iter()
+            .map(|q| DQuat::from_xyzw(q.x.to_f64(), q.y.to_f64(), q.z.to_f64(), q.w.to_f64()))
+            .collect(),
+        Value::QuatfVec(a) => a
+            .iter()
+            .map(|q| DQuat::from_xyzw(q.x.into(), q.y.into(), q.z.into(), q.w.into()))
+            .collect(),
+        Value::QuatdVec(a) => a
+            .iter()
+            .map(|q| DQuat::from_xyzw(q.x, q.y, q.z, q.w))
+            .collect(),
+        _ => return None,
+    })
+}
+
 /// An array of 3-vectors of any precision.
 pub fn as_vec3_array(v: &Value) -> Option<Vec<DVec3>> {
     Some(match v {

@@ -113,7 +113,7 @@ fn op_matrix(r: &mut Reader<'_>, prim: &Prim, name: &str) -> Result<Option<DMat4
         found: value::type_label(&v),
     };
     let m = match kind {
-        "transform" => value::as_matrix4(&v).ok_or_else(|| bad("a matrix4d"))?,
+        "transform" => snap_affine(value::as_matrix4(&v).ok_or_else(|| bad("a matrix4d"))?),
         "translate" => {
             DMat4::from_translation(value::as_vec3(&v).ok_or_else(|| bad("a 3-vector"))?)
         }
@@ -157,6 +157,29 @@ fn op_matrix(r: &mut Reader<'_>, prim: &Prim, name: &str) -> Result<Option<DMat4
     Ok(Some(m))
 }
 
+/// Largest deviation of a `transform` op's last USD column from `(0, 0, 0, 1)` that counts as
+/// rounding noise (DCC exports write `1.0000000000000002`).
+pub const AFFINE_TOLERANCE: f64 = 1e-9;
+
+/// `m` with its last USD column (glam's bottom row) set to exactly `(0, 0, 0, 1)` when it is
+/// within [`AFFINE_TOLERANCE`] of it; a truly projective matrix is returned unchanged (and
+/// refused where an affine map is needed, e.g. by a light).
+pub fn snap_affine(mut m: DMat4) -> DMat4 {
+    let r = m.row(3);
+    let dev =
+        r.x.abs()
+            .max(r.y.abs())
+            .max(r.z.abs())
+            .max((r.w - 1.0).abs());
+    if dev <= AFFINE_TOLERANCE {
+        m.x_axis.w = 0.0;
+        m.y_axis.w = 0.0;
+        m.z_axis.w = 0.0;
+        m.w_axis.w = 1.0;
+    }
+    m
+}
+
 /// A three-axis rotation `rotateABC` with angles `deg = (x, y, z)` in degrees: rotate about A
 /// first, then B, then C (column form `R_C · R_B · R_A`). `None` unless `axes` is a permutation of
 /// `XYZ`.
@@ -181,6 +204,24 @@ pub fn euler(axes: &str, deg: DVec3) -> Option<DMat4> {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn rounding_noise_in_the_last_column_is_snapped() {
+        use glam::{DMat4, DVec4};
+        let mut m = DMat4::from_translation(glam::DVec3::new(1.0, 2.0, 3.0));
+        m.w_axis.w = 1.000_000_000_000_000_2;
+        m.x_axis.w = -3e-17;
+        let s = super::snap_affine(m);
+        assert_eq!(s.row(3), DVec4::new(0.0, 0.0, 0.0, 1.0));
+        assert_eq!(s.w_axis.truncate(), glam::DVec3::new(1.0, 2.0, 3.0));
+        let mut p = DMat4::IDENTITY;
+        p.x_axis.w = 0.25;
+        assert_eq!(
+            super::snap_affine(p),
+            p,
+            "a projective matrix stays as authored"
+        );
+    }
+
     use super::*;
 
     #[test]

@@ -1,5 +1,7 @@
-//! Bad input: missing files, unresolved and malformed arcs and cycles are typed errors that
-//! name the file and the prim; renderer-specific attributes and unknown prim types are ignored
+//! Bad input: a missing or malformed root layer is a typed error naming the file; unresolved
+//! and malformed arcs and cycles are composition warnings naming the arc, the layer that
+//! authored it and the prim (usd-core's policy: the stage composes without the arc), and typed
+//! errors in a strict load; renderer-specific attributes and unknown prim types are ignored
 //! without a warning; absurd sizes hit the limits; nothing panics.
 
 use lux_usd::{LoadError, LoadOptions, WarningKind, load_stage, load_usda_str};
@@ -13,11 +15,33 @@ fn bad(name: &str) -> PathBuf {
     scenes().join("bad").join(name)
 }
 
-/// Loads `file` expecting a composition error; returns (layer, prim, message) after checking
-/// that the error names the root file and the prim in its text.
+fn strict() -> LoadOptions {
+    let mut o = LoadOptions::default();
+    o.strict = true;
+    o
+}
+
+/// Loads `file` strictly expecting a composition error; returns (layer, prim, message) after
+/// checking that the error names the root file and the prim in its text, and that the default
+/// (usd-core) policy loads the stage with the same problem as a composition warning.
 #[track_caller]
 fn composition_error(file: &Path) -> (String, String, String) {
-    match load_stage(file, 1.0) {
+    let (layer, prim, message) = strict_composition_error(file);
+    let s = load_stage(file, 1.0).expect("the default policy composes the rest");
+    let w = s
+        .warnings
+        .iter()
+        .find(|w| w.kind == WarningKind::Composition && w.prim == prim)
+        .unwrap_or_else(|| panic!("no composition warning at {prim}: {:#?}", s.warnings));
+    assert!(w.message.contains(&message), "{w}");
+    assert!(w.message.contains(&layer), "{w}");
+    assert!(w.message.ends_with("composed without it"), "{w}");
+    (layer, prim, message)
+}
+
+#[track_caller]
+fn strict_composition_error(file: &Path) -> (String, String, String) {
+    match lux_usd::load_stage_with(file, 1.0, &strict()) {
         Err(e @ LoadError::Composition { .. }) => {
             let text = e.to_string();
             let LoadError::Composition {
@@ -56,11 +80,13 @@ fn missing_file() {
         }
         other => panic!("{other:?}"),
     }
-    // a directory is not a layer either
-    assert!(matches!(
-        load_stage(scenes(), 1.0),
-        Err(LoadError::NotFound { .. })
-    ));
+    // a directory is not a layer either, and the error says so
+    match load_stage(scenes(), 1.0) {
+        Err(e @ LoadError::IsDirectory { .. }) => {
+            assert!(e.to_string().contains("is a directory"), "{e}");
+        }
+        other => panic!("{other:?}"),
+    }
 }
 
 #[test]
@@ -82,33 +108,44 @@ fn reference_to_a_missing_prim_or_default_prim() {
     assert!(message.contains("target.usda"), "{message}");
     // an internal reference to a prim that does not exist
     let text = "#usda 1.0\ndef Xform \"A\" (\n    prepend references = </Nope>\n)\n{\n}\n";
-    match load_usda_str(text, 1.0, &LoadOptions::default()) {
+    match load_usda_str(text, 1.0, &strict()) {
         Err(LoadError::Composition { prim, message, .. }) => {
             assert_eq!(prim, "/A");
             assert!(message.contains("/Nope"), "{message}");
         }
         other => panic!("{other:?}"),
     }
+    let s = load_usda_str(text, 1.0, &LoadOptions::default()).unwrap();
+    assert_eq!(s.prim_count, 1, "/A is composed without the reference");
+    assert!(
+        s.warnings.iter().any(|w| w.kind == WarningKind::Composition
+            && w.prim == "/A"
+            && w.message.contains("/Nope")),
+        "{:#?}",
+        s.warnings
+    );
 }
 
 #[test]
 fn malformed_layers() {
-    // The root layer itself: no prim exists yet; the parser's diagnostic is kept.
+    // The root layer itself: no prim exists yet; the parser's diagnostic names the file, the
+    // line and the column (line 8 ends after `=`, and the `}` of line 9 is not a value).
     let f = bad("malformed.usda");
+    let at = format!("{}:9:1: Expected a number", f.display());
     match load_stage(&f, 1.0) {
         Err(e @ LoadError::Malformed { .. }) => {
-            assert!(e.to_string().contains("malformed.usda"), "{e}");
+            assert!(e.to_string().contains(&at), "{e}");
         }
         other => panic!("{other:?}"),
     }
-    // A referenced layer: the referencing prim is named.
+    // A referenced layer: the referencing prim is named, and the position in the bad layer.
     let (layer, prim, message) = composition_error(&bad("ref_malformed.usda"));
     assert_eq!(prim, "/Holder");
     assert!(layer.ends_with("ref_malformed.usda"), "{layer}");
-    assert!(message.contains("malformed.usda"), "{message}");
+    assert!(message.contains(&at), "{message}");
     // A sublayer: a layer-stack error, prim "/".
     let f = bad("malformed_sublayer.usda");
-    match load_stage(&f, 1.0) {
+    match lux_usd::load_stage_with(&f, 1.0, &strict()) {
         Err(LoadError::Composition {
             prim,
             layer,
@@ -117,7 +154,7 @@ fn malformed_layers() {
         }) => {
             assert_eq!(prim, "/");
             assert!(layer.ends_with("malformed_sublayer.usda"), "{layer}");
-            assert!(message.contains("malformed.usda"), "{message}");
+            assert!(message.contains(&at), "{message}");
         }
         Err(e @ LoadError::Malformed { .. }) => {
             assert!(e.to_string().contains("malformed"), "{e}");
@@ -151,7 +188,16 @@ fn cycles() {
 #[test]
 fn renderer_specific_attributes_and_unknown_types_are_silent() {
     let s = load_stage(scenes().join("renderer_specific.usda"), 1.0).unwrap();
-    assert!(s.warnings.is_empty(), "{:#?}", s.warnings);
+    // the one warning: the curves and points lux does not draw, counted
+    assert_eq!(s.warnings.len(), 1, "{:#?}", s.warnings);
+    assert_eq!(s.warnings[0].kind, WarningKind::Unsupported);
+    assert!(
+        s.warnings[0].message.ends_with("1 BasisCurves, 1 Points"),
+        "{}",
+        s.warnings[0]
+    );
+    assert_eq!(s.gprims.skipped.get("Points"), Some(&1));
+    assert_eq!(s.gprims.skipped.get("BasisCurves"), Some(&1));
     let panel = s.light("/Panel").unwrap();
     assert_eq!(
         panel.shape,
@@ -165,7 +211,7 @@ fn renderer_specific_attributes_and_unknown_types_are_silent() {
         "arnold:normalize is not inputs:normalize"
     );
     assert_eq!(panel.shaping.as_ref().unwrap().cone_angle_deg, 30.0);
-    assert!(panel.physical.is_empty());
+    assert!(panel.physical.is_none() && panel.emission_spectrum.is_none());
     assert_eq!(s.cameras.len(), 1);
     assert_eq!(s.cameras[0].focal_length, 20.0);
     assert_eq!(s.render_settings[0].resolution(), [64, 32]);
@@ -179,7 +225,21 @@ fn renderer_specific_attributes_and_unknown_types_are_silent() {
 #[test]
 fn wrong_attribute_type_names_file_prim_and_attribute() {
     let text = "#usda 1.0\ndef SphereLight \"L\"\n{\n    string inputs:intensity = \"bright\"\n}\n";
-    match load_usda_str(text, 1.0, &LoadOptions::default()) {
+    // usd-core opens it without complaint: a warning, and the schema default
+    let s = load_usda_str(text, 1.0, &LoadOptions::default()).unwrap();
+    assert_eq!(s.light("/L").unwrap().params.intensity, 1.0);
+    assert_eq!(s.warnings.len(), 1, "{:#?}", s.warnings);
+    assert_eq!(s.warnings[0].prim, "/L");
+    assert_eq!(s.warnings[0].kind, WarningKind::InvalidValue);
+    assert!(
+        s.warnings[0]
+            .message
+            .starts_with("inputs:intensity: expected a number, found String"),
+        "{}",
+        s.warnings[0]
+    );
+    // a strict load refuses it, naming the file, the prim and the attribute
+    match load_usda_str(text, 1.0, &strict()) {
         Err(e @ LoadError::AttributeType { .. }) => {
             let t = e.to_string();
             assert!(t.contains("<stage.usda") || t.contains("stage.usda"), "{t}");
@@ -335,8 +395,18 @@ fn fuzz_regressions_non_identifier_paths() {
             .all(|w| w.kind == WarningKind::InvalidValue)
     );
     let reference = "#usda 1.0\ndef Xform \"A\" (\n    prepend references = </x y\n z>\n)\n{\n}\n";
+    let s = load_usda_str(reference, 1.0, &o).unwrap();
+    assert!(
+        s.warnings
+            .iter()
+            .any(|w| w.kind == WarningKind::Composition && w.prim == "/A"),
+        "{:#?}",
+        s.warnings
+    );
+    let mut strict = o.clone();
+    strict.strict = true;
     assert!(matches!(
-        load_usda_str(reference, 1.0, &o),
+        load_usda_str(reference, 1.0, &strict),
         Err(LoadError::Composition { prim, .. }) if prim == "/A"
     ));
 }
@@ -372,4 +442,23 @@ fn fuzz_regressions_unwalkable_reference_target() {
     // the same target screened but harmless (a `}` in a relationship target) still loads
     let rel = "#usda 1.0\ndef RenderSettings \"S\"\n{\n    rel camera = </C}>\n}\n";
     assert!(load_usda_str(rel, 1.0, &o).is_ok());
+}
+
+/// An `http://` reference (lux resolves files and packages only) is an unresolved arc named as
+/// written — not mangled into a local path — and the rest of the stage composes.
+#[test]
+fn uri_references_are_unresolved_arcs_named_as_written() {
+    let text = "#usda 1.0\ndef Xform \"B\" (\n    references = @http://example.com/assets/chair.usda@</Chair>\n)\n{\n}\ndef Sphere \"S\"\n{\n}\n";
+    let s = load_usda_str(text, 1.0, &LoadOptions::default()).unwrap();
+    assert_eq!(s.meshes.len(), 1);
+    let w = s
+        .warnings
+        .iter()
+        .find(|w| w.kind == WarningKind::Composition)
+        .expect("a composition warning");
+    assert_eq!(w.prim, "/B");
+    assert!(
+        w.message.contains("@http://example.com/assets/chair.usda@"),
+        "{w}"
+    );
 }

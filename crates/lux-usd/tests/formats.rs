@@ -3,7 +3,7 @@
 //! single-layer package, `usdz::ArchiveWriter` for one that also carries the scene's assets),
 //! and every form loads to the same `Scene` at every frame tested.
 
-use lux_usd::{AssetRef, Diffuse, RawValue, Scene, WarningKind, load_stage, usda_fix};
+use lux_usd::{AssetRef, Diffuse, Scene, WarningKind, load_stage, usda_fix};
 use std::fs;
 use std::path::{Path, PathBuf};
 
@@ -74,13 +74,6 @@ fn write_binary_forms(dir: &Path) {
 }
 
 fn for_each_asset(scene: &mut Scene, f: &mut dyn FnMut(&mut AssetRef)) {
-    fn raw(values: &mut lux_usd::SpectralAttributes, f: &mut dyn FnMut(&mut AssetRef)) {
-        for v in values.values.values_mut() {
-            if let RawValue::Asset(a) = v {
-                f(a);
-            }
-        }
-    }
     for l in &mut scene.lights {
         if let Some(a) = &mut l.texture {
             f(a);
@@ -88,7 +81,6 @@ fn for_each_asset(scene: &mut Scene, f: &mut dyn FnMut(&mut AssetRef)) {
         if let Some(a) = l.shaping.as_mut().and_then(|s| s.ies_file.as_mut()) {
             f(a);
         }
-        raw(&mut l.physical, f);
     }
     for m in &mut scene.materials {
         if let Diffuse::Texture(t) = &mut m.diffuse
@@ -96,10 +88,6 @@ fn for_each_asset(scene: &mut Scene, f: &mut dyn FnMut(&mut AssetRef)) {
         {
             f(a);
         }
-        raw(&mut m.spectral, f);
-    }
-    for m in &mut scene.meshes {
-        raw(&mut m.spectral, f);
     }
 }
 

@@ -183,11 +183,15 @@ fn materials_value_and_texture() {
     // the primvar name reaches the reader through a Material interface input
     assert_eq!(t.st_primvar, "uv");
     assert_eq!(t.output, "rgb");
-    assert_eq!((t.wrap_s.as_str(), t.wrap_t.as_str()), ("repeat", "clamp"));
-    assert_eq!(t.source_color_space, "sRGB");
+    assert_eq!(
+        (t.wrap_s, t.wrap_t),
+        (lux_usd::Wrap::Repeat, lux_usd::Wrap::Clamp)
+    );
+    assert_eq!(t.source_color_space, lux_usd::SourceColorSpace::Srgb);
     assert_eq!(t.scale, DVec4::new(2.0, 2.0, 2.0, 1.0));
     assert_eq!(t.bias, DVec4::new(0.1f32.into(), 0.0, 0.0, 0.0));
     assert_eq!(t.fallback, DVec4::new(0.0, 0.0, 0.0, 1.0));
+    assert!(!t.fallback_authored);
     // The binding on /World/Props is inherited by every gprim under it.
     let ball = mesh(&s, "/World/Props/Ball");
     let red = &s.materials[ball.material.unwrap()];

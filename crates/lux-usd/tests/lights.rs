@@ -133,7 +133,7 @@ fn loaded(l: &Light, attr: &str) -> V {
         "inputs:color" => V::C(l.params.color),
         "inputs:enableColorTemperature" => V::B(l.params.enable_color_temperature),
         "inputs:colorTemperature" => V::F(l.params.color_temperature),
-        "light:materialSyncMode" => V::T(Box::leak(l.material_sync_mode.clone().into())),
+        "light:materialSyncMode" => V::T(l.material_sync_mode.token()),
         "inputs:shaping:focus" => V::F(s.focus),
         "inputs:shaping:focusTint" => V::C(s.focus_tint),
         "inputs:shaping:cone:angle" => V::F(s.cone_angle_deg),
@@ -169,7 +169,7 @@ fn loaded(l: &Light, attr: &str) -> V {
         },
         "treatAsPoint" => V::B(l.treat_as_point),
         "treatAsLine" => V::B(l.treat_as_line),
-        "inputs:texture:format" => V::T(Box::leak(l.texture_format.clone().into())),
+        "inputs:texture:format" => V::T(l.texture_format.token()),
         "poleAxis" => V::T(match l.pole_axis {
             PoleAxis::Scene => "scene",
             PoleAxis::Y => "Y",
@@ -337,7 +337,7 @@ fn authored_light_inputs() {
     );
     assert_eq!(tube.params.color, DVec3::new(0.5, 1.0, 0.25));
     let sky = s.light("/World/Lights/Sky").unwrap();
-    assert_eq!(sky.texture_format, "latlong");
+    assert_eq!(sky.texture_format.token(), "latlong");
     assert_eq!(sky.portals, ["/World/Lights/Window"]);
     assert_eq!(sky.pole_axis, PoleAxis::Scene);
     assert_eq!(

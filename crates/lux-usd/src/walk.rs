@@ -1,0 +1,548 @@
+//! The stage walk: one pass over the composed prims that accumulates transforms, visibility,
+//! purpose and material bindings, and reads every drawn gprim, light and camera — into the
+//! world, or into the instancing prototype being walked ([`crate::instancing`]).
+
+use crate::arcs::{ArcProblem, missing_reference_targets};
+use crate::camera::{read_camera, read_render_settings};
+use crate::error::{LoadError, Warning, WarningKind};
+use crate::instancing::{ProtoWalk, Target};
+use crate::light::{is_unsupported_light_type, kind_of_type, read_light};
+use crate::material::read_material;
+use crate::mesh::{
+    Gprim, Mesh, Topology, expand_primvar, mesh_topology, mirror_corners, normals_to_world,
+    to_world,
+};
+use crate::reader::Reader;
+use crate::tessellate::{self, Axis};
+use crate::xform::local_transform;
+use crate::{GprimCounts, Scene};
+use glam::DMat4;
+use lux_math::LightKind;
+use openusd::usd::Prim;
+use std::collections::HashMap;
+
+/// Gprim types lux does not draw; each is counted and reported once per load.
+pub const SKIPPED_GPRIMS: [&str; 8] = [
+    "BasisCurves",
+    "NurbsCurves",
+    "HermiteCurves",
+    "Points",
+    "NurbsPatch",
+    "TetMesh",
+    "Volume",
+    "ParticleField",
+];
+
+/// Inherited state of the walk.
+#[derive(Clone)]
+pub struct Inherited {
+    /// Local-to-world transform (or local-to-prototype inside a prototype).
+    pub world: DMat4,
+    /// Visibility so far (an `invisible` ancestor hides everything below).
+    pub visible: bool,
+    /// Effective purpose.
+    pub purpose: String,
+    /// Whether `purpose` was authored on this prim or an ancestor (UsdGeomImageable
+    /// `PurposeInfo::isInheritable`): children without their own purpose inherit it.
+    pub purpose_inheritable: bool,
+    /// The nearest `material:binding` target so far.
+    pub binding: Option<String>,
+    /// Where what is found goes.
+    pub target: Target,
+    /// Inside a PointInstancer prototype: whether a prim is defined is judged from the
+    /// prototype root down (its own specifier and its ancestors' up to the root), so that
+    /// prototypes authored under an `over` — the usual way to hide them from traversal — are
+    /// instanced, as UsdImaging does.
+    pub defined_from_root: bool,
+}
+
+impl Inherited {
+    /// The state above the stage's root prims.
+    pub fn root() -> Inherited {
+        Inherited {
+            world: DMat4::IDENTITY,
+            visible: true,
+            purpose: "default".into(),
+            purpose_inheritable: false,
+            binding: None,
+            target: Target::World,
+            defined_from_root: false,
+        }
+    }
+}
+
+/// The walk's state.
+pub struct Walk<'s> {
+    /// Attribute reads at the load time.
+    pub r: Reader<'s>,
+    /// What has been read so far.
+    pub scene: Scene,
+    material_index: HashMap<String, usize>,
+    /// Composition problems found by the walk (missing reference targets).
+    pub problems: Vec<ArcProblem>,
+    /// Prototypes walked so far, and where they are.
+    pub protos: ProtoWalk,
+    /// Materials whose surface uses opacity (drawn opaque), for one warning.
+    opacity_materials: Vec<String>,
+    /// Skinned meshes (drawn in their bind pose), for one warning.
+    skinned: Vec<String>,
+}
+
+impl<'s> Walk<'s> {
+    /// A walk reading through `r` into `scene`.
+    pub fn new(r: Reader<'s>, scene: Scene) -> Walk<'s> {
+        Walk {
+            r,
+            scene,
+            material_index: HashMap::new(),
+            problems: Vec::new(),
+            protos: ProtoWalk::default(),
+            opacity_materials: Vec::new(),
+            skinned: Vec::new(),
+        }
+    }
+
+    /// The scene, the walk's warnings (with one summary each for skipped gprim types, opacity
+    /// and skinning) and the composition problems found.
+    pub fn finish(mut self) -> (Scene, Vec<Warning>, Vec<ArcProblem>) {
+        self.r.take_type_warnings();
+        let skipped = &self.scene.gprims.skipped;
+        if !skipped.is_empty() {
+            let list: Vec<String> = skipped.iter().map(|(t, n)| format!("{n} {t}")).collect();
+            self.r.warnings.push(Warning {
+                prim: "/".into(),
+                kind: WarningKind::Unsupported,
+                message: format!(
+                    "not drawn (lux draws meshes and implicit surfaces): {}",
+                    list.join(", ")
+                ),
+            });
+        }
+        if !self.opacity_materials.is_empty() {
+            self.r.warnings.push(Warning {
+                prim: self.opacity_materials[0].clone(),
+                kind: WarningKind::Unsupported,
+                message: format!(
+                    "{} material(s) use opacity or opacityThreshold; cut-outs and transparency \
+                     are drawn opaque",
+                    self.opacity_materials.len()
+                ),
+            });
+        }
+        if !self.skinned.is_empty() {
+            self.r.warnings.push(Warning {
+                prim: self.skinned[0].clone(),
+                kind: WarningKind::Unsupported,
+                message: format!(
+                    "{} skinned mesh(es) (UsdSkel) are drawn in their bind pose, not posed",
+                    self.skinned.len()
+                ),
+            });
+        }
+        (self.scene, self.r.warnings, self.problems)
+    }
+
+    pub(crate) fn usd<T, E: std::fmt::Display>(
+        &self,
+        prim: &Prim,
+        r: Result<T, E>,
+    ) -> Result<T, LoadError> {
+        r.map_err(|e| self.r.usd_error(prim, e))
+    }
+
+    /// Records a composition problem: a warning, or the load's error when strict.
+    pub(crate) fn problem(&mut self, p: ArcProblem) -> Result<(), LoadError> {
+        if self.r.limits.strict {
+            return Err(crate::load::composition_error(&self.r.file, p));
+        }
+        self.problems.push(p);
+        Ok(())
+    }
+
+    /// The gprim counts of the current target (the world, or the prototype being walked).
+    pub(crate) fn counts(&mut self, target: Target) -> &mut GprimCounts {
+        match target {
+            Target::World => &mut self.scene.gprims,
+            Target::Proto(pd) => &mut self.protos.data[pd].counts,
+        }
+    }
+
+    /// Visits `prim` and its subtree.
+    pub fn visit(
+        &mut self,
+        prim: &Prim,
+        parent: &Inherited,
+        depth: usize,
+    ) -> Result<(), LoadError> {
+        if depth >= self.r.limits.max_depth {
+            return Err(LoadError::TooLarge {
+                file: self.r.file.clone(),
+                prim: prim.path().to_string(),
+                what: "namespace depth",
+                count: depth + 1,
+                limit: self.r.limits.max_depth,
+            });
+        }
+        // `openusd` 0.6 accepts prim names that are not identifiers (`"a b"`, `"c}d"`) and
+        // then recurses without end when composing them: such prims (and everything below)
+        // are skipped before any other query.
+        let path = prim.path().to_string();
+        if !crate::reader::is_prim_path(&path) {
+            self.r.warnings.push(Warning {
+                prim: path,
+                kind: WarningKind::InvalidValue,
+                message: "prim name is not a USD identifier; prim and descendants skipped".into(),
+            });
+            return Ok(());
+        }
+        let active = self.usd(prim, prim.is_active())?;
+        let defined = if parent.defined_from_root {
+            matches!(
+                self.usd(prim, prim.specifier())?,
+                Some(openusd::sdf::Specifier::Def)
+            )
+        } else {
+            self.usd(prim, prim.is_defined())?
+        };
+        let abstract_ = !parent.defined_from_root && self.usd(prim, prim.is_abstract())?;
+        if !active || !defined || abstract_ {
+            return Ok(());
+        }
+        let missing =
+            missing_reference_targets(self.r.stage, prim).map_err(|m| self.r.usd_error(prim, m))?;
+        for p in missing {
+            self.problem(p)?;
+        }
+        self.scene.prim_count += 1;
+        let type_name = self
+            .usd(prim, prim.type_name())?
+            .map(|t| t.as_str().to_owned())
+            .unwrap_or_default();
+        if matches!(
+            type_name.as_str(),
+            "Material" | "Shader" | "NodeGraph" | "GeomSubset"
+        ) {
+            return Ok(());
+        }
+        let api: Vec<String> = self
+            .usd(prim, prim.api_schemas())?
+            .iter()
+            .map(|t| t.as_str().to_owned())
+            .collect();
+        let (local, reset) = local_transform(&mut self.r, prim)?;
+        let world = if reset { local } else { parent.world * local };
+        let visible =
+            parent.visible && self.r.text(prim, "visibility")?.as_deref() != Some("invisible");
+        // UsdGeomImageable purpose (PurposeInfo): the prim's own authored purpose; else the
+        // nearest ancestor's authored purpose (inherited by children without their own);
+        // else the fallback "default".
+        let (purpose, purpose_inheritable) = match self.r.text(prim, "purpose")? {
+            Some(p) => (p, true),
+            None if parent.purpose_inheritable => (parent.purpose.clone(), true),
+            None => ("default".to_owned(), false),
+        };
+        let binding = {
+            let full = self.r.targets(prim, "material:binding:full")?;
+            let all = self.r.targets(prim, "material:binding")?;
+            full.into_iter()
+                .chain(all)
+                .next()
+                .or_else(|| parent.binding.clone())
+        };
+        let here = Inherited {
+            world,
+            visible,
+            purpose,
+            purpose_inheritable,
+            binding,
+            target: parent.target,
+            defined_from_root: parent.defined_from_root,
+        };
+        let drawn = here.visible && matches!(here.purpose.as_str(), "default" | "render");
+        if drawn {
+            self.prim_of_type(prim, &type_name, &api, &here, depth)?;
+        }
+        // UsdImaging draws a PointInstancer's subtree only through the instancer (its
+        // prototypes live there), and a native instance's subtree is its prototype's.
+        if type_name == "PointInstancer" {
+            return Ok(());
+        }
+        if self.usd(prim, prim.is_instance())? {
+            if drawn {
+                self.native_instance(prim, &here, depth)?;
+            }
+            return Ok(());
+        }
+        for child in self.usd(prim, prim.children())? {
+            self.visit(&child, &here, depth + 1)?;
+        }
+        Ok(())
+    }
+
+    fn prim_of_type(
+        &mut self,
+        prim: &Prim,
+        type_name: &str,
+        api: &[String],
+        here: &Inherited,
+        depth: usize,
+    ) -> Result<(), LoadError> {
+        if let Some(kind) = kind_of_type(type_name) {
+            let light = read_light(&mut self.r, prim, type_name, kind, here.world, api, None)?;
+            match here.target {
+                Target::World => self.scene.lights.push(light),
+                Target::Proto(pd) => self.protos.data[pd].lights.push(light),
+            }
+            return Ok(());
+        }
+        if is_unsupported_light_type(type_name) {
+            self.counts(here.target).unsupported_lights += 1;
+            self.r.warn(
+                prim,
+                WarningKind::UnsupportedLight,
+                format!("{type_name} is not supported; skipped"),
+            );
+            return Ok(());
+        }
+        match type_name {
+            "Camera" => {
+                let cam = read_camera(&mut self.r, prim, here.world)?;
+                match here.target {
+                    Target::World => self.scene.cameras.push(cam),
+                    Target::Proto(pd) => self.protos.data[pd].cameras.push(cam),
+                }
+            }
+            "RenderSettings" if here.target == Target::World => {
+                let s = read_render_settings(&mut self.r, prim)?;
+                self.scene.render_settings.push(s);
+            }
+            "PointInstancer" => self.point_instancer(prim, here, depth)?,
+            t if Gprim::of_type(t).is_some() => {
+                self.gprim(prim, type_name, api, here)?;
+            }
+            t if SKIPPED_GPRIMS.contains(&t) => {
+                *self
+                    .counts(here.target)
+                    .skipped
+                    .entry(t.to_owned())
+                    .or_insert(0) += 1;
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    fn implicit(&mut self, prim: &Prim, type_name: &str) -> Result<Topology, LoadError> {
+        let r = &mut self.r;
+        let axis = Axis::parse(r.text(prim, "axis")?.as_deref());
+        Ok(match type_name {
+            "Sphere" => tessellate::sphere(r.size_or(prim, "radius", 1.0)?),
+            "Cube" => tessellate::cube(r.size_or(prim, "size", 2.0)?),
+            "Cylinder" => tessellate::cylinder(
+                r.size_or(prim, "radius", 1.0)?,
+                r.size_or(prim, "height", 2.0)?,
+                axis,
+            ),
+            "Cone" => tessellate::cone(
+                r.size_or(prim, "radius", 1.0)?,
+                r.size_or(prim, "height", 2.0)?,
+                axis,
+            ),
+            "Capsule" => tessellate::capsule(
+                r.size_or(prim, "radius", 0.5)?,
+                r.size_or(prim, "height", 1.0)?,
+                axis,
+            ),
+            _ => tessellate::plane(
+                r.size_or(prim, "width", 2.0)?,
+                r.size_or(prim, "length", 2.0)?,
+                axis,
+            ),
+        })
+    }
+
+    fn gprim(
+        &mut self,
+        prim: &Prim,
+        type_name: &str,
+        api: &[String],
+        here: &Inherited,
+    ) -> Result<(), LoadError> {
+        let gprim = Gprim::of_type(type_name).unwrap_or(Gprim::Mesh);
+        {
+            let counts = self.counts(here.target);
+            if gprim == Gprim::Mesh {
+                counts.meshes += 1;
+            } else {
+                counts.implicit += 1;
+            }
+        }
+        let topo = if gprim == Gprim::Mesh {
+            match mesh_topology(&mut self.r, prim)? {
+                Some(t) => t,
+                None => return Ok(()),
+            }
+        } else {
+            self.implicit(prim, type_name)?
+        };
+        if api.iter().any(|a| a == "SkelBindingAPI")
+            || !self.r.targets(prim, "skel:skeleton")?.is_empty()
+        {
+            self.skinned.push(prim.path().to_string());
+        }
+        let (positions, triangles, mirror) = to_world(&topo, &here.world);
+        let mut normals = None;
+        if gprim == Gprim::Mesh {
+            for (name, default_interp) in [("primvars:normals", "constant"), ("normals", "vertex")]
+            {
+                if let Some(n) = self.r.vec3_array(
+                    prim,
+                    if name == "normals" {
+                        "normals"
+                    } else {
+                        "primvars:normals"
+                    },
+                )? {
+                    normals = expand_primvar(&mut self.r, prim, name, n, default_interp, &topo)?
+                        .map(|c| normals_to_world(c, &here.world, mirror));
+                    break;
+                }
+            }
+        } else {
+            // Implicit gprims are smooth surfaces: shade them with crease-angle normals.
+            normals = Some(normals_to_world(
+                tessellate::crease_normals(&topo, 60.0),
+                &here.world,
+                mirror,
+            ));
+        }
+        let colors = match self.r.vec3_array(prim, "primvars:displayColor")? {
+            Some(c) => expand_primvar(
+                &mut self.r,
+                prim,
+                "primvars:displayColor",
+                c,
+                "constant",
+                &topo,
+            )?
+            .map(|c| mirror_corners(c, mirror)),
+            None => None,
+        };
+        let material = match &here.binding {
+            Some(path) => Some(self.material(path)?),
+            None => None,
+        };
+        // Texture coordinates: the primvar the bound material reads; a prototype's mesh
+        // without a binding of its own may get an instance's material, so it keeps `st`.
+        let st = match material.map(|m| &self.scene.materials[m].diffuse) {
+            Some(crate::material::Diffuse::Texture(t)) => Some(t.st_primvar.clone()),
+            Some(_) => None,
+            None => (here.target != Target::World).then(|| "st".to_owned()),
+        };
+        let mut uvs = None;
+        if let Some(st) = st {
+            let name = format!("primvars:{st}");
+            if let Some(v) = self.r.raw(prim, &name)?
+                && let Some(st) = crate::value::as_vec2_array(&v)
+            {
+                uvs = expand_primvar(&mut self.r, prim, &name, st, "constant", &topo)?
+                    .map(|c| mirror_corners(c, mirror));
+            }
+        }
+        // UsdGeomPlane overrides the Gprim fallback: planes are double-sided unless authored.
+        let double_sided = self.r.bool_or(prim, "doubleSided", type_name == "Plane")?;
+        let spectral = crate::spectral::read_surface_spectral(&mut self.r, prim)?;
+        let mut light = None;
+        if api.iter().any(|a| a == "MeshLightAPI") {
+            let tris = topo
+                .triangles
+                .iter()
+                .map(|t| t.map(|k| topo.points[k as usize]))
+                .collect();
+            light = Some(read_light(
+                &mut self.r,
+                prim,
+                type_name,
+                LightKind::Mesh,
+                here.world,
+                api,
+                Some(tris),
+            )?);
+        } else if api.iter().any(|a| a == "VolumeLightAPI") {
+            self.r.warn(
+                prim,
+                WarningKind::UnsupportedLight,
+                "VolumeLightAPI is not supported",
+            );
+        }
+        let mesh = Mesh {
+            path: prim.path().to_string(),
+            positions,
+            triangles,
+            normals,
+            colors,
+            uvs,
+            double_sided,
+            material,
+            light: None,
+            spectral,
+            prototype: None,
+            gprim,
+        };
+        self.emit_mesh(mesh, light, here.target);
+        Ok(())
+    }
+
+    /// Puts a mesh (and its `MeshLightAPI` light) where the walk is: the world, or the
+    /// prototype being walked. A mesh light inside a prototype is kept apart and placed per
+    /// instance as world geometry (a light needs world-space triangles).
+    fn emit_mesh(&mut self, mut mesh: Mesh, light: Option<crate::Light>, target: Target) {
+        match (target, light) {
+            (Target::World, Some(l)) => {
+                mesh.light = Some(self.scene.lights.len());
+                self.scene.lights.push(l);
+                self.scene.meshes.push(mesh);
+            }
+            (Target::World, None) => self.scene.meshes.push(mesh),
+            (Target::Proto(pd), Some(l)) => {
+                let d = &mut self.protos.data[pd];
+                d.light_meshes.push((mesh, l));
+            }
+            (Target::Proto(pd), None) => {
+                let p = self.protos.prototype_of(pd, &mut self.scene);
+                mesh.prototype = Some(p);
+                self.scene.prototypes[p]
+                    .meshes
+                    .push(self.scene.meshes.len());
+                self.scene.meshes.push(mesh);
+            }
+        }
+    }
+
+    /// The index of the material at `path`, read on first use.
+    pub(crate) fn material(&mut self, path: &str) -> Result<usize, LoadError> {
+        if let Some(i) = self.material_index.get(path) {
+            return Ok(*i);
+        }
+        let m = read_material(&mut self.r, path)?;
+        if m.uses_opacity {
+            self.opacity_materials.push(m.path.clone());
+        }
+        let i = self.scene.materials.len();
+        self.scene.materials.push(m);
+        self.material_index.insert(path.to_owned(), i);
+        Ok(i)
+    }
+}
+
+/// Adds `other`'s counts to `into`, `times` times.
+pub fn add_counts(into: &mut GprimCounts, other: &GprimCounts, times: usize) {
+    into.meshes += other.meshes * times;
+    into.implicit += other.implicit * times;
+    into.native_instances += other.native_instances * times;
+    into.point_instances += other.point_instances * times;
+    into.unsupported_lights += other.unsupported_lights * times;
+    for (k, v) in &other.skipped {
+        *into.skipped.entry(k.clone()).or_insert(0) += v * times;
+    }
+}
