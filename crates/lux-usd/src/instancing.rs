@@ -97,12 +97,14 @@ impl ProtoWalk {
     }
 }
 
-/// `T(p) · R(q) · S(s)` (column form): scale, then rotate by the normalised quaternion, then
-/// translate — UsdGeomPointInstancer's per-instance transform. A zero or non-finite quaternion
-/// counts as the identity rotation.
+/// `T(p) · R(q) · S(s)` (column form): scale, then rotate, then translate — UsdGeomPointInstancer's
+/// per-instance transform. The rotation is `GfMatrix4d::SetRotate(GfQuatd)`'s, the unit-
+/// quaternion formula applied to the quaternion as authored (usd-core does not normalise it, so
+/// neither does lux: a `quath` that is a few ulps off unit length scales a little, in both);
+/// a non-finite quaternion counts as the identity rotation.
 pub fn instance_transform(position: DVec3, orientation: DQuat, scale: DVec3) -> DMat4 {
-    let q = if orientation.is_finite() && orientation.length_squared() > 0.0 {
-        orientation.normalize()
+    let q = if orientation.is_finite() {
+        orientation
     } else {
         DQuat::IDENTITY
     };
@@ -502,15 +504,12 @@ mod tests {
     #[test]
     fn transform_scales_then_rotates_then_translates() {
         let q = DQuat::from_rotation_z(std::f64::consts::FRAC_PI_2);
-        let m = instance_transform(
-            DVec3::new(10.0, 0.0, 0.0),
-            q * 3.0,
-            DVec3::new(2.0, 1.0, 1.0),
-        );
+        let m = instance_transform(DVec3::new(10.0, 0.0, 0.0), q, DVec3::new(2.0, 1.0, 1.0));
         // (1, 0, 0) → scaled (2, 0, 0) → rotated (0, 2, 0) → translated (10, 2, 0)
         let p = m.transform_point3(DVec3::X);
         assert!((p - DVec3::new(10.0, 2.0, 0.0)).length() < 1e-12, "{p}");
-        // an unnormalised quaternion rotates like its normalised form
+        // as USD's SetRotate: the unit-quaternion formula on the quaternion as given (the zero
+        // quaternion gives the identity)
         let n = instance_transform(
             DVec3::ZERO,
             DQuat::from_xyzw(0.0, 0.0, 0.0, 0.0),
