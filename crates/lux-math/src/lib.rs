@@ -58,7 +58,10 @@ pub use size::{
     gram_eigenvalues, mesh_area, rect_area, size_factor, sphere_area, sphere_area_reference,
     world_area,
 };
-pub use transform::{is_finite_matrix, linear_part, transform_vector, usd_matrix, usd_rows};
+pub use transform::{
+    AFFINE_TOLERANCE, affine_deviation, is_finite_matrix, linear_part, transform_vector,
+    usd_matrix, usd_rows,
+};
 
 /// The README's example, compiled and run as a doctest.
 #[doc = include_str!("../README.md")]

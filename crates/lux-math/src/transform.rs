@@ -16,6 +16,21 @@ pub fn usd_matrix(rows: [[f64; 4]; 4]) -> DMat4 {
     DMat4::from_cols_array_2d(&rows)
 }
 
+/// Largest deviation of a matrix's last USD column (glam's bottom row) from `(0, 0, 0, 1)` that
+/// counts as rounding noise of the exporting application (`1.0000000000000002`): below it the
+/// matrix is affine; above it, projective.
+pub const AFFINE_TOLERANCE: f64 = 1e-9;
+
+/// `max(|m₀₃|, |m₁₃|, |m₂₃|, |m₃₃ − 1|)` in USD's row form: how far `m` is from affine.
+#[inline]
+pub fn affine_deviation(m: &DMat4) -> f64 {
+    let r = m.row(3);
+    r.x.abs()
+        .max(r.y.abs())
+        .max(r.z.abs())
+        .max((r.w - 1.0).abs())
+}
+
 /// The USD rows of a glam matrix built by [`usd_matrix`] (its inverse).
 #[inline]
 pub fn usd_rows(m: &DMat4) -> [[f64; 4]; 4] {

@@ -16,6 +16,7 @@
 
 use crate::error::SampleError;
 use glam::{DMat3, DMat4, DVec3};
+use lux_math::AFFINE_TOLERANCE;
 
 /// A validated, invertible affine light-to-world transform `x ↦ L·x + t`.
 ///
@@ -42,10 +43,6 @@ impl Default for LightTransform {
     }
 }
 
-/// Largest deviation of the last USD column from `(0, 0, 0, 1)` accepted as rounding noise
-/// (DCC exports write `1.0000000000000002`); beyond it a matrix is projective and refused.
-pub const AFFINE_TOLERANCE: f64 = 1e-9;
-
 impl LightTransform {
     /// The identity transform.
     pub const IDENTITY: Self = Self {
@@ -66,13 +63,7 @@ impl LightTransform {
         }
         // The last USD column must be (0, 0, 0, 1); a deviation up to AFFINE_TOLERANCE is
         // rounding noise of the exporting application and is ignored (the map used is affine).
-        let r = m.row(3);
-        let dev =
-            r.x.abs()
-                .max(r.y.abs())
-                .max(r.z.abs())
-                .max((r.w - 1.0).abs());
-        if dev > AFFINE_TOLERANCE {
+        if lux_math::affine_deviation(&m) > AFFINE_TOLERANCE {
             return Err(SampleError::BadTransform(
                 "projective matrix (expected last USD column 0 0 0 1)",
             ));

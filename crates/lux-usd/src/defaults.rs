@@ -63,14 +63,7 @@ pub fn world_bounds(scene: &Scene) -> Option<(DVec3, DVec3)> {
     }
     for inst in &scene.instances {
         if let Some(Some((l, h))) = proto_bounds.get(inst.prototype) {
-            for k in 0..8 {
-                let c = DVec3::new(
-                    if k & 1 == 0 { l.x } else { h.x },
-                    if k & 2 == 0 { l.y } else { h.y },
-                    if k & 4 == 0 { l.z } else { h.z },
-                );
-                add(inst.to_world.transform_point3(c));
-            }
+            corners(*l, *h).for_each(|c| add(inst.to_world.transform_point3(c)));
         }
     }
     for l in &scene.lights {
@@ -91,17 +84,21 @@ pub fn world_bounds(scene: &Scene) -> Option<(DVec3, DVec3)> {
             _ => None,
         };
         if let Some((a, b)) = local {
-            for k in 0..8 {
-                let c = DVec3::new(
-                    if k & 1 == 0 { a.x } else { b.x },
-                    if k & 2 == 0 { a.y } else { b.y },
-                    if k & 4 == 0 { a.z } else { b.z },
-                );
-                add(l.light_to_world.transform_point3(c));
-            }
+            corners(a, b).for_each(|c| add(l.light_to_world.transform_point3(c)));
         }
     }
     (lo.x <= hi.x).then_some((lo, hi))
+}
+
+/// The 8 corners of the box `lo..hi`.
+fn corners(lo: DVec3, hi: DVec3) -> impl Iterator<Item = DVec3> {
+    (0..8).map(move |k| {
+        DVec3::new(
+            if k & 1 == 0 { lo.x } else { hi.x },
+            if k & 2 == 0 { lo.y } else { hi.y },
+            if k & 4 == 0 { lo.z } else { hi.z },
+        )
+    })
 }
 
 /// usdrecord's camera framing `bounds` (see the module docs); `None` bounds (nothing drawn)

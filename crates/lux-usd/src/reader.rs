@@ -349,16 +349,27 @@ impl<'s> Reader<'s> {
         Ok(v)
     }
 
+    /// An array attribute of at most `limits.max_array_len` elements, converted by `conv`.
+    fn array<T>(
+        &self,
+        prim: &Prim,
+        name: &'static str,
+        expected: &'static str,
+        conv: impl Fn(&Value) -> Option<Vec<T>>,
+    ) -> Result<Option<Vec<T>>, LoadError> {
+        match self.typed(prim, name, expected, conv)? {
+            Some(v) => self.capped(prim, name, v).map(Some),
+            None => Ok(None),
+        }
+    }
+
     /// A 3-vector array (points, normals, colours).
     pub fn vec3_array(
         &self,
         prim: &Prim,
         name: &'static str,
     ) -> Result<Option<Vec<DVec3>>, LoadError> {
-        match self.typed(prim, name, "a 3-vector array", value::as_vec3_array)? {
-            Some(v) => self.capped(prim, name, v).map(Some),
-            None => Ok(None),
-        }
+        self.array(prim, name, "a 3-vector array", value::as_vec3_array)
     }
 
     /// A 2-vector array (texture coordinates).
@@ -367,10 +378,7 @@ impl<'s> Reader<'s> {
         prim: &Prim,
         name: &'static str,
     ) -> Result<Option<Vec<DVec2>>, LoadError> {
-        match self.typed(prim, name, "a 2-vector array", value::as_vec2_array)? {
-            Some(v) => self.capped(prim, name, v).map(Some),
-            None => Ok(None),
-        }
+        self.array(prim, name, "a 2-vector array", value::as_vec2_array)
     }
 
     /// A quaternion array (`quath[]`, `quatf[]`, `quatd[]`).
@@ -379,10 +387,7 @@ impl<'s> Reader<'s> {
         prim: &Prim,
         name: &'static str,
     ) -> Result<Option<Vec<glam::DQuat>>, LoadError> {
-        match self.typed(prim, name, "a quaternion array", value::as_quat_array)? {
-            Some(v) => self.capped(prim, name, v).map(Some),
-            None => Ok(None),
-        }
+        self.array(prim, name, "a quaternion array", value::as_quat_array)
     }
 
     /// An `int64` list-op metadata field of `prim` (e.g. a PointInstancer's `inactiveIds`),
@@ -425,10 +430,7 @@ impl<'s> Reader<'s> {
         prim: &Prim,
         name: &'static str,
     ) -> Result<Option<Vec<i64>>, LoadError> {
-        match self.typed(prim, name, "an int array", value::as_int_array)? {
-            Some(v) => self.capped(prim, name, v).map(Some),
-            None => Ok(None),
-        }
+        self.array(prim, name, "an int array", value::as_int_array)
     }
 
     /// A string metadata field of an attribute (e.g. a primvar's `interpolation`).
