@@ -245,7 +245,11 @@ proptest! {
             let cut = angle.to_radians();
             let want = 1.0 - smooth_step(0.0, (1.0 - soft) * cut, cut);
             prop_assert!((on_axis - want).abs() < 1e-6, "{on_axis} vs {want}");
-            prop_assert!(on_axis < 1.0);
+            // the factor is f32: the dimming shows once it exceeds f32's resolution below 1
+            // (softness 1 + 6e-5 dims the axis by ~1e-8, which rounds to 1)
+            if want < 1.0 - f64::from(f32::EPSILON) {
+                prop_assert!(on_axis < 1.0);
+            }
             prop_assert_eq!(spec.factor(DVec3::NEG_Z), [1.0; 3]);
         }
     }
