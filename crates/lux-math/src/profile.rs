@@ -14,6 +14,8 @@ use core::str::FromStr;
 /// | `colorTemperature` colour | `UsdLuxBlackbodyTemperatureAsRgb` divided by its 6500 K value (white at 6500 K) | Krystek 1985 Planckian fit → linear Rec.709 → ÷ max → ÷ luminance | `lux_math::color_temperature_rgb` |
 /// | DistantLight sizeFactor above θmax = π/2 | π·(2 − sin²θmax) | π·sin²θmax (the reference's formula, no second branch) | `lux_math::distant_size_factor` |
 /// | DomeLight multipliers | intensity, exposure, color, colorTemperature apply | all four ignored | `lux_math::emission` |
+/// | camera visibility of area lights | `inputs:visibility:camera` on every area light | on RectLights only (both show the DomeLight) | `lux-render` |
+/// | light texture filtering | bilinear | nearest texel, for lighting and for the dome background | `lux-render` |
 /// | ShapingAPI softness | clamped to \[0, 1\] | used as authored | `lux-shaping` |
 /// | world-space areas | exact (Carlson R_F/R_D ellipsoid, elliptic E perimeter, cross-product disk) | Thomsen p = 1.6 ellipsoid, Ramanujan perimeter, π·\|a\|·\|b\| disk | `lux_math::size` |
 /// | RectLight texture on the lit path | as authored (schema orientation) | mirrored in u, as the reference does | `lux-render` |
