@@ -4,7 +4,7 @@
 use crate::error::{SampleError, positive};
 use crate::not_positive;
 use crate::transform::{LightTransform, finish_sample, local_direction};
-use crate::{LightSample, Reference};
+use crate::{LightSample, Reference, Strategy};
 use core::f64::consts::TAU;
 use glam::{DVec2, DVec3};
 
@@ -81,6 +81,42 @@ impl CylinderLight {
     /// only the non-emitting inside) or the sample is back-facing (area technique).
     #[inline]
     pub fn sample(&self, r: &Reference, u: [f64; 2]) -> Option<LightSample> {
+        self.sample_by(r, u, self.technique)
+    }
+
+    /// [`Self::sample`] with the techniques of `strategy` (`HdEmbree`: [`CylinderTechnique::Area`]).
+    #[inline]
+    pub fn sample_with(
+        &self,
+        r: &Reference,
+        u: [f64; 2],
+        strategy: Strategy,
+    ) -> Option<LightSample> {
+        self.sample_by(r, u, self.technique_of(strategy))
+    }
+
+    /// [`Self::pdf`] of the techniques of `strategy`.
+    #[inline]
+    pub fn pdf_with(&self, r: &Reference, wi: DVec3, strategy: Strategy) -> f64 {
+        self.pdf_by(r, wi, self.technique_of(strategy))
+    }
+
+    /// The technique `strategy` stands for.
+    #[inline]
+    fn technique_of(&self, strategy: Strategy) -> CylinderTechnique {
+        match strategy {
+            Strategy::Lux => self.technique,
+            Strategy::HdEmbree => CylinderTechnique::Area,
+        }
+    }
+
+    #[inline]
+    fn sample_by(
+        &self,
+        r: &Reference,
+        u: [f64; 2],
+        technique: CylinderTechnique,
+    ) -> Option<LightSample> {
         let pl = self.xf.inv_point(r.p);
         let p2 = DVec2::new(pl.y, pl.z);
         let rho = p2.length();
@@ -95,9 +131,9 @@ impl CylinderLight {
             let n = DVec3::new(0.0, c, s);
             (DVec3::new(x, rad * c, rad * s), n)
         };
-        let (q, n, pdf) = match self.technique {
+        let (q, n, pdf) = match technique {
             CylinderTechnique::Area | CylinderTechnique::VisibleArea => {
-                let (psi, width) = if self.technique == CylinderTechnique::Area {
+                let (psi, width) = if technique == CylinderTechnique::Area {
                     (TAU * u[1], TAU)
                 } else {
                     let g = (rad / rho).acos();
@@ -136,6 +172,11 @@ impl CylinderLight {
     /// Solid-angle density of [`Self::sample`] producing `wi` from `r`.
     #[inline]
     pub fn pdf(&self, r: &Reference, wi: DVec3) -> f64 {
+        self.pdf_by(r, wi, self.technique)
+    }
+
+    #[inline]
+    fn pdf_by(&self, r: &Reference, wi: DVec3, technique: CylinderTechnique) -> f64 {
         let pl = self.xf.inv_point(r.p);
         let Some((wl, jac)) = local_direction(&self.xf, wi) else {
             return 0.0;
@@ -152,7 +193,7 @@ impl CylinderLight {
         let q = pl + t * wl;
         let n = DVec3::new(0.0, q.y, q.z) / rad;
         let cos = -n.dot(wl);
-        let pdf = match self.technique {
+        let pdf = match technique {
             CylinderTechnique::Area => t * t / (cos * TAU * rad * self.length),
             CylinderTechnique::VisibleArea => {
                 let g = (rad / rho).acos();

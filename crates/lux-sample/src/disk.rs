@@ -5,7 +5,7 @@ use crate::error::{SampleError, positive};
 use crate::not_positive;
 use crate::transform::{LightTransform, finish_sample, local_direction};
 use crate::warp::sample_concentric_disk;
-use crate::{LightSample, Reference};
+use crate::{LightSample, Reference, Strategy};
 use core::f64::consts::{PI, TAU};
 use glam::{DVec2, DVec3};
 
@@ -230,12 +230,48 @@ impl DiskLight {
     /// Samples a point seen from `r`; `None` behind the disk (local z ≥ 0).
     #[inline]
     pub fn sample(&self, r: &Reference, u: [f64; 2]) -> Option<LightSample> {
+        self.sample_by(r, u, self.technique)
+    }
+
+    /// [`Self::sample`] with the techniques of `strategy` (`HdEmbree`: [`DiskTechnique::Area`]).
+    #[inline]
+    pub fn sample_with(
+        &self,
+        r: &Reference,
+        u: [f64; 2],
+        strategy: Strategy,
+    ) -> Option<LightSample> {
+        self.sample_by(r, u, self.technique_of(strategy))
+    }
+
+    /// [`Self::pdf`] of the techniques of `strategy`.
+    #[inline]
+    pub fn pdf_with(&self, r: &Reference, wi: DVec3, strategy: Strategy) -> f64 {
+        self.pdf_by(r, wi, self.technique_of(strategy))
+    }
+
+    /// The technique `strategy` stands for.
+    #[inline]
+    fn technique_of(&self, strategy: Strategy) -> DiskTechnique {
+        match strategy {
+            Strategy::Lux => self.technique,
+            Strategy::HdEmbree => DiskTechnique::Area,
+        }
+    }
+
+    #[inline]
+    fn sample_by(
+        &self,
+        r: &Reference,
+        u: [f64; 2],
+        technique: DiskTechnique,
+    ) -> Option<LightSample> {
         let pl = self.xf.inv_point(r.p);
         if pl.z.is_nan() || pl.z >= 0.0 {
             return None;
         }
         let h = -pl.z;
-        let (q, pdf) = match self.technique {
+        let (q, pdf) = match technique {
             DiskTechnique::Area => {
                 let d = sample_concentric_disk(u) * self.radius;
                 let q = DVec3::new(d.x, d.y, 0.0);
@@ -282,6 +318,11 @@ impl DiskLight {
     /// Solid-angle density of [`Self::sample`] producing `wi` from `r`.
     #[inline]
     pub fn pdf(&self, r: &Reference, wi: DVec3) -> f64 {
+        self.pdf_by(r, wi, self.technique)
+    }
+
+    #[inline]
+    fn pdf_by(&self, r: &Reference, wi: DVec3, technique: DiskTechnique) -> f64 {
         let pl = self.xf.inv_point(r.p);
         let Some((wl, jac)) = local_direction(&self.xf, wi) else {
             return 0.0;
@@ -298,7 +339,7 @@ impl DiskLight {
         if q.x * q.x + q.y * q.y > self.radius * self.radius {
             return 0.0;
         }
-        let pdf = match self.technique {
+        let pdf = match technique {
             DiskTechnique::Area => t * t / (wl.z * PI * self.radius * self.radius),
             DiskTechnique::EllipticCone => match EllipticCone::new(-pl, self.radius) {
                 Some(cone) => cone.pdf(wl),

@@ -4,7 +4,7 @@
 use crate::error::{SampleError, finite};
 use crate::transform::LightTransform;
 use crate::warp::sample_uniform_cone;
-use crate::{LightSample, Reference};
+use crate::{LightSample, Reference, Strategy};
 use core::f64::consts::TAU;
 use glam::DVec3;
 use lux_math::Frame;
@@ -75,6 +75,23 @@ impl DistantLight {
             pdf,
             delta,
         })
+    }
+
+    /// [`Self::sample`]: both strategies sample the cone uniformly.
+    #[inline]
+    pub fn sample_with(
+        &self,
+        r: &Reference,
+        u: [f64; 2],
+        _strategy: Strategy,
+    ) -> Option<LightSample> {
+        self.sample(r, u)
+    }
+
+    /// [`Self::pdf`]: both strategies sample the cone uniformly.
+    #[inline]
+    pub fn pdf_with(&self, r: &Reference, wi: DVec3, _strategy: Strategy) -> f64 {
+        self.pdf(r, wi)
     }
 
     /// Density of direction `wi`: 1/(2π(1 − cos θmax)) inside the cone; 0 outside and for delta

@@ -4,10 +4,11 @@
 use crate::distribution::Distribution2D;
 use crate::error::{MAX_ENTRIES, SampleError};
 use crate::transform::LightTransform;
-use crate::warp::sample_uniform_sphere;
-use crate::{LightSample, Reference};
+use crate::warp::{sample_uniform_hemisphere, sample_uniform_sphere};
+use crate::{LightSample, Reference, Strategy};
 use core::f64::consts::{FRAC_1_PI, PI};
 use glam::DVec3;
+use lux_math::Frame;
 
 /// A latlong luminance map, row-major, row 0 at the top (+Y), per spec §2 / OpenEXR latlong:
 /// the centre column looks along +Z, u = 0.25 along +X, longitude runs from +π at u = 0 to −π at
@@ -179,6 +180,71 @@ impl DomeLight {
             pdf,
             delta: false,
         })
+    }
+
+    /// [`Self::sample`] with the techniques of `strategy`. `HdEmbree`: uniform over the
+    /// hemisphere around the receiver normal `r.n`, density 1/(2π), whatever the texture (the
+    /// reference renderer's dome sampling); uniform over the sphere (through the dome's
+    /// transform, as [`Self::uniform`]) when `r` has no normal.
+    #[inline]
+    pub fn sample_with(
+        &self,
+        r: &Reference,
+        u: [f64; 2],
+        strategy: Strategy,
+    ) -> Option<LightSample> {
+        match strategy {
+            Strategy::Lux => self.sample(r, u),
+            Strategy::HdEmbree if r.n == DVec3::ZERO => self.sample_uniform(u),
+            Strategy::HdEmbree => {
+                let w = Frame::from_normal(r.n).to_world(sample_uniform_hemisphere(u));
+                Some(LightSample {
+                    point: w,
+                    normal: -w,
+                    wi: w,
+                    distance: f64::INFINITY,
+                    pdf: 0.5 * FRAC_1_PI,
+                    delta: false,
+                })
+            }
+        }
+    }
+
+    /// Uniform sphere sampling through the dome's transform.
+    #[inline]
+    fn sample_uniform(&self, u: [f64; 2]) -> Option<LightSample> {
+        let dl = sample_uniform_sphere(u);
+        let wi = self.xf.vector(dl).normalize();
+        Some(LightSample {
+            point: wi,
+            normal: -wi,
+            wi,
+            distance: f64::INFINITY,
+            pdf: 0.25 * FRAC_1_PI * self.xf.pdf_to_world(dl),
+            delta: false,
+        })
+    }
+
+    /// [`Self::pdf`] of the techniques of `strategy` (`HdEmbree`: 1/(2π) above the receiver's
+    /// tangent plane, 0 below; the uniform sphere's density without a normal).
+    #[inline]
+    pub fn pdf_with(&self, r: &Reference, wi: DVec3, strategy: Strategy) -> f64 {
+        match strategy {
+            Strategy::Lux => self.pdf(r, wi),
+            Strategy::HdEmbree if r.n == DVec3::ZERO => {
+                match crate::transform::local_direction(&self.xf, wi) {
+                    Some((_, jac)) => 0.25 * FRAC_1_PI * jac,
+                    None => 0.0,
+                }
+            }
+            Strategy::HdEmbree => {
+                if r.n.dot(wi) > 0.0 {
+                    0.5 * FRAC_1_PI
+                } else {
+                    0.0
+                }
+            }
+        }
     }
 
     /// Solid-angle density of direction `wi` (world).

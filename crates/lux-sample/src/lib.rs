@@ -34,6 +34,7 @@ mod sample;
 mod select;
 mod sphere;
 pub mod spherical;
+mod strategy;
 mod transform;
 pub mod warp;
 
@@ -53,6 +54,7 @@ pub use rng::SplitMix64;
 pub use sample::{LightSample, Reference};
 pub use select::LightSelector;
 pub use sphere::{SphereLight, SphereTechnique};
+pub use strategy::Strategy;
 pub use transform::LightTransform;
 
 pub(crate) use lux_math::lerp;

@@ -2,7 +2,7 @@
 
 use crate::{
     CylinderLight, DiskLight, DistantLight, DomeLight, LightSample, MeshLight, RectLight,
-    Reference, SphereLight,
+    Reference, SphereLight, Strategy,
 };
 use glam::DVec3;
 
@@ -51,6 +51,39 @@ impl Light {
             Self::Mesh(l) => l.pdf(r, wi),
             Self::Distant(l) => l.pdf(r, wi),
             Self::Dome(l) => l.pdf(r, wi),
+        }
+    }
+
+    /// [`Self::sample`] with the techniques of `strategy` (see [`Strategy`]).
+    #[inline]
+    pub fn sample_with(
+        &self,
+        r: &Reference,
+        u: [f64; 2],
+        strategy: Strategy,
+    ) -> Option<LightSample> {
+        match self {
+            Self::Rect(l) => l.sample_with(r, u, strategy),
+            Self::Disk(l) => l.sample_with(r, u, strategy),
+            Self::Sphere(l) => l.sample_with(r, u, strategy),
+            Self::Cylinder(l) => l.sample_with(r, u, strategy),
+            Self::Mesh(l) => l.sample_with(r, u, strategy),
+            Self::Distant(l) => l.sample_with(r, u, strategy),
+            Self::Dome(l) => l.sample_with(r, u, strategy),
+        }
+    }
+
+    /// [`Self::pdf`] of the techniques of `strategy`.
+    #[inline]
+    pub fn pdf_with(&self, r: &Reference, wi: DVec3, strategy: Strategy) -> f64 {
+        match self {
+            Self::Rect(l) => l.pdf_with(r, wi, strategy),
+            Self::Disk(l) => l.pdf_with(r, wi, strategy),
+            Self::Sphere(l) => l.pdf_with(r, wi, strategy),
+            Self::Cylinder(l) => l.pdf_with(r, wi, strategy),
+            Self::Mesh(l) => l.pdf_with(r, wi, strategy),
+            Self::Distant(l) => l.pdf_with(r, wi, strategy),
+            Self::Dome(l) => l.pdf_with(r, wi, strategy),
         }
     }
 }

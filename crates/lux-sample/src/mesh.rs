@@ -5,7 +5,7 @@
 use crate::alias::AliasTable;
 use crate::error::{MAX_ENTRIES, SampleError};
 use crate::spherical::{sample_spherical_triangle, spherical_triangle_area};
-use crate::{LightSample, MIN_SOLID_ANGLE, Reference};
+use crate::{LightSample, MIN_SOLID_ANGLE, Reference, Strategy};
 use glam::DVec3;
 
 /// Largest solid angle (sr) handed to the spherical-triangle sampler; above it (a triangle
@@ -140,8 +140,8 @@ impl MeshLight {
     }
 
     #[inline]
-    fn use_spherical(&self, omega: f64) -> bool {
-        self.technique == MeshTechnique::SphericalTriangle
+    fn use_spherical(omega: f64, technique: MeshTechnique) -> bool {
+        technique == MeshTechnique::SphericalTriangle
             && (MIN_SOLID_ANGLE..=MAX_SPHERICAL_TRIANGLE).contains(&omega)
     }
 
@@ -149,6 +149,25 @@ impl MeshLight {
     /// Returns the sample and the triangle index. `None` if the chosen triangle faces away.
     #[inline]
     pub fn sample_with_index(&self, r: &Reference, u: [f64; 2]) -> Option<(LightSample, usize)> {
+        self.sample_by(r, u, self.technique)
+    }
+
+    /// The technique `strategy` stands for (`HdEmbree`: [`MeshTechnique::Area`]).
+    #[inline]
+    fn technique_of(&self, strategy: Strategy) -> MeshTechnique {
+        match strategy {
+            Strategy::Lux => self.technique,
+            Strategy::HdEmbree => MeshTechnique::Area,
+        }
+    }
+
+    #[inline]
+    fn sample_by(
+        &self,
+        r: &Reference,
+        u: [f64; 2],
+        technique: MeshTechnique,
+    ) -> Option<(LightSample, usize)> {
         let (i, pmf, u0) = self.table.sample_remap(u[0]);
         let t = &self.tris[i];
         let p = r.p;
@@ -160,7 +179,7 @@ impl MeshLight {
         let c = (t.v[2] - p).normalize();
         let omega = spherical_triangle_area(a, b, c);
         let nn = t.n / (2.0 * t.area);
-        let (q, pdf) = if self.use_spherical(omega) {
+        let (q, pdf) = if Self::use_spherical(omega, technique) {
             let (w, pdf) = sample_spherical_triangle(a, b, c, [u0, u[1]])?;
             let den = w.dot(t.n);
             if den == 0.0 {
@@ -204,11 +223,35 @@ impl MeshLight {
         self.sample_with_index(r, u).map(|(s, _)| s)
     }
 
+    /// [`Self::sample`] with the techniques of `strategy` (`HdEmbree`: the triangle chosen as
+    /// prepared, then [`MeshTechnique::Area`] within it).
+    #[inline]
+    pub fn sample_with(
+        &self,
+        r: &Reference,
+        u: [f64; 2],
+        strategy: Strategy,
+    ) -> Option<LightSample> {
+        self.sample_by(r, u, self.technique_of(strategy))
+            .map(|(s, _)| s)
+    }
+
     /// Density of producing direction `wi` **through triangle `i`** (selection × in-triangle
     /// density); 0 if the ray misses it or hits its back. This is what a renderer uses for MIS
     /// after its ray hit triangle `i`.
     #[inline]
     pub fn pdf_triangle(&self, r: &Reference, i: usize, wi: DVec3) -> f64 {
+        self.pdf_triangle_by(r, i, wi, self.technique)
+    }
+
+    /// [`Self::pdf_triangle`] of the techniques of `strategy`.
+    #[inline]
+    pub fn pdf_triangle_with(&self, r: &Reference, i: usize, wi: DVec3, strategy: Strategy) -> f64 {
+        self.pdf_triangle_by(r, i, wi, self.technique_of(strategy))
+    }
+
+    #[inline]
+    fn pdf_triangle_by(&self, r: &Reference, i: usize, wi: DVec3, technique: MeshTechnique) -> f64 {
         let Some(t) = self.tris.get(i) else {
             return 0.0;
         };
@@ -226,7 +269,7 @@ impl MeshLight {
         let b = (t.v[1] - p).normalize();
         let c = (t.v[2] - p).normalize();
         let omega = spherical_triangle_area(a, b, c);
-        let pdf = if self.use_spherical(omega) {
+        let pdf = if Self::use_spherical(omega, technique) {
             1.0 / omega
         } else {
             let cos = (t.n / (2.0 * t.area)).dot(wi).abs();
@@ -238,8 +281,13 @@ impl MeshLight {
     /// Total density of direction `wi` over all triangles it crosses (O(triangles); for tests and
     /// small meshes — renderers should call [`Self::pdf_triangle`] with the hit triangle).
     pub fn pdf(&self, r: &Reference, wi: DVec3) -> f64 {
+        self.pdf_with(r, wi, Strategy::Lux)
+    }
+
+    /// [`Self::pdf`] of the techniques of `strategy`.
+    pub fn pdf_with(&self, r: &Reference, wi: DVec3, strategy: Strategy) -> f64 {
         (0..self.tris.len())
-            .map(|i| self.pdf_triangle(r, i, wi))
+            .map(|i| self.pdf_triangle_with(r, i, wi, strategy))
             .sum()
     }
 }

@@ -5,7 +5,7 @@ use crate::error::{SampleError, positive};
 use crate::spherical::SphericalRectangle;
 use crate::transform::{LightTransform, finish_sample_with_normal, local_direction};
 use crate::warp::{bilinear_pdf, sample_bilinear};
-use crate::{LightSample, MIN_SOLID_ANGLE, Reference};
+use crate::{LightSample, MIN_SOLID_ANGLE, Reference, Strategy};
 use glam::DVec3;
 
 /// How a [`RectLight`] chooses its points.
@@ -75,8 +75,13 @@ impl RectLight {
 
     /// Corner weights of the cosine warp, or `None` if the warp does not apply.
     #[inline]
-    fn cosine_weights(&self, sr: &SphericalRectangle, nl: DVec3) -> Option<[f64; 4]> {
-        if self.technique != RectTechnique::SphericalRectangleCosine || nl == DVec3::ZERO {
+    fn cosine_weights(
+        &self,
+        sr: &SphericalRectangle,
+        nl: DVec3,
+        technique: RectTechnique,
+    ) -> Option<[f64; 4]> {
+        if technique != RectTechnique::SphericalRectangleCosine || nl == DVec3::ZERO {
             return None;
         }
         let d = sr.corner_directions();
@@ -97,6 +102,36 @@ impl RectLight {
     /// side (local z ≥ 0) or the sample is degenerate.
     #[inline]
     pub fn sample(&self, r: &Reference, u: [f64; 2]) -> Option<LightSample> {
+        self.sample_by(r, u, self.technique)
+    }
+
+    /// [`Self::sample`] with the techniques of `strategy` (`HdEmbree`: [`RectTechnique::Area`]).
+    #[inline]
+    pub fn sample_with(
+        &self,
+        r: &Reference,
+        u: [f64; 2],
+        strategy: Strategy,
+    ) -> Option<LightSample> {
+        self.sample_by(r, u, self.technique_of(strategy))
+    }
+
+    /// The technique `strategy` stands for.
+    #[inline]
+    fn technique_of(&self, strategy: Strategy) -> RectTechnique {
+        match strategy {
+            Strategy::Lux => self.technique,
+            Strategy::HdEmbree => RectTechnique::Area,
+        }
+    }
+
+    #[inline]
+    fn sample_by(
+        &self,
+        r: &Reference,
+        u: [f64; 2],
+        technique: RectTechnique,
+    ) -> Option<LightSample> {
         let pl = self.xf.inv_point(r.p);
         if pl.z.is_nan() || pl.z >= 0.0 {
             return None;
@@ -108,14 +143,15 @@ impl RectLight {
             let cos = -pl.z / d2.sqrt();
             (q, d2 / (cos * area))
         };
-        let (q, pdf) = match self.technique {
+        let (q, pdf) = match technique {
             RectTechnique::Area => area_sample(u),
             _ => {
                 let sr = self.spherical(pl);
                 let s = sr.solid_angle();
                 if s.is_nan() || s < MIN_SOLID_ANGLE {
                     area_sample(u)
-                } else if let Some(w) = self.cosine_weights(&sr, self.xf.inv_normal(r.n)) {
+                } else if let Some(w) = self.cosine_weights(&sr, self.xf.inv_normal(r.n), technique)
+                {
                     let uv = sample_bilinear(u, w);
                     (sr.sample(uv), bilinear_pdf(uv, w) / s)
                 } else {
@@ -130,6 +166,17 @@ impl RectLight {
     /// from `r`; 0 if the ray misses the light or `r` is behind it.
     #[inline]
     pub fn pdf(&self, r: &Reference, wi: DVec3) -> f64 {
+        self.pdf_by(r, wi, self.technique)
+    }
+
+    /// [`Self::pdf`] of the techniques of `strategy`.
+    #[inline]
+    pub fn pdf_with(&self, r: &Reference, wi: DVec3, strategy: Strategy) -> f64 {
+        self.pdf_by(r, wi, self.technique_of(strategy))
+    }
+
+    #[inline]
+    fn pdf_by(&self, r: &Reference, wi: DVec3, technique: RectTechnique) -> f64 {
         let pl = self.xf.inv_point(r.p);
         let Some((wl, jac)) = local_direction(&self.xf, wi) else {
             return 0.0;
@@ -146,14 +193,15 @@ impl RectLight {
             return 0.0;
         }
         let area_pdf = t * t / (wl.z * self.width * self.height);
-        let pdf = match self.technique {
+        let pdf = match technique {
             RectTechnique::Area => area_pdf,
             _ => {
                 let sr = self.spherical(pl);
                 let s = sr.solid_angle();
                 if s.is_nan() || s < MIN_SOLID_ANGLE {
                     area_pdf
-                } else if let Some(w) = self.cosine_weights(&sr, self.xf.inv_normal(r.n)) {
+                } else if let Some(w) = self.cosine_weights(&sr, self.xf.inv_normal(r.n), technique)
+                {
                     bilinear_pdf(sr.invert(q), w) / s
                 } else {
                     1.0 / s

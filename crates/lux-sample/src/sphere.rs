@@ -5,7 +5,7 @@
 use crate::error::{SampleError, positive};
 use crate::transform::{LightTransform, finish_sample, finish_sample_dir, local_direction};
 use crate::warp::sample_uniform_sphere;
-use crate::{LightSample, Reference};
+use crate::{LightSample, Reference, Strategy};
 use core::f64::consts::{PI, TAU};
 use glam::DVec3;
 use lux_math::{Frame, fastmath};
@@ -167,7 +167,43 @@ impl SphereLight {
     /// Samples a point seen from `r`.
     #[inline]
     pub fn sample(&self, r: &Reference, u: [f64; 2]) -> Option<LightSample> {
-        if self.technique == SphereTechnique::Cone
+        self.sample_by(r, u, self.technique)
+    }
+
+    /// [`Self::sample`] with the techniques of `strategy` (`HdEmbree`: [`SphereTechnique::Area`]).
+    #[inline]
+    pub fn sample_with(
+        &self,
+        r: &Reference,
+        u: [f64; 2],
+        strategy: Strategy,
+    ) -> Option<LightSample> {
+        self.sample_by(r, u, self.technique_of(strategy))
+    }
+
+    /// [`Self::pdf`] of the techniques of `strategy`.
+    #[inline]
+    pub fn pdf_with(&self, r: &Reference, wi: DVec3, strategy: Strategy) -> f64 {
+        self.pdf_by(r, wi, self.technique_of(strategy))
+    }
+
+    /// The technique `strategy` stands for.
+    #[inline]
+    fn technique_of(&self, strategy: Strategy) -> SphereTechnique {
+        match strategy {
+            Strategy::Lux => self.technique,
+            Strategy::HdEmbree => SphereTechnique::Area,
+        }
+    }
+
+    #[inline]
+    fn sample_by(
+        &self,
+        r: &Reference,
+        u: [f64; 2],
+        technique: SphereTechnique,
+    ) -> Option<LightSample> {
+        if technique == SphereTechnique::Cone
             && let Some(ws) = &self.world
         {
             let p = r.p - ws.centre;
@@ -191,7 +227,7 @@ impl SphereLight {
         let rad = self.radius;
         let d2 = pl.length_squared();
         let inside = d2 <= rad * rad;
-        if inside || self.technique == SphereTechnique::Area {
+        if inside || technique == SphereTechnique::Area {
             let n = sample_uniform_sphere(u);
             let q = n * rad;
             let v = q - pl;
@@ -210,6 +246,11 @@ impl SphereLight {
     /// Solid-angle density of [`Self::sample`] producing `wi` from `r`.
     #[inline]
     pub fn pdf(&self, r: &Reference, wi: DVec3) -> f64 {
+        self.pdf_by(r, wi, self.technique)
+    }
+
+    #[inline]
+    fn pdf_by(&self, r: &Reference, wi: DVec3, technique: SphereTechnique) -> f64 {
         let pl = self.xf.inv_point(r.p);
         let Some((wl, jac)) = local_direction(&self.xf, wi) else {
             return 0.0;
@@ -228,7 +269,7 @@ impl SphereLight {
             t1 * t1 / (cos * 4.0 * PI * rad * rad)
         } else if t0 < 0.0 {
             0.0
-        } else if self.technique == SphereTechnique::Area {
+        } else if technique == SphereTechnique::Area {
             let q = pl + t0 * wl;
             let cos = (q / rad).dot(wl).abs();
             t0 * t0 / (cos * 4.0 * PI * rad * rad)
