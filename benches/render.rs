@@ -13,9 +13,10 @@ use glam::DVec3;
 use lux::math::Profile;
 use lux::render::conformance::{ProfileSource, ResolvedProfile};
 use lux::render::geometry::{Geometry, offset_scale};
-use lux::render::lights::{LightOptions, LightSelection, LightSet, SamplingMode};
+use lux::render::light::{LightOptions, LightSelection, LightSet};
 use lux::render::render::{RenderOptions, Renderer};
-use lux::sample::{Reference, SplitMix64};
+use lux::render::settings::SamplingMode;
+use lux::sample::{Reference, SplitMix64, Strategy};
 use lux::usd::{Scene, load_stage};
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -70,7 +71,7 @@ fn light_sample_vs_shadow_ray(c: &mut Criterion) {
         let [a, b] = rng.next_2d();
         let p = DVec3::new(8.0 * a - 4.0, 0.0, 8.0 * b - 4.0);
         let r = Reference::surface(p, DVec3::Y);
-        if let Some(s) = light.sample(&r, rng.next_2d(), SamplingMode::Lux)
+        if let Some(s) = light.sample_li(&r, rng.next_2d(), Strategy::Lux)
             && s.wi.y > 0.0
         {
             cases.push((r, rng.next_2d(), s));
@@ -82,8 +83,9 @@ fn light_sample_vs_shadow_ray(c: &mut Criterion) {
         b.iter(|| {
             let (r, u, _) = &cases[i & 4095];
             i += 1;
-            let s = light.sample(black_box(r), *u, SamplingMode::Lux);
-            s.map(|s| light.emitted(light.to_local(s.point), -s.wi, true))
+            light
+                .sample_li(black_box(r), *u, Strategy::Lux)
+                .map(|s| s.l)
         })
     });
     let mut i = 0;
@@ -92,7 +94,7 @@ fn light_sample_vs_shadow_ray(c: &mut Criterion) {
             let (r, _, s) = &cases[i & 4095];
             i += 1;
             let o = r.p + DVec3::Y * offset_scale(r.p);
-            geometry.occluded(black_box(o), s.wi, 0.0, s.distance - offset_scale(s.point))
+            geometry.occluded(black_box(o), s.wi, 0.0, s.dist - offset_scale(s.point))
         })
     });
     g.finish();

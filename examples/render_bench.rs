@@ -14,8 +14,8 @@
 use lux::math::Profile;
 use lux::render::conformance::{ProfileSource, ResolvedProfile};
 use lux::render::image_io::{ImageRgba, Texture, write_exr};
-use lux::render::lights::SamplingMode;
 use lux::render::render::{RenderOptions, Renderer};
+use lux::render::settings::SamplingMode;
 use lux::usd::load_stage;
 use std::path::PathBuf;
 

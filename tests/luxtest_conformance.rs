@@ -24,8 +24,8 @@
 use glam::DVec3;
 use lux::math::Profile;
 use lux::render::conformance::{ProfileSource, ResolvedProfile};
-use lux::render::lights::SamplingMode;
 use lux::render::render::{RenderOptions, Renderer};
+use lux::render::settings::SamplingMode;
 use lux::usd::load_stage;
 use rayon::prelude::*;
 use std::path::PathBuf;
@@ -82,7 +82,7 @@ fn windows(r: &Renderer) -> Vec<(f64, f64, DVec3)> {
             let mut var = 0.0;
             let mut rgb = DVec3::ZERO;
             for (m, y2) in &px {
-                let y = lux::render::lights::luminance(m.truncate());
+                let y = lux::render::light::luminance(m.truncate());
                 lum += y;
                 rgb += m.truncate();
                 // Variance of the pixel estimate: sample variance / spp.

@@ -8,7 +8,7 @@ use common::{probe, probe_scene};
 use glam::{DMat4, DQuat, DVec3};
 use lux::math::{LightShape, Profile};
 use lux::render::conformance::{ProfileSource, ResolvedProfile};
-use lux::render::lights::{LightOptions, LightSelection, LightSet};
+use lux::render::light::{LightOptions, LightSelection, LightSet};
 use lux::render::render::{RenderOptions, Renderer};
 use lux::shaping::{Shaping, ShapingOptions, ShapingParams};
 use lux::spectral::{
@@ -38,8 +38,9 @@ fn lights(scene: &Scene) -> LightSet {
 fn radiance(set: &LightSet, path: &str) -> DVec3 {
     set.lights
         .iter()
-        .find(|l| l.path == path)
+        .find(|l| l.base().path == path)
         .unwrap_or_else(|| panic!("{path} prepared"))
+        .base()
         .radiance
 }
 
@@ -368,7 +369,7 @@ fn bad_spectra_are_warnings_naming_the_prim_and_errors_when_strict() {
     s.lights.push(lumen_rect("/Good", 2.0));
     let set = LightSet::new(&s, options(false)).unwrap();
     assert_eq!(set.lights.len(), 1, "the good light still renders");
-    assert_eq!(set.lights[0].path, "/Good");
+    assert_eq!(set.lights[0].base().path, "/Good");
     let w = set
         .warnings
         .iter()

@@ -8,7 +8,7 @@ use common::{options, probe_scene};
 use glam::{DMat4, DVec3};
 use lux::math::{LightShape, Profile};
 use lux::render::image_io::{ImageRgba, write_png};
-use lux::render::lights::{LightOptions, LightSelection, LightSet};
+use lux::render::light::{LightOptions, LightSelection, LightSet};
 use lux::render::render::Renderer;
 use lux::usd::{AssetRef, Camera, Light, Projection, Scene, load_stage};
 use std::path::PathBuf;
@@ -112,7 +112,16 @@ fn quadrant_texture() -> PathBuf {
     p
 }
 
-fn textured_rect(profile: Profile) -> lux::render::lights::RenderLight {
+/// The lit path (`true`) or the camera path.
+fn seen(lit: bool) -> lux::render::light::Seen {
+    if lit {
+        lux::render::light::Seen::Lit
+    } else {
+        lux::render::light::Seen::Camera
+    }
+}
+
+fn textured_rect(profile: Profile) -> lux::render::light::Light {
     let tex = quadrant_texture();
     let mut l = Light::with_defaults(
         "/Rect",
@@ -151,18 +160,21 @@ fn rect_texture_orientation_per_profile() {
     let lower_left = DVec3::new(0.5, -0.5, 0.0);
     let spec = textured_rect(Profile::Spec);
     for lit in [false, true] {
-        assert_eq!(spec.emitted(upper_left, e, lit), DVec3::new(1.0, 0.0, 0.0));
-        assert_eq!(spec.emitted(upper_right, e, lit), DVec3::new(0.0, 1.0, 0.0));
-        let dark = spec.emitted(lower_left, e, lit);
+        assert_eq!(spec.le(upper_left, e, seen(lit)), DVec3::new(1.0, 0.0, 0.0));
+        assert_eq!(
+            spec.le(upper_right, e, seen(lit)),
+            DVec3::new(0.0, 1.0, 0.0)
+        );
+        let dark = spec.le(lower_left, e, seen(lit));
         assert!((dark - DVec3::new(0.2, 0.0, 0.0)).length() < 2e-3, "{dark}");
     }
     // hdEmbree: the visible path as in the schema, the lit path mirrored in u.
     let hd = textured_rect(Profile::HdEmbree);
-    assert_eq!(hd.emitted(upper_left, e, false), DVec3::new(1.0, 0.0, 0.0));
-    assert_eq!(hd.emitted(upper_left, e, true), DVec3::new(0.0, 1.0, 0.0));
-    assert_eq!(hd.emitted(upper_right, e, true), DVec3::new(1.0, 0.0, 0.0));
+    assert_eq!(hd.le(upper_left, e, seen(false)), DVec3::new(1.0, 0.0, 0.0));
+    assert_eq!(hd.le(upper_left, e, seen(true)), DVec3::new(0.0, 1.0, 0.0));
+    assert_eq!(hd.le(upper_right, e, seen(true)), DVec3::new(1.0, 0.0, 0.0));
     // The back side emits nothing.
-    assert_eq!(spec.emitted(upper_left, DVec3::Z, true), DVec3::ZERO);
+    assert_eq!(spec.le(upper_left, DVec3::Z, seen(true)), DVec3::ZERO);
 }
 
 #[test]

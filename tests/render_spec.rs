@@ -12,8 +12,8 @@ mod common;
 use common::{close, probe_camera, probe_scene};
 use glam::{DMat4, DVec3};
 use lux::math::{LightShape, Profile};
-use lux::render::lights::SamplingMode;
 use lux::render::render::{RenderOptions, Renderer};
+use lux::render::settings::SamplingMode;
 use lux::usd::{Light, Mesh, Scene};
 use std::f64::consts::PI;
 

@@ -12,7 +12,7 @@ use lux_math::{Profile, size_factor};
 use lux_render::conformance::{
     PROFILE_ENV, ResolvedProfile, default_config_paths, resolve_profile,
 };
-use lux_render::lights::{LightOptions, LightSelection, LightSet};
+use lux_render::light::{LightOptions, LightSelection, LightSet};
 use lux_spectral::SpectralAttribute;
 use lux_usd::defaults::{CAMERA_LIGHT_PATH, FRAMING_CAMERA_PATH};
 use lux_usd::{LoadOptions, PhysicalLight, Scene, Time, load_stage_with};
@@ -90,8 +90,8 @@ pub fn report_json(
             for (p, set) in &sets {
                 let sf = size_factor(&l.shape, &l.light_to_world, *p);
                 let entry = match set {
-                    Ok(s) => match s.lights.iter().find(|r| r.path == l.path) {
-                        Some(r) => json!({ "size_factor": sf, "luminance_rgb": v3(r.radiance) }),
+                    Ok(s) => match s.lights.iter().find(|r| r.base().path == l.path) {
+                        Some(r) => json!({ "size_factor": sf, "luminance_rgb": v3(r.base().radiance) }),
                         None => json!({ "size_factor": sf, "luminance_rgb": null,
                                         "note": "not rendered (see warnings)" }),
                     },

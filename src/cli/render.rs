@@ -6,8 +6,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 use lux_math::Profile;
 use lux_render::conformance::{PROFILE_ENV, default_config_paths, resolve_profile};
 use lux_render::image_io::{stage_exr, stage_png};
-use lux_render::lights::{LightSelection, SamplingMode};
+use lux_render::light::LightSelection;
 use lux_render::render::{RenderOptions, RenderStats, Renderer};
+use lux_render::settings::SamplingMode;
 use lux_usd::{LoadOptions, Time, load_stage_with};
 use std::path::PathBuf;
 

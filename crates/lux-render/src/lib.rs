@@ -1,14 +1,25 @@
 //! # lux-render
 //!
-//! The lux reference renderer: real USD stages in ([`scene`]), direct lighting of every UsdLux
-//! light out ([`render`]), written as EXR and PNG ([`image_io`]).
+//! The lux reference renderer: lux-usd's typed scene in, direct lighting of every UsdLux light
+//! out ([`render`]), written as EXR and PNG ([`image_io`]).
 //!
 //! It composes the small crates and adds no lighting formula of its own: base emission from
-//! lux-math (or lux-spectral for physical units and spectra), ShapingAPI factors from
-//! lux-shaping, IES profiles from lux-ies and every sampling technique from lux-sample. What it
-//! adds is geometry (an obvhs CWBVH, [`geometry`]), cameras ([`view`]), materials
-//! ([`surface`]), the integrator and the deterministic tiled loop ([`render`]), and the
-//! conformance-profile chain ([`conformance`]).
+//! lux-math (or lux-spectral for physical units and spectra, [`physical`]), ShapingAPI factors
+//! from lux-shaping, IES profiles from lux-ies and every sampling technique from lux-sample.
+//! Its parts, pbrt-v4's:
+//!
+//! | module | what |
+//! |---|---|
+//! | [`render`] | [`render::Renderer`]: prepare the scene, then the film renders it with the integrator |
+//! | [`settings`] | options and RenderSettings → camera, resolution, data window, crop |
+//! | [`film`] | tiles, the pixel loop, statistics, determinism |
+//! | [`sampler`] | the deterministic sample stream and its named dimensions |
+//! | [`camera`] | UsdGeomCamera → rays |
+//! | [`geometry`] | triangle BVHs with instancing, and the area lights' BVH |
+//! | [`light`] | one type per light kind, the light set and its selection |
+//! | [`material`] | BSDFs and the UsdPreviewSurface inputs that feed them |
+//! | [`integrator`] | light transport (`direct`) |
+//! | [`conformance`] | the conformance-profile chain |
 //!
 //! ```no_run
 //! use lux_render::conformance::{default_config_paths, resolve_profile};
@@ -29,15 +40,18 @@
 #![warn(missing_docs)]
 
 pub mod assets;
+pub mod camera;
 pub mod conformance;
+pub mod film;
 pub mod geometry;
 pub mod image_io;
-pub mod lights;
+pub mod integrator;
+pub mod light;
+pub mod material;
 pub mod physical;
 pub mod render;
-pub mod rng;
-pub mod surface;
-pub mod view;
+pub mod sampler;
+pub mod settings;
 
 use std::path::PathBuf;
 
@@ -73,7 +87,7 @@ pub enum RenderError {
     },
     /// The camera cannot produce rays.
     #[error(transparent)]
-    View(#[from] view::ViewError),
+    Camera(#[from] camera::CameraError),
     /// No usable camera.
     #[error("{0}")]
     NoCamera(String),

@@ -1,5 +1,6 @@
 //! The scene's triangles in `obvhs` compressed-wide BVHs (CWBVH): closest-hit queries for
-//! camera and BSDF rays, any-hit queries for shadow rays.
+//! camera and BSDF rays, any-hit queries for shadow rays; and the analytic area lights in a
+//! BVH of their own (`geometry/lights.rs`), so that a ray finds the light it hits.
 //!
 //! Two levels (`geometry/instances.rs`): the world-space meshes in one BVH
 //! (`geometry/blas.rs`), exactly as a scene without instancing; each instanced prototype's
@@ -21,10 +22,14 @@
 
 mod blas;
 mod instances;
+mod lights;
 
+use crate::light::{Light, LightHit};
 use blas::Blas;
 use glam::{DVec2, DVec3, Vec3A};
 use instances::Instances;
+use lights::LightShapes;
+pub use lights::{Crossings, LINEAR_LIGHTS};
 use lux_usd::Scene;
 use obvhs::ray::{Ray, RayHit};
 
@@ -67,6 +72,8 @@ pub struct Geometry {
     world: Option<Blas>,
     /// Instanced prototypes and their placements.
     instances: Option<Instances>,
+    /// The analytic area lights.
+    lights: LightShapes,
 }
 
 /// `max(1, max |coordinate|)`-relative offset that clears the `f32` rounding of the BVH
@@ -128,6 +135,13 @@ impl Geometry {
     /// instanced prototype and the top-level BVH over the instances (deterministic: obvhs builds
     /// single-threaded without its `parallel` feature). Degenerate triangles are kept out.
     pub fn new(scene: &Scene) -> Geometry {
+        Geometry::with_lights(scene, &[])
+    }
+
+    /// [`Geometry::new`] with the analytic area lights of `lights` (rect, disk, sphere,
+    /// cylinder) indexed for [`Geometry::closest_light`] and [`Geometry::lights_crossed`],
+    /// which must then be given the same slice.
+    pub fn with_lights(scene: &Scene, lights: &[Light]) -> Geometry {
         let mut stored = 0;
         let world = Blas::build(
             scene,
@@ -135,7 +149,47 @@ impl Geometry {
             &mut stored,
         );
         let instances = Instances::build(scene, &mut stored);
-        Geometry { world, instances }
+        Geometry {
+            world,
+            instances,
+            lights: LightShapes::new(lights),
+        }
+    }
+
+    /// Number of analytic area lights indexed.
+    pub fn light_count(&self) -> usize {
+        self.lights.len()
+    }
+
+    /// The closest analytic light on `origin + t·dir`, `t ∈ (tmin, tmax)`, among those
+    /// `visible` keeps (a camera ray: the camera-visible ones), the lower index on a tie.
+    /// `lights` is the slice the geometry was built with.
+    #[inline]
+    pub fn closest_light(
+        &self,
+        lights: &[Light],
+        origin: DVec3,
+        dir: DVec3,
+        tmin: f64,
+        tmax: f64,
+        visible: impl Fn(&Light) -> bool,
+    ) -> Option<(usize, LightHit)> {
+        self.lights
+            .closest(lights, origin, dir, tmin, tmax, visible)
+    }
+
+    /// Every analytic light crossing `origin + t·dir`, `t ∈ (tmin, tmax)`, by light index
+    /// (lights do not occlude one another). `lights` is the slice the geometry was built with.
+    #[inline]
+    pub fn lights_crossed(
+        &self,
+        lights: &[Light],
+        origin: DVec3,
+        dir: DVec3,
+        tmin: f64,
+        tmax: f64,
+    ) -> Crossings {
+        self.lights.crossed(lights, origin, dir, tmin, tmax)
     }
 
     /// Number of triangles stored in the BVHs: the world meshes' plus each drawn prototype's

@@ -1,4 +1,4 @@
-//! Camera rays: a `UsdGeomCamera` with the render's resolution, pixel aspect ratio and data
+//! The camera: a `UsdGeomCamera` with the render's resolution, pixel aspect ratio and data
 //! window turned into a pinhole (perspective) or parallel (orthographic) ray generator.
 //!
 //! Conventions (UsdGeomCamera / GfCamera): the camera looks down its local −Z with +Y up; the
@@ -14,14 +14,14 @@
 //! coordinates (x + jx, y + jy) maps linearly onto the window (box pixel filter).
 
 use glam::{DMat4, DVec3, DVec4};
-use lux_usd::{Camera, Projection};
+use lux_usd::Projection;
 
 /// The orthographic aperture unit of GfCamera: apertures are in tenths of a scene unit.
 pub const APERTURE_UNIT: f64 = 0.1;
 
 /// A camera ready to generate rays for an image of `width × height` pixels.
 #[derive(Clone, Debug)]
-pub struct View {
+pub struct Camera {
     /// Image width in pixels.
     pub width: u32,
     /// Image height in pixels.
@@ -39,7 +39,7 @@ pub struct View {
 
 /// Why a camera cannot make rays.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum ViewError {
+pub enum CameraError {
     /// Non-finite or non-positive lens/aperture values, or a singular transform.
     #[error("camera {camera}: {what} (expected {expected})")]
     Invalid {
@@ -52,16 +52,16 @@ pub enum ViewError {
     },
 }
 
-impl View {
+impl Camera {
     /// Builds the ray generator. `data_window_ndc` is `(xmin, ymin, xmax, ymax)` in NDC with
     /// (0, 0) the bottom-left corner (UsdRenderSettings `dataWindowNDC`).
     pub fn new(
-        camera: &Camera,
+        camera: &lux_usd::Camera,
         resolution: [u32; 2],
         pixel_aspect_ratio: f64,
         data_window_ndc: DVec4,
-    ) -> Result<View, ViewError> {
-        let bad = |what: String, expected: &'static str| ViewError::Invalid {
+    ) -> Result<Camera, CameraError> {
+        let bad = |what: String, expected: &'static str| CameraError::Invalid {
             camera: camera.path.clone(),
             what,
             expected,
@@ -129,7 +129,7 @@ impl View {
         if far.is_nan() || far <= near {
             far = f64::INFINITY;
         }
-        Ok(View {
+        Ok(Camera {
             width: w,
             height: h,
             pixel_window: pixel_window(w, h, data_window_ndc),
@@ -194,11 +194,12 @@ pub fn pixel_window(w: u32, h: u32, ndc: DVec4) -> [u32; 4] {
 mod tests {
     use super::*;
     use glam::DVec2;
+    use lux_usd::Camera as UsdCamera;
 
-    fn luxtest_camera() -> Camera {
+    fn luxtest_camera() -> UsdCamera {
         // The luxtest camera: 30 units above the origin looking down −Y, focal 0.5, square
         // aperture 0.20955 (rows (1,0,0), (0,0,−1), (0,1,0), translation (0,30,0)).
-        Camera {
+        UsdCamera {
             path: "/cameras/camera1".into(),
             camera_to_world: DMat4::from_cols_array(&[
                 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 30.0, 0.0, 1.0,
@@ -218,7 +219,7 @@ mod tests {
 
     #[test]
     fn luxtest_camera_rays_hit_the_floor_where_expected() {
-        let v = View::new(
+        let v = Camera::new(
             &luxtest_camera(),
             [512, 512],
             1.0,
@@ -245,7 +246,7 @@ mod tests {
     fn expand_aperture_and_orthographic() {
         let mut c = luxtest_camera();
         // 2:1 image from a square aperture: the horizontal extent doubles.
-        let v = View::new(&c, [200, 100], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).unwrap();
+        let v = Camera::new(&c, [200, 100], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).unwrap();
         let (o, d, _, _) = v.ray(200.0, 50.0);
         let p = o + d * (30.0 / -d.y);
         assert!((p.x - 2.0 * 6.2865).abs() < 1e-9, "{p}");
@@ -255,7 +256,7 @@ mod tests {
         c.projection = Projection::Orthographic;
         c.horizontal_aperture = 40.0; // 4 scene units
         c.vertical_aperture = 40.0;
-        let v = View::new(&c, [64, 64], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).unwrap();
+        let v = Camera::new(&c, [64, 64], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).unwrap();
         let (o, d, _, _) = v.ray(64.0, 32.0);
         assert!((d - DVec3::NEG_Y).length() < 1e-12);
         assert!((o - DVec3::new(2.0, 30.0, 0.0)).length() < 1e-12, "{o}");
@@ -289,12 +290,12 @@ mod tests {
     fn bad_cameras_are_errors() {
         let mut c = luxtest_camera();
         c.focal_length = 0.0;
-        assert!(View::new(&c, [8, 8], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).is_err());
+        assert!(Camera::new(&c, [8, 8], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).is_err());
         let c = luxtest_camera();
-        assert!(View::new(&c, [0, 8], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).is_err());
-        assert!(View::new(&c, [8, 8], f64::NAN, DVec4::new(0.0, 0.0, 1.0, 1.0)).is_err());
+        assert!(Camera::new(&c, [0, 8], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).is_err());
+        assert!(Camera::new(&c, [8, 8], f64::NAN, DVec4::new(0.0, 0.0, 1.0, 1.0)).is_err());
         let mut c = luxtest_camera();
         c.camera_to_world = DMat4::ZERO;
-        assert!(View::new(&c, [8, 8], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).is_err());
+        assert!(Camera::new(&c, [8, 8], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).is_err());
     }
 }

@@ -1,6 +1,6 @@
-//! Deterministic sample points: every number a render draws is a pure function of
-//! `(seed, pixel, sample index, dimension)`, so an image is bit-identical whatever the thread
-//! count or tile order.
+//! Deterministic sample points and their named dimension layout: every number a render draws
+//! is a pure function of `(seed, pixel, sample index, dimension)`, so an image is
+//! bit-identical whatever the thread count or tile order.
 //!
 //! The points are **padded, scrambled (0, 2)-sequences** (the construction of pbrt-v4's
 //! `PaddedSobolSampler`): each 2D dimension pair of a pixel takes the first `spp` points of the
@@ -15,6 +15,11 @@
 //!
 //! For smooth integrands (a light's solid angle, a pixel's footprint) the error falls faster
 //! than with independent uniform numbers (≈ N^-3/4 instead of N^-1/2 in 2D).
+//!
+//! Which decision reads which dimension is fixed in one place, [`Dim`]: the camera's pixel
+//! jitter, then per bounce the light choice, each light's 2D sample, the BSDF's 2D sample and
+//! Russian roulette. A dimension is only a name for a stream: any two distinct names are
+//! decorrelated, so the layout never has to be dense.
 
 /// 64-bit finaliser of SplitMix64 / MurmurHash3 (a bijection with full avalanche).
 #[inline(always)]
@@ -162,12 +167,78 @@ impl SampleStream {
         [unit(owen(sobol0(i), s0)), unit(owen(sobol1(i), s1))]
     }
 
+    /// The 2D point of the named dimension `dim`.
+    #[inline]
+    pub fn get2(&self, dim: Dim) -> [f64; 2] {
+        self.u2(dim.id())
+    }
+
+    /// The 1D number of the named dimension `dim`.
+    #[inline]
+    pub fn get1(&self, dim: Dim) -> f64 {
+        self.u(dim.id())
+    }
+
     /// A 1D number of dimension `dim`, uniform in \[0, 1), stratified across the samples.
     #[inline]
     pub fn u(&self, dim: u32) -> f64 {
         let (p, s0, _) = self.hashes(dim ^ 0x8000_0000);
         let i = permute(self.sample, self.spp, p);
         unit(owen(sobol0(i), s0))
+    }
+}
+
+/// The named dimensions of a camera sample (see the module doc). Bounce 0 is the first
+/// surface a camera ray meets; a path's later bounces use disjoint names `bounce·2²⁴ + k`.
+///
+/// Bounce-0 names are the numbers the direct integrator has always used (camera 0, BSDF 2,
+/// light choice 4, light `i` at `5 + 2i`), so images stay bit-identical across releases.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dim {
+    /// The pixel jitter of the camera ray (2D).
+    Camera,
+    /// Which light to sample when one light is chosen per shading point (1D).
+    LightChoice {
+        /// Path vertex (0 = seen by the camera).
+        bounce: u32,
+    },
+    /// The 2D sample on light `index` (when every light is sampled), or on the chosen light
+    /// (`index` 0).
+    Light {
+        /// Path vertex.
+        bounce: u32,
+        /// Light index in the light set (0 for a chosen light).
+        index: u32,
+    },
+    /// The BSDF's 2D direction sample.
+    Bsdf {
+        /// Path vertex.
+        bounce: u32,
+    },
+    /// Russian roulette after the vertex (1D).
+    Roulette {
+        /// Path vertex.
+        bounce: u32,
+    },
+}
+
+impl Dim {
+    /// Largest bounce with its own names (7 bits above the 2²⁴ names of a bounce; the top bit
+    /// of a name separates 1D from 2D streams).
+    pub const MAX_BOUNCE: u32 = 127;
+
+    /// The stream name of the dimension. Light indices wrap modulo 2²² (a scene with more
+    /// lights samples one light per point, [`Dim::Light`] index 0).
+    #[inline]
+    pub const fn id(self) -> u32 {
+        let (bounce, k) = match self {
+            Dim::Camera => (0, 0),
+            Dim::Bsdf { bounce } => (bounce, 2),
+            Dim::Roulette { bounce } => (bounce, 3),
+            Dim::LightChoice { bounce } => (bounce, 4),
+            Dim::Light { bounce, index } => (bounce, 5 + 2 * (index & 0x3F_FFFF)),
+        };
+        ((bounce & Dim::MAX_BOUNCE) << 24).wrapping_add(k)
     }
 }
 
@@ -287,5 +358,46 @@ mod tests {
         // Independent sampling: σ(xy)/8 = 0.2205/8 ≈ 0.0276.
         assert!(rms < 0.0276 / 8.0, "rms error {rms}");
         assert!(rms > 0.0, "a scrambled estimate is random");
+    }
+
+    /// The bounce-0 names are the numbers images were rendered with before the layout had
+    /// names; names of different dimensions never collide.
+    #[test]
+    fn dimension_layout() {
+        assert_eq!(Dim::Camera.id(), 0);
+        assert_eq!(Dim::Bsdf { bounce: 0 }.id(), 2);
+        assert_eq!(Dim::LightChoice { bounce: 0 }.id(), 4);
+        assert_eq!(
+            Dim::Light {
+                bounce: 0,
+                index: 3
+            }
+            .id(),
+            11
+        );
+        let mut seen = std::collections::HashSet::new();
+        for bounce in [0, 1, 2, Dim::MAX_BOUNCE] {
+            for d in [
+                Dim::Bsdf { bounce },
+                Dim::Roulette { bounce },
+                Dim::LightChoice { bounce },
+            ]
+            .into_iter()
+            .chain((0..50).map(|index| Dim::Light { bounce, index }))
+            {
+                assert!(seen.insert(d.id()), "{d:?} collides");
+                assert!(d.id() < 0x8000_0000, "{d:?} sets the 1D flag");
+            }
+        }
+        assert!(seen.insert(Dim::Camera.id()));
+        let st = SampleStream::new(1, 2, 3, 8);
+        assert_eq!(
+            st.get2(Dim::Light {
+                bounce: 0,
+                index: 1
+            }),
+            st.u2(7)
+        );
+        assert_eq!(st.get1(Dim::LightChoice { bounce: 0 }), st.u(4));
     }
 }

@@ -1,0 +1,178 @@
+//! The film: the image's pixels, rendered in 16 × 16 tiles on rayon's pool, each pixel the
+//! mean of its camera samples (box filter, stratified jitter), with the render's counters.
+//!
+//! Determinism: every random number is a function of (seed, pixel, sample, dimension)
+//! ([`crate::sampler`]) and pixels are independent, so the image is bit-identical for any
+//! thread count and tile order.
+
+use crate::camera::Camera;
+use crate::image_io::ImageRgba;
+use crate::integrator::{CameraRay, Integrator};
+use crate::sampler::{Dim, SampleStream};
+use glam::{DVec3, DVec4};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+/// Tile side in pixels.
+pub const TILE: u32 = 16;
+
+/// Counters of a finished render.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RenderStats {
+    /// Pixels rendered.
+    pub pixels: u64,
+    /// Camera samples (pixels × spp).
+    pub samples: u64,
+    /// Rays traced through the BVH: camera, shadow and BSDF rays.
+    pub rays: u64,
+    /// Shadow rays among them.
+    pub shadow_rays: u64,
+    /// Light samples drawn.
+    pub light_samples: u64,
+    /// Camera samples whose radiance came out NaN or infinite and were counted as black. Any
+    /// non-zero count is a renderer or input defect: the luxtest and robustness tests require 0.
+    pub non_finite_samples: u64,
+    /// Wall-clock seconds of the render loop (scene preparation excluded).
+    pub seconds: f64,
+}
+
+/// What one worker counts while it renders a tile (summed into [`RenderStats`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Counters {
+    /// Rays traced.
+    pub rays: u64,
+    /// Shadow rays among them.
+    pub shadow: u64,
+    /// Light samples drawn.
+    pub light_samples: u64,
+    /// Non-finite camera samples.
+    pub non_finite: u64,
+}
+
+/// The image being rendered: its size, the pixels to render, samples and seed.
+#[derive(Clone, Copy, Debug)]
+pub struct Film {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// The pixels to render, `[x0, y0, x1, y1)` (crop ∩ data window); the rest stays 0 with
+    /// alpha 0.
+    pub window: [u32; 4],
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Seed of every random number.
+    pub seed: u64,
+    /// The camera's linear exposure scale applied to every sample (UsdGeomCamera
+    /// `ComputeLinearExposureScale`; ×1 is exact).
+    pub exposure_scale: f64,
+}
+
+impl Film {
+    /// Renders every pixel of the window with `integrator` through `camera`. `progress` is
+    /// called (from worker threads) with the number of pixels finished by each tile.
+    pub fn render(
+        &self,
+        camera: &Camera,
+        integrator: &Integrator,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> (ImageRgba, RenderStats) {
+        let [w, h] = [self.width, self.height];
+        let [x0, y0, x1, y1] = self.window;
+        let start = Instant::now();
+        let mut tiles = Vec::new();
+        let mut ty = y0;
+        while ty < y1 {
+            let mut tx = x0;
+            while tx < x1 {
+                tiles.push([tx, ty, (tx + TILE).min(x1), (ty + TILE).min(y1)]);
+                tx += TILE;
+            }
+            ty += TILE;
+        }
+        let rays = AtomicU64::new(0);
+        let shadow = AtomicU64::new(0);
+        let light_samples = AtomicU64::new(0);
+        let non_finite = AtomicU64::new(0);
+        let results: Vec<(usize, Vec<[f32; 4]>)> = tiles
+            .par_iter()
+            .enumerate()
+            .map(|(ti, &[tx0, ty0, tx1, ty1])| {
+                let mut c = Counters::default();
+                let mut px = Vec::with_capacity(((tx1 - tx0) * (ty1 - ty0)) as usize);
+                for y in ty0..ty1 {
+                    for x in tx0..tx1 {
+                        let v = self.pixel(camera, integrator, x, y, &mut c, &mut |_| {});
+                        px.push([v.x as f32, v.y as f32, v.z as f32, v.w as f32]);
+                    }
+                }
+                rays.fetch_add(c.rays, Ordering::Relaxed);
+                shadow.fetch_add(c.shadow, Ordering::Relaxed);
+                light_samples.fetch_add(c.light_samples, Ordering::Relaxed);
+                non_finite.fetch_add(c.non_finite, Ordering::Relaxed);
+                progress(px.len() as u64);
+                (ti, px)
+            })
+            .collect();
+        let mut pixels = vec![[0.0f32; 4]; w as usize * h as usize];
+        for (ti, px) in results {
+            let [tx0, ty0, tx1, _] = tiles[ti];
+            let tw = (tx1 - tx0) as usize;
+            for (k, v) in px.into_iter().enumerate() {
+                let (x, y) = (tx0 as usize + k % tw, ty0 as usize + k / tw);
+                pixels[y * w as usize + x] = v;
+            }
+        }
+        let npx = (x1 - x0) as u64 * (y1 - y0) as u64;
+        let stats = RenderStats {
+            pixels: npx,
+            samples: npx * self.spp as u64,
+            rays: rays.load(Ordering::Relaxed),
+            shadow_rays: shadow.load(Ordering::Relaxed),
+            light_samples: light_samples.load(Ordering::Relaxed),
+            non_finite_samples: non_finite.load(Ordering::Relaxed),
+            seconds: start.elapsed().as_secs_f64(),
+        };
+        (
+            ImageRgba {
+                width: w as usize,
+                height: h as usize,
+                pixels,
+            },
+            stats,
+        )
+    }
+
+    /// The mean of pixel `(x, y)`'s samples, RGB radiance and alpha; `each` sees every
+    /// sample's (exposed, finite) radiance.
+    #[inline]
+    pub fn pixel(
+        &self,
+        camera: &Camera,
+        integrator: &Integrator,
+        x: u32,
+        y: u32,
+        c: &mut Counters,
+        each: &mut dyn FnMut(DVec3),
+    ) -> DVec4 {
+        let spp = self.spp;
+        let index = y as u64 * self.width as u64 + x as u64;
+        let mut sum = DVec4::ZERO;
+        for s in 0..spp {
+            let st = SampleStream::new(self.seed, index, s, spp);
+            let j = st.get2(Dim::Camera);
+            let (o, d, tmin, tmax) = camera.ray(x as f64 + j[0], y as f64 + j[1]);
+            let (rgb, a) = integrator.li(&CameraRay { o, d, tmin, tmax }, &st, c);
+            let rgb = if rgb.is_finite() {
+                rgb * self.exposure_scale
+            } else {
+                c.non_finite += 1;
+                DVec3::ZERO
+            };
+            each(rgb);
+            sum += rgb.extend(a);
+        }
+        sum / spp as f64
+    }
+}

@@ -1,0 +1,235 @@
+//! The `direct` integrator: the radiance a camera ray sees, lit directly by every light.
+//!
+//! Per camera sample: the closest surface or camera-visible light; at a surface, the direct
+//! illumination of its BSDF:
+//! - **light sampling**: every light (or one light chosen by lux-sample's selection when there
+//!   are many) sampled with its lux-sample technique, a shadow ray per sample;
+//! - **BSDF sampling**: one direction from the BSDF, which collects the emission of every
+//!   analytic light it crosses before the first surface (lights are not occluders, as in the
+//!   reference renderer), of the mesh light it hits, or of the infinite lights if it escapes;
+//! - combined with the power heuristic (β = 2) of multiple importance sampling.
+//!
+//! [`SamplingMode::Reference`] replaces this with hdEmbree's estimator — every light sampled
+//! with lux-sample's [`Strategy::HdEmbree`] (uniformly by area; the dome uniformly over the
+//! hemisphere), light sampling only — for A/B comparisons.
+//!
+//! Lights with non-default `ShadowAPI` inputs (coloured, distance-limited or disabled shadows)
+//! are estimated by light sampling alone: a BSDF ray stops at the first occluder, which is not
+//! what their shadow says.
+
+use super::{CameraRay, World, power_heuristic, visibility};
+use crate::film::Counters;
+use crate::geometry::offset_scale;
+use crate::light::{Light, Seen};
+use crate::material::SurfacePoint;
+use crate::sampler::{Dim, SampleStream};
+use crate::settings::SamplingMode;
+use glam::DVec3;
+use lux_sample::{Reference, Strategy};
+
+/// Direct lighting with light sampling and (lux sampling) MIS against BSDF sampling.
+#[derive(Clone, Copy)]
+pub struct DirectIntegrator<'a> {
+    world: World<'a>,
+    /// The light-sampling strategy.
+    strategy: Strategy,
+    /// BSDF sampling and MIS (off for the reference estimator).
+    mis: bool,
+    /// One light per shading point by the light set's selector (off: every light).
+    select: bool,
+}
+
+impl<'a> DirectIntegrator<'a> {
+    /// The estimator of `mode` over `world`.
+    pub fn new(world: World<'a>, mode: SamplingMode) -> DirectIntegrator<'a> {
+        let lux = mode == SamplingMode::Lux;
+        DirectIntegrator {
+            world,
+            strategy: if lux {
+                Strategy::Lux
+            } else {
+                Strategy::HdEmbree
+            },
+            mis: lux,
+            select: lux,
+        }
+    }
+
+    /// Radiance and alpha along a camera ray: a visible light's front (its back is black), the
+    /// background of camera-visible lights at infinity where the ray escapes (opaque where a
+    /// dome is shown), or the lit surface with a mesh light's own glow.
+    pub fn li(&self, ray: &CameraRay, st: &SampleStream, c: &mut Counters) -> (DVec3, f64) {
+        let w = &self.world;
+        let lights = &w.lights.lights;
+        c.rays += 1;
+        let hit = w
+            .geometry
+            .intersect(w.scene, ray.o, ray.d, ray.tmin, ray.tmax);
+        let t_best = hit.map_or(ray.tmax, |h| h.t);
+        if let Some((i, h)) =
+            w.geometry
+                .closest_light(lights, ray.o, ray.d, ray.tmin, t_best, |l| {
+                    l.base().camera_visible
+                })
+        {
+            let rgb = if h.front {
+                lights[i].le(h.local, -ray.d, Seen::Camera)
+            } else {
+                DVec3::ZERO
+            };
+            return (rgb, 1.0);
+        }
+        let Some(hit) = hit else {
+            let background = &w.lights.background;
+            let bg: DVec3 = background.iter().map(|&i| lights[i].le_escape(ray.d)).sum();
+            let alpha = if background.is_empty() { 0.0 } else { 1.0 };
+            return (bg, alpha);
+        };
+        let sp = w.materials.at(w.scene, &hit, ray.d);
+        let mut rgb = DVec3::ZERO;
+        // A mesh light's own glow, seen directly.
+        if let Some(li) = w.lights.mesh_light.get(hit.mesh).copied().flatten() {
+            let l = &lights[li];
+            rgb += l.le(l.base().to_local(sp.p), -ray.d, Seen::Camera);
+        }
+        rgb += self.direct(&sp, st, c);
+        (rgb, 1.0)
+    }
+
+    /// Direct illumination at a surface point.
+    fn direct(&self, sp: &SurfacePoint, st: &SampleStream, c: &mut Counters) -> DVec3 {
+        let w = &self.world;
+        let lights = &w.lights.lights;
+        let n = lights.len();
+        if n == 0 || sp.bsdf.is_black() {
+            return DVec3::ZERO;
+        }
+        let r = Reference::surface(sp.p, sp.ns);
+        let origin = sp.p + sp.ng * sp.offset;
+        let selector = if self.select {
+            w.lights.selector.as_ref()
+        } else {
+            None
+        };
+        let mut out = DVec3::ZERO;
+        // Light sampling.
+        let mut sample_light = |li: usize, pmf: f64, u: [f64; 2], c: &mut Counters| {
+            let l = &lights[li];
+            let Some(ls) = l.sample_li(&r, u, self.strategy) else {
+                return;
+            };
+            c.light_samples += 1;
+            let cos = sp.ns.dot(ls.wi);
+            if cos <= 0.0 || sp.ng.dot(ls.wi) <= 0.0 || ls.pdf.is_nan() || ls.pdf <= 0.0 {
+                return;
+            }
+            if ls.l == DVec3::ZERO {
+                return;
+            }
+            let tmax = if ls.dist.is_finite() {
+                ls.dist - offset_scale(ls.point)
+            } else {
+                f64::INFINITY
+            };
+            if tmax <= 0.0 {
+                return;
+            }
+            let base = l.base();
+            let Some(vis) = visibility(w.geometry, base, origin, ls.wi, tmax, c) else {
+                return;
+            };
+            let pdf = pmf * ls.pdf;
+            let weight = if ls.delta || !self.mis || !base.plain_shadows() {
+                1.0
+            } else {
+                power_heuristic(pdf, sp.bsdf.pdf(ls.wi))
+            };
+            let contrib = sp.bsdf.f(ls.wi) * ls.l * vis * (base.diffuse * cos * weight / pdf);
+            if contrib.is_finite() {
+                out += contrib;
+            }
+        };
+        match selector {
+            None => {
+                for li in 0..n {
+                    let u = st.get2(Dim::Light {
+                        bounce: 0,
+                        index: li as u32,
+                    });
+                    sample_light(li, 1.0, u, c);
+                }
+            }
+            Some(sel) => {
+                if let Some((li, pmf)) = sel.sample(&r, st.get1(Dim::LightChoice { bounce: 0 }))
+                    && pmf > 0.0
+                {
+                    sample_light(
+                        li,
+                        pmf,
+                        st.get2(Dim::Light {
+                            bounce: 0,
+                            index: 0,
+                        }),
+                        c,
+                    );
+                }
+            }
+        }
+        if !self.mis {
+            return out;
+        }
+        // BSDF sampling.
+        let Some(bs) = sp.bsdf.sample(st.get2(Dim::Bsdf { bounce: 0 })) else {
+            return out;
+        };
+        let wi = bs.wi;
+        if sp.ng.dot(wi) <= 0.0 {
+            return out;
+        }
+        let pmf = |li: usize| selector.map_or(1.0, |s| s.pmf(&r, li));
+        c.rays += 1;
+        let hit = w
+            .geometry
+            .intersect(w.scene, origin, wi, 0.0, f64::INFINITY);
+        let t_geo = hit.map_or(f64::INFINITY, |h| h.t);
+        let mut add = |l: &Light, le: DVec3, pdf_l: f64| {
+            let base = l.base();
+            if le != DVec3::ZERO && base.plain_shadows() {
+                let mis = power_heuristic(bs.pdf, pdf_l);
+                let contrib = bs.weight * le * (mis * base.diffuse);
+                if contrib.is_finite() {
+                    out += contrib;
+                }
+            }
+        };
+        for (li, h) in w
+            .geometry
+            .lights_crossed(lights, origin, wi, 0.0, t_geo)
+            .iter()
+        {
+            if h.front {
+                let l = &lights[li];
+                add(l, l.le(h.local, -wi, Seen::Lit), pmf(li) * l.pdf_li(&r, wi));
+            }
+        }
+        match hit {
+            Some(h) => {
+                if let Some(li) = w.lights.mesh_light.get(h.mesh).copied().flatten() {
+                    let l = &lights[li];
+                    add(
+                        l,
+                        l.le(l.base().to_local(h.p), -wi, Seen::Lit),
+                        pmf(li) * l.pdf_li_triangle(&r, h.tri, wi),
+                    );
+                }
+            }
+            None => {
+                for &li in &w.lights.infinite {
+                    let l = &lights[li];
+                    add(l, l.le_escape(wi), pmf(li) * l.pdf_li(&r, wi));
+                }
+            }
+        }
+        out
+    }
+}

@@ -1,0 +1,117 @@
+//! Integrators: what a camera ray brings back, `(radiance, alpha)`, from the prepared scene
+//! ([`World`]). The closed set is [`Integrator`]; `direct.rs` is the direct-lighting estimator
+//! (the reference renderer's light transport with lux's sampling).
+//!
+//! Shared here: the shadow-ray transmission of `ShadowAPI` ([`visibility`]) and the power
+//! heuristic of multiple importance sampling.
+
+mod direct;
+
+pub use direct::DirectIntegrator;
+
+use crate::film::Counters;
+use crate::geometry::Geometry;
+use crate::light::{LightBase, LightSet};
+use crate::material::Materials;
+use crate::sampler::SampleStream;
+use glam::DVec3;
+use lux_usd::Scene;
+
+/// The prepared scene an integrator reads: geometry (with the area lights' BVH), lights and
+/// materials.
+#[derive(Clone, Copy)]
+pub struct World<'a> {
+    /// The stage the rest was prepared from (mesh attributes for shading).
+    pub scene: &'a Scene,
+    /// Triangles, instances and the analytic lights' BVH.
+    pub geometry: &'a Geometry,
+    /// The lights and their selection.
+    pub lights: &'a LightSet,
+    /// Surfaces' BSDFs.
+    pub materials: &'a Materials,
+}
+
+/// A camera ray: origin, unit direction and the clipping range `(tmin, tmax)`.
+#[derive(Clone, Copy, Debug)]
+pub struct CameraRay {
+    /// Origin (world).
+    pub o: DVec3,
+    /// Unit direction (world).
+    pub d: DVec3,
+    /// Near clipping distance along `d`.
+    pub tmin: f64,
+    /// Far clipping distance along `d`.
+    pub tmax: f64,
+}
+
+/// Every light-transport estimator lux has.
+#[derive(Clone, Copy)]
+pub enum Integrator<'a> {
+    /// Direct lighting (light sampling, MIS with BSDF sampling).
+    Direct(DirectIntegrator<'a>),
+}
+
+impl Integrator<'_> {
+    /// Radiance (RGB) and alpha (coverage) along a camera ray, drawing its random numbers
+    /// from `st`.
+    #[inline]
+    pub fn li(&self, ray: &CameraRay, st: &SampleStream, c: &mut Counters) -> (DVec3, f64) {
+        match self {
+            Integrator::Direct(i) => i.li(ray, st, c),
+        }
+    }
+}
+
+/// Power heuristic, β = 2.
+#[inline]
+pub fn power_heuristic(a: f64, b: f64) -> f64 {
+    let (a2, b2) = (a * a, b * b);
+    if a2.is_infinite() {
+        return 1.0;
+    }
+    if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
+}
+
+/// Transmission of a shadow ray from `origin` along `dir` up to `tmax` towards the light
+/// `l` (`ShadowAPI`): `None` when fully blocked, else the RGB multiplier (1 unoccluded;
+/// `lux_math::shadowed` of the occluder's `shadow_strength` otherwise). Shadows disabled: no
+/// ray is traced.
+#[inline]
+pub fn visibility(
+    geometry: &Geometry,
+    l: &LightBase,
+    origin: DVec3,
+    dir: DVec3,
+    tmax: f64,
+    c: &mut Counters,
+) -> Option<DVec3> {
+    if !l.shadow.enable {
+        return Some(DVec3::ONE);
+    }
+    c.rays += 1;
+    c.shadow += 1;
+    if l.plain_shadows() {
+        return (!geometry.occluded(origin, dir, 0.0, tmax)).then_some(DVec3::ONE);
+    }
+    let Some(t) = geometry.first_occluder(origin, dir, 0.0, tmax) else {
+        return Some(DVec3::ONE);
+    };
+    let sh = &l.shadow;
+    let s = lux_math::shadow_strength(t, sh.distance, sh.falloff, sh.falloff_gamma);
+    let m = lux_math::shadowed(s, sh.color);
+    (m != DVec3::ZERO).then_some(m)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn power_heuristic_values() {
+        assert_eq!(power_heuristic(1.0, 1.0), 0.5);
+        assert_eq!(power_heuristic(3.0, 1.0), 0.9);
+        assert_eq!(power_heuristic(0.0, 0.0), 0.0);
+        assert_eq!(power_heuristic(f64::INFINITY, 1.0), 1.0);
+        assert!((power_heuristic(1.0, 3.0) + power_heuristic(3.0, 1.0) - 1.0).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,92 @@
+//! DiskLight (UsdLux `DiskLight`): a disk of `inputs:radius` in local XY, centred, emitting
+//! from its −Z side.
+
+use super::{LiSample, LightBase, LightHit, box_corners, box_of, planar_emission_half_angle};
+use glam::DVec3;
+use lux_sample::{LightBounds, Reference, Strategy};
+
+/// A disk light: its radius and sampler.
+#[derive(Clone, Debug)]
+pub struct DiskLight {
+    /// What every light carries.
+    pub base: LightBase,
+    radius: f64,
+    sampler: lux_sample::DiskLight,
+}
+
+impl DiskLight {
+    /// A disk of `radius` (> 0) sampled by its elliptic cone of directions (lux) or by area
+    /// (hdEmbree); `Err` names what lux-sample refused.
+    pub(super) fn new(base: LightBase, radius: f64) -> Result<DiskLight, String> {
+        let sampler =
+            lux_sample::DiskLight::new(radius, base.xf, lux_sample::DiskTechnique::EllipticCone)
+                .map_err(|e| e.to_string())?;
+        Ok(DiskLight {
+            base,
+            radius,
+            sampler,
+        })
+    }
+
+    /// See [`super::Light::sample_li`].
+    #[inline]
+    pub fn sample_li(&self, r: &Reference, u: [f64; 2], strategy: Strategy) -> Option<LiSample> {
+        let s = self.sampler.sample_with(r, u, strategy)?;
+        let l = self.le(self.base.to_local(s.point), -s.wi);
+        Some(LiSample::new(s, l))
+    }
+
+    /// See [`super::Light::pdf_li`].
+    #[inline]
+    pub fn pdf_li(&self, r: &Reference, wi: DVec3) -> f64 {
+        self.sampler.pdf(r, wi)
+    }
+
+    /// Radiance along the world direction `emit`: zero unless it leaves the −Z side.
+    #[inline]
+    pub fn le(&self, _local: DVec3, emit: DVec3) -> DVec3 {
+        let Some(wl) = self.base.local_direction(emit) else {
+            return DVec3::ZERO;
+        };
+        if wl.z >= 0.0 {
+            return DVec3::ZERO;
+        }
+        self.base.shaped(wl)
+    }
+
+    /// See [`super::Light::intersect`]: the plane z = 0 within the radius.
+    #[inline]
+    pub fn intersect(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<LightHit> {
+        let ol = self.base.xf.inv_point(o);
+        let dl = self.base.xf.inv_vector(d);
+        let t = -ol.z / dl.z;
+        if !(t > tmin && t < tmax) {
+            return None;
+        }
+        let q = ol + t * dl;
+        let r = self.radius;
+        (q.x * q.x + q.y * q.y <= r * r).then_some(LightHit {
+            t,
+            local: DVec3::new(q.x, q.y, 0.0),
+            front: dl.z > 0.0,
+        })
+    }
+
+    /// World box of the disk's local bounding square.
+    pub fn world_box(&self) -> (DVec3, DVec3) {
+        let r = self.radius;
+        box_of(&self.base.xf, box_corners(DVec3::new(r, r, 0.0)))
+    }
+
+    /// See [`super::Light::bounds`]: one-sided, normal −Z, emission narrowed by the shaping.
+    pub fn bounds(&self) -> Option<LightBounds> {
+        let theta_e = planar_emission_half_angle(&self.base);
+        self.base.bounds(self.world_box(), 0.0, theta_e, false)
+    }
+
+    /// Power estimate: `Y(base) · area · G` (G = ∫ shaping · cos over the hemisphere).
+    pub(super) fn power(&self, area: f64) -> f64 {
+        let g = super::luminance(DVec3::from(self.base.shaping.integral_cos_hemisphere())).max(0.0);
+        super::luminance(self.base.radiance).max(0.0) * area * g
+    }
+}

@@ -1,0 +1,91 @@
+//! Mesh lights (UsdLux `MeshLightAPI` on a `UsdGeomMesh`): every triangle of the world-space
+//! mesh emits from its front side (both sides when `doubleSided`).
+
+use super::{LiSample, LightBase};
+use glam::DVec3;
+use lux_sample::{LightBounds, Reference, Strategy};
+use lux_usd::Mesh;
+
+/// A mesh light: the scene mesh it emits from and its sampler (triangle by area, then the
+/// spherical triangle).
+#[derive(Clone, Debug)]
+pub struct MeshLight {
+    /// What every light carries.
+    pub base: LightBase,
+    /// Index into `Scene::meshes`.
+    pub mesh: usize,
+    /// World box of the mesh's points.
+    world_box: (DVec3, DVec3),
+    sampler: lux_sample::MeshLight,
+}
+
+impl MeshLight {
+    /// The world-space mesh `m` (index `mesh` in the scene); `Err` names what lux-sample
+    /// refused (no triangles, bad indices).
+    pub(super) fn new(base: LightBase, mesh: usize, m: &Mesh) -> Result<MeshLight, String> {
+        let sampler = lux_sample::MeshLight::new(
+            &m.positions,
+            &m.triangles,
+            None,
+            m.double_sided,
+            lux_sample::MeshTechnique::SphericalTriangle,
+        )
+        .map_err(|e| e.to_string())?;
+        let world_box = m.positions.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        Ok(MeshLight {
+            base,
+            mesh,
+            world_box,
+            sampler,
+        })
+    }
+
+    /// See [`super::Light::sample_li`].
+    #[inline]
+    pub fn sample_li(&self, r: &Reference, u: [f64; 2], strategy: Strategy) -> Option<LiSample> {
+        let s = self.sampler.sample_with(r, u, strategy)?;
+        Some(LiSample::new(s, self.le(-s.wi)))
+    }
+
+    /// Density of the direction `wi` over every triangle it crosses (O(triangles)); after a
+    /// ray hit, use [`MeshLight::pdf_li_triangle`].
+    #[inline]
+    pub fn pdf_li(&self, r: &Reference, wi: DVec3) -> f64 {
+        self.sampler.pdf(r, wi)
+    }
+
+    /// Density of sampling the direction `wi` through triangle `tri` (what a BSDF ray that hit
+    /// that triangle needs for MIS).
+    #[inline]
+    pub fn pdf_li_triangle(&self, r: &Reference, tri: usize, wi: DVec3) -> f64 {
+        self.sampler.pdf_triangle(r, tri, wi)
+    }
+
+    /// Radiance along the world direction `emit`: `base · shapingFactor` (the triangle's side
+    /// is decided by the sampler and the hit).
+    #[inline]
+    pub fn le(&self, emit: DVec3) -> DVec3 {
+        match self.base.local_direction(emit) {
+            Some(wl) => self.base.shaped(wl),
+            None => DVec3::ZERO,
+        }
+    }
+
+    /// See [`super::Light::bounds`]: normals in every direction, both sides.
+    pub fn bounds(&self) -> Option<LightBounds> {
+        let half_pi = std::f64::consts::FRAC_PI_2;
+        self.base
+            .bounds(self.world_box, std::f64::consts::PI, half_pi, true)
+    }
+
+    /// Power estimate: `Y(base) · area · π · max shaping factor`.
+    pub(super) fn power(&self, area: f64) -> f64 {
+        super::luminance(self.base.radiance).max(0.0)
+            * area
+            * std::f64::consts::PI
+            * self.base.shaping.max_factor() as f64
+    }
+}

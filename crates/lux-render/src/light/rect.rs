@@ -1,0 +1,133 @@
+//! RectLight (UsdLux `RectLight`): a `inputs:width × inputs:height` rectangle in local XY,
+//! centred, emitting from its −Z side, optionally textured (`inputs:texture:file`).
+
+use super::{
+    LiSample, LightBase, LightHit, LightTexture, Seen, box_of, planar_emission_half_angle,
+};
+use glam::DVec3;
+use lux_sample::{LightBounds, Reference, Strategy};
+
+/// A rect light: its half extents, texture and sampler.
+#[derive(Clone, Debug)]
+pub struct RectLight {
+    /// What every light carries.
+    pub base: LightBase,
+    /// Half width (local X) and half height (local Y).
+    half: [f64; 2],
+    texture: Option<LightTexture>,
+    /// The `HdEmbree` profile's mirrored texture u on the lit path.
+    mirror_u: bool,
+    sampler: lux_sample::RectLight,
+}
+
+impl RectLight {
+    /// A `width × height` rect (both > 0) sampled by spherical rectangle (lux) or by area
+    /// (hdEmbree); `Err` names what lux-sample refused.
+    pub(super) fn new(
+        base: LightBase,
+        width: f64,
+        height: f64,
+        texture: Option<LightTexture>,
+        mirror_u: bool,
+    ) -> Result<RectLight, String> {
+        let sampler = lux_sample::RectLight::new(
+            width,
+            height,
+            base.xf,
+            lux_sample::RectTechnique::SphericalRectangle,
+        )
+        .map_err(|e| e.to_string())?;
+        Ok(RectLight {
+            base,
+            half: [0.5 * width, 0.5 * height],
+            texture,
+            mirror_u,
+            sampler,
+        })
+    }
+
+    /// See [`super::Light::sample_li`].
+    #[inline]
+    pub fn sample_li(&self, r: &Reference, u: [f64; 2], strategy: Strategy) -> Option<LiSample> {
+        let s = self.sampler.sample_with(r, u, strategy)?;
+        let l = self.le(self.base.to_local(s.point), -s.wi, Seen::Lit);
+        Some(LiSample::new(s, l))
+    }
+
+    /// See [`super::Light::pdf_li`].
+    #[inline]
+    pub fn pdf_li(&self, r: &Reference, wi: DVec3) -> f64 {
+        self.sampler.pdf(r, wi)
+    }
+
+    /// Radiance from the local point `local` along the world direction `emit`: zero unless
+    /// `emit` leaves the −Z side; the texture at `u = ½ − x/w` (schema orientation; `½ + x/w`
+    /// on the lit path of the `HdEmbree` profile), `v = ½ − y/h` (top row at +Y).
+    #[inline]
+    pub fn le(&self, local: DVec3, emit: DVec3, seen: Seen) -> DVec3 {
+        let Some(wl) = self.base.local_direction(emit) else {
+            return DVec3::ZERO;
+        };
+        if wl.z >= 0.0 {
+            return DVec3::ZERO;
+        }
+        let mut l = self.base.shaped(wl);
+        if let Some(t) = &self.texture {
+            let [hw, hh] = self.half;
+            let x = 0.5 * local.x / hw;
+            let u = if seen == Seen::Lit && self.mirror_u {
+                0.5 + x
+            } else {
+                0.5 - x
+            };
+            let v = 0.5 - 0.5 * local.y / hh;
+            l *= t.rgb(u, v);
+        }
+        l
+    }
+
+    /// See [`super::Light::intersect`]: the plane z = 0 within the half extents.
+    #[inline]
+    pub fn intersect(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<LightHit> {
+        let ol = self.base.xf.inv_point(o);
+        let dl = self.base.xf.inv_vector(d);
+        let t = -ol.z / dl.z;
+        if !(t > tmin && t < tmax) {
+            return None;
+        }
+        let q = ol + t * dl;
+        let [hw, hh] = self.half;
+        (q.x.abs() <= hw && q.y.abs() <= hh).then_some(LightHit {
+            t,
+            local: DVec3::new(q.x, q.y, 0.0),
+            front: dl.z > 0.0,
+        })
+    }
+
+    /// World box of the four corners.
+    pub fn world_box(&self) -> (DVec3, DVec3) {
+        let [hw, hh] = self.half;
+        box_of(
+            &self.base.xf,
+            [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+                .map(|(a, b)| DVec3::new(a * hw, b * hh, 0.0)),
+        )
+    }
+
+    /// See [`super::Light::bounds`]: one-sided, normal −Z, emission narrowed by the shaping.
+    pub fn bounds(&self) -> Option<LightBounds> {
+        let theta_e = planar_emission_half_angle(&self.base);
+        self.base.bounds(self.world_box(), 0.0, theta_e, false)
+    }
+
+    /// Power estimate: `Y(base) · mean texture · area · G`, G = ∫ shaping · cos over the
+    /// hemisphere (π unshaped).
+    pub(super) fn power(&self, area: f64) -> f64 {
+        let mean_tex = self.texture.as_ref().map_or(1.0, |t| {
+            let a = t.tex.average();
+            super::luminance(DVec3::new(a[0], a[1], a[2]))
+        });
+        let g = super::luminance(DVec3::from(self.base.shaping.integral_cos_hemisphere())).max(0.0);
+        super::luminance(self.base.radiance).max(0.0) * mean_tex * area * g
+    }
+}

@@ -1,0 +1,148 @@
+//! Every light of a scene, prepared, and how the light to sample at a shading point is chosen:
+//! all lights, one by power, or one by the light BVH's importance.
+
+use super::Light;
+use super::load::Loader;
+use crate::RenderError;
+use lux_math::Profile;
+use lux_sample::{LightBounds, LightBvh, LightSelector};
+use lux_usd::Scene;
+
+/// How the light to sample at a shading point is chosen.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum LightSelection {
+    /// Every light at every shading point when there are at most [`AUTO_ALL_LIGHTS`] lights,
+    /// else one light chosen by the light BVH.
+    #[default]
+    Auto,
+    /// Every light at every shading point.
+    All,
+    /// One light, chosen in proportion to its estimated power.
+    Power,
+    /// One light, chosen by the light BVH's importance at the shading point
+    /// (Conty Estevez & Kulla 2018).
+    Bvh,
+}
+
+/// Light count up to which [`LightSelection::Auto`] samples every light.
+pub const AUTO_ALL_LIGHTS: usize = 8;
+
+/// Options that decide how lights are prepared.
+#[derive(Clone, Copy, Debug)]
+pub struct LightOptions {
+    /// Conformance profile.
+    pub profile: Profile,
+    /// Light selection strategy.
+    pub selection: LightSelection,
+    /// An IES profile or light texture that does not resolve or cannot be read is an error
+    /// (`true`) or a warning, the light emitting without it (`false`, usd-core's and Hydra's
+    /// behaviour).
+    pub strict: bool,
+}
+
+/// Every light of a scene, prepared, with the selection strategy.
+pub struct LightSet {
+    /// The lights, in scene order (lights that cannot emit are left out, with a warning).
+    pub lights: Vec<Light>,
+    /// For each scene mesh, the index in `lights` of the mesh light it carries.
+    pub mesh_light: Vec<Option<usize>>,
+    /// `None` = sample every light at every shading point.
+    pub selector: Option<LightSelector>,
+    /// Lights at infinity that a ray escaping the scene reaches (not the delta ones), in order.
+    pub infinite: Vec<usize>,
+    /// Lights at infinity shown as the background of camera rays that miss, in order.
+    pub background: Vec<usize>,
+    /// Non-fatal problems met while preparing the lights.
+    pub warnings: Vec<String>,
+}
+
+impl LightSet {
+    /// Prepares every light of `scene`. IES profiles and textures are loaded once per file.
+    /// A malformed or missing IES/texture file referenced by a light is a warning naming the
+    /// light and the file, and the light emits without it (an error with
+    /// [`LightOptions::strict`]); a light whose inputs cannot be converted at all is left out
+    /// with a warning naming it, so one bad light never takes the others with it.
+    pub fn new(scene: &Scene, options: LightOptions) -> Result<LightSet, RenderError> {
+        let mut loader = Loader::new(scene, options);
+        let mut lights = Vec::new();
+        let mut mesh_light = vec![None; scene.meshes.len()];
+        for (li, l) in scene.lights.iter().enumerate() {
+            // Only a world-space mesh is drawn where its positions say (a prototype's mesh is in
+            // prototype space; the loader never gives one MeshLightAPI).
+            let mesh = scene
+                .meshes
+                .iter()
+                .position(|m| m.light == Some(li) && m.prototype.is_none());
+            let prepared = match loader.light(l, mesh) {
+                Ok(p) => p,
+                Err(e) if options.strict => return Err(e),
+                // One light's unusable inputs (a spectrum lux-spectral refuses…) leave that
+                // light out, named, and never the others.
+                Err(e) => {
+                    loader
+                        .warnings
+                        .push(format!("{e}; the light is not rendered"));
+                    None
+                }
+            };
+            if let Some(rl) = prepared {
+                if let Some(m) = mesh {
+                    mesh_light[m] = Some(lights.len());
+                }
+                lights.push(rl);
+            }
+        }
+        let mut warnings = loader.warnings;
+        let selector = build_selector(&lights, options.selection, &mut warnings);
+        let infinite = (0..lights.len())
+            .filter(|&i| lights[i].is_infinite() && !lights[i].is_delta())
+            .collect();
+        let background = (0..lights.len())
+            .filter(|&i| lights[i].is_infinite() && lights[i].base().camera_visible)
+            .collect();
+        Ok(LightSet {
+            lights,
+            mesh_light,
+            selector,
+            infinite,
+            background,
+            warnings,
+        })
+    }
+}
+
+fn build_selector(
+    lights: &[Light],
+    selection: LightSelection,
+    warnings: &mut Vec<String>,
+) -> Option<LightSelector> {
+    let n = lights.len();
+    let sel = match selection {
+        LightSelection::Auto if n <= AUTO_ALL_LIGHTS => return None,
+        LightSelection::All => return None,
+        LightSelection::Auto => LightSelection::Bvh,
+        s => s,
+    };
+    if n == 0 {
+        return None;
+    }
+    let result = match sel {
+        LightSelection::Power => {
+            let p: Vec<f64> = lights.iter().map(|l| l.base().power).collect();
+            LightSelector::power(&p)
+        }
+        _ => {
+            let bounds: Vec<Option<LightBounds>> = lights.iter().map(Light::bounds).collect();
+            LightBvh::new(&bounds).map(LightSelector::Bvh)
+        }
+    };
+    match result {
+        Ok(s) => Some(s),
+        Err(e) => {
+            warnings.push(format!(
+                "light selection {sel:?} unavailable ({e}); sampling every light"
+            ));
+            None
+        }
+    }
+}

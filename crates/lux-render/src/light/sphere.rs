@@ -1,0 +1,100 @@
+//! SphereLight (UsdLux `SphereLight`): a sphere of `inputs:radius` (an ellipsoid under a
+//! non-uniform scale), every point emitting over its outward hemisphere.
+
+use super::{LiSample, LightBase, LightHit, box_corners, box_of, quadratic};
+use glam::DVec3;
+use lux_sample::{LightBounds, Reference, Strategy};
+
+/// A sphere light: its radius and sampler.
+#[derive(Clone, Debug)]
+pub struct SphereLight {
+    /// What every light carries.
+    pub base: LightBase,
+    radius: f64,
+    sampler: lux_sample::SphereLight,
+}
+
+impl SphereLight {
+    /// A sphere of `radius` sampled by its cone of directions (lux) or by area (hdEmbree);
+    /// `Err` names what lux-sample refused (a radius of 0 included).
+    pub(super) fn new(base: LightBase, radius: f64) -> Result<SphereLight, String> {
+        let sampler =
+            lux_sample::SphereLight::new(radius, base.xf, lux_sample::SphereTechnique::Cone)
+                .map_err(|e| e.to_string())?;
+        Ok(SphereLight {
+            base,
+            radius,
+            sampler,
+        })
+    }
+
+    /// See [`super::Light::sample_li`].
+    #[inline]
+    pub fn sample_li(&self, r: &Reference, u: [f64; 2], strategy: Strategy) -> Option<LiSample> {
+        let s = self.sampler.sample_with(r, u, strategy)?;
+        let l = self.le(self.base.to_local(s.point), -s.wi);
+        Some(LiSample::new(s, l))
+    }
+
+    /// See [`super::Light::pdf_li`].
+    #[inline]
+    pub fn pdf_li(&self, r: &Reference, wi: DVec3) -> f64 {
+        self.sampler.pdf(r, wi)
+    }
+
+    /// Radiance from the local surface point `local` along the world direction `emit`: zero
+    /// unless `emit` leaves the outward side (`local · ω_light > 0`).
+    #[inline]
+    pub fn le(&self, local: DVec3, emit: DVec3) -> DVec3 {
+        let Some(wl) = self.base.local_direction(emit) else {
+            return DVec3::ZERO;
+        };
+        if local.dot(wl) <= 0.0 {
+            return DVec3::ZERO;
+        }
+        self.base.shaped(wl)
+    }
+
+    /// See [`super::Light::intersect`]: the nearer root of `|o + t·d|² = r²` in range.
+    #[inline]
+    pub fn intersect(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<LightHit> {
+        let ol = self.base.xf.inv_point(o);
+        let dl = self.base.xf.inv_vector(d);
+        let r = self.radius;
+        let (t0, t1) = quadratic(dl.length_squared(), ol.dot(dl), ol.length_squared() - r * r)?;
+        let in_range = |t: f64| t > tmin && t < tmax;
+        let t = if in_range(t0) {
+            t0
+        } else if in_range(t1) {
+            t1
+        } else {
+            return None;
+        };
+        let q = ol + t * dl;
+        Some(LightHit {
+            t,
+            local: q,
+            front: q.dot(dl) < 0.0,
+        })
+    }
+
+    /// World box of the sphere's local bounding cube.
+    pub fn world_box(&self) -> (DVec3, DVec3) {
+        box_of(&self.base.xf, box_corners(DVec3::splat(self.radius)))
+    }
+
+    /// See [`super::Light::bounds`]: normals in every direction.
+    pub fn bounds(&self) -> Option<LightBounds> {
+        let half_pi = std::f64::consts::FRAC_PI_2;
+        self.base
+            .bounds(self.world_box(), std::f64::consts::PI, half_pi, false)
+    }
+
+    /// Power estimate: `Y(base) · area · π · max shaping factor`.
+    pub(super) fn power(&self, area: f64) -> f64 {
+        super::luminance(self.base.radiance).max(0.0)
+            * area
+            * std::f64::consts::PI
+            * self.base.shaping.max_factor() as f64
+    }
+}

@@ -1,0 +1,194 @@
+//! `UsdUVTexture` feeding a UsdPreviewSurface input: the file, `st` lookup with `wrapS`/`wrapT`,
+//! `scale`, `bias`, `fallback`, `sourceColorSpace` and the connected output.
+
+use super::Albedo;
+use crate::RenderError;
+use crate::image_io::{Texture, linear_to_srgb};
+use glam::{DVec2, DVec3, DVec4};
+use lux_usd::{SourceColorSpace, TextureInput};
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// How a texture coordinate outside \[0, 1\] is folded back (UsdUVTexture `wrapS`/`wrapT`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Wrap {
+    Repeat,
+    Mirror,
+    Clamp,
+    Black,
+}
+
+impl Wrap {
+    /// The fold of a `UsdUVTexture` wrap mode; `useMetadata` without metadata in the file
+    /// (lux's image readers carry none) repeats.
+    fn of(mode: lux_usd::Wrap) -> Wrap {
+        match mode {
+            lux_usd::Wrap::Mirror => Wrap::Mirror,
+            lux_usd::Wrap::Clamp => Wrap::Clamp,
+            lux_usd::Wrap::Black => Wrap::Black,
+            lux_usd::Wrap::Repeat | lux_usd::Wrap::UseMetadata => Wrap::Repeat,
+        }
+    }
+
+    /// Folds `x` into \[0, 1\]; `None` for "black" outside the unit interval.
+    #[inline]
+    fn apply(self, x: f64) -> Option<f64> {
+        if !x.is_finite() {
+            return None;
+        }
+        Some(match self {
+            Wrap::Repeat => x - x.floor(),
+            Wrap::Clamp => x.clamp(0.0, 1.0),
+            Wrap::Mirror => {
+                let m = x.rem_euclid(2.0);
+                if m > 1.0 { 2.0 - m } else { m }
+            }
+            Wrap::Black => {
+                if (0.0..=1.0).contains(&x) {
+                    x
+                } else {
+                    return None;
+                }
+            }
+        })
+    }
+}
+
+/// A prepared `UsdUVTexture` feeding `diffuseColor`.
+#[derive(Clone, Debug)]
+pub(super) struct TextureShader {
+    tex: Arc<Texture>,
+    scale: DVec4,
+    bias: DVec4,
+    fallback: DVec4,
+    wrap: [Wrap; 2],
+    /// `sourceColorSpace = "raw"` on an 8-bit file: undo the sRGB decode.
+    raw: bool,
+    /// Which output is connected: 0..=2 a single channel (r, g, b), 3 alpha, 4 rgb.
+    output: u8,
+}
+
+impl TextureShader {
+    #[inline]
+    pub(super) fn eval(&self, st: DVec2) -> DVec3 {
+        let pick = |c: DVec4| -> DVec3 {
+            match self.output {
+                4 => c.truncate(),
+                k => DVec3::splat(c[k as usize]),
+            }
+        };
+        let (Some(u), Some(v)) = (self.wrap[0].apply(st.x), self.wrap[1].apply(st.y)) else {
+            return pick(self.fallback);
+        };
+        // USD texture coordinates have (0, 0) at the image's bottom-left.
+        let t = self.tex.bilinear(u, 1.0 - v);
+        let mut c = DVec4::new(t[0] as f64, t[1] as f64, t[2] as f64, t[3] as f64);
+        if self.raw {
+            c = DVec4::new(
+                linear_to_srgb(t[0]) as f64,
+                linear_to_srgb(t[1]) as f64,
+                linear_to_srgb(t[2]) as f64,
+                c.w,
+            );
+        }
+        pick(c * self.scale + self.bias)
+    }
+}
+
+/// The albedo of a `UsdUVTexture`. A texture file that does not resolve or cannot be read
+/// (missing, a format lux does not decode such as RenderMan `.tex`, corrupt) is replaced, with
+/// a warning naming the material and the file (an error when `strict`), by the texture's
+/// `inputs:fallback` when authored, else by `diffuseColor`'s own fallback (0.18 grey): the
+/// surface stays visible and lit, where the schema default (0, 0, 0, 1) would paint it black.
+pub(super) fn texture_shader(
+    material: &str,
+    t: &TextureInput,
+    cache: &mut HashMap<PathBuf, Arc<Texture>>,
+    strict: bool,
+    warnings: &mut Vec<String>,
+) -> Result<Albedo, RenderError> {
+    let Some(file) = &t.file else {
+        return Ok(Albedo::Color(t.fallback.truncate()));
+    };
+    let failed = |file: PathBuf, message: String, warnings: &mut Vec<String>| {
+        if strict {
+            return Err(RenderError::Asset { file, message });
+        }
+        let (colour, what) = if t.fallback_authored {
+            (t.fallback.truncate(), "the texture's inputs:fallback")
+        } else {
+            (
+                lux_usd::material::DEFAULT_DIFFUSE,
+                "diffuseColor's fallback",
+            )
+        };
+        warnings.push(format!(
+            "{}: {message}; material {material} uses {what} {colour}",
+            file.display(),
+        ));
+        Ok(Albedo::Color(colour))
+    };
+    let Some(path) = &file.resolved else {
+        return failed(
+            PathBuf::from(&file.authored),
+            format!("texture of material {material} does not resolve to a file"),
+            warnings,
+        );
+    };
+    let tex = match cache.get(path) {
+        Some(t) => t.clone(),
+        None => match crate::assets::load_texture(path) {
+            Ok(tex) => {
+                let tex = Arc::new(tex);
+                cache.insert(path.clone(), tex.clone());
+                tex
+            }
+            Err(e) => return failed(path.clone(), e.to_string(), warnings),
+        },
+    };
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    Ok(Albedo::Texture(TextureShader {
+        tex,
+        scale: t.scale,
+        bias: t.bias,
+        fallback: t.fallback,
+        wrap: [Wrap::of(t.wrap_s), Wrap::of(t.wrap_t)],
+        raw: t.source_color_space == SourceColorSpace::Raw
+            && !matches!(ext.as_str(), "exr" | "hdr"),
+        output: output_index(&t.output),
+    }))
+}
+
+fn output_index(name: &str) -> u8 {
+    match name {
+        "r" => 0,
+        "g" => 1,
+        "b" => 2,
+        "a" => 3,
+        _ => 4,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wrap_modes() {
+        assert_eq!(Wrap::Repeat.apply(1.25), Some(0.25));
+        assert_eq!(Wrap::Repeat.apply(-0.25), Some(0.75));
+        assert_eq!(Wrap::Clamp.apply(1.5), Some(1.0));
+        assert_eq!(Wrap::Mirror.apply(1.25), Some(0.75));
+        assert_eq!(Wrap::Mirror.apply(-0.25), Some(0.25));
+        assert_eq!(Wrap::Black.apply(1.5), None);
+        assert_eq!(Wrap::Black.apply(0.5), Some(0.5));
+        assert_eq!(Wrap::Repeat.apply(f64::NAN), None);
+        assert_eq!(Wrap::of(lux_usd::Wrap::UseMetadata), Wrap::Repeat);
+        assert_eq!(Wrap::of(lux_usd::Wrap::Mirror), Wrap::Mirror);
+    }
+}

@@ -1,0 +1,151 @@
+//! Render settings: what a render depends on besides the scene ([`RenderOptions`], from the
+//! CLI or an API caller), resolved against the stage's `UsdRenderSettings` and its first
+//! `UsdRenderProduct` into the camera, the resolution, the pixel aspect ratio, the data window
+//! and the crop ([`resolve`]).
+//!
+//! Precedence: an option given explicitly, then the product's value, then the settings' value,
+//! then usdrecord's default (the render camera or the first camera; 960 pixels wide at the
+//! camera's aspect).
+
+use crate::RenderError;
+use crate::camera::Camera;
+use crate::conformance::ResolvedProfile;
+use crate::light::LightSelection;
+use glam::DVec4;
+use lux_usd::Scene;
+
+/// Largest image side accepted (pixels).
+pub const MAX_RESOLUTION: u32 = 65_536;
+/// Largest sample count per pixel accepted.
+pub const MAX_SPP: u32 = 1 << 20;
+
+/// Which sampling techniques the renderer uses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum SamplingMode {
+    /// lux's importance sampling (solid-angle techniques, textured dome) with MIS against
+    /// BSDF sampling.
+    #[default]
+    Lux,
+    /// hdEmbree's strategies, for A/B comparison: every area light sampled uniformly by area,
+    /// the dome uniformly over the hemisphere around the normal, light sampling only (no
+    /// MIS). Same expectation, more noise.
+    Reference,
+}
+
+/// Everything a render depends on besides the scene.
+#[derive(Clone, Debug)]
+pub struct RenderOptions {
+    /// Samples per pixel (≥ 1).
+    pub spp: u32,
+    /// Output resolution; `None` = the RenderSettings' (or its product's) resolution.
+    pub resolution: Option<[u32; 2]>,
+    /// Only render pixels `[x0, y0, x1, y1)` (y from the top); others stay 0 with alpha 0.
+    pub crop: Option<[u32; 4]>,
+    /// Camera prim path; `None` = the RenderSettings' camera, else the first camera.
+    pub camera: Option<String>,
+    /// The conformance profile (resolved by [`crate::conformance::resolve_profile`]).
+    pub profile: ResolvedProfile,
+    /// Sampling techniques.
+    pub sampling: SamplingMode,
+    /// Light selection strategy.
+    pub selection: LightSelection,
+    /// Seed of every random number.
+    pub seed: u64,
+    /// An IES profile or texture that does not resolve or cannot be read is an error instead
+    /// of a warning with a fallback (the light without it, the texture's `inputs:fallback`).
+    pub strict: bool,
+}
+
+impl RenderOptions {
+    /// 16 spp, the scene's resolution and camera, the `spec` profile, lux sampling, seed 0.
+    pub fn new(profile: ResolvedProfile) -> RenderOptions {
+        RenderOptions {
+            spp: 16,
+            resolution: None,
+            crop: None,
+            camera: None,
+            profile,
+            sampling: SamplingMode::Lux,
+            selection: LightSelection::Auto,
+            seed: 0,
+            strict: false,
+        }
+    }
+}
+
+/// The settings of one render, resolved.
+#[derive(Clone, Debug)]
+pub struct Resolved {
+    /// The camera's ray generator at the output resolution.
+    pub camera: Camera,
+    /// The pixels to render: crop ∩ data window, `[x0, y0, x1, y1)`.
+    pub window: [u32; 4],
+    /// The camera's UsdGeomCamera linear exposure scale (1 with the schema defaults).
+    pub exposure_scale: f64,
+}
+
+/// Resolves `options` against `scene`: the camera (by path, else the render camera), the
+/// resolution, pixel aspect ratio and data window (product, then settings), and the crop.
+/// Invalid sample counts, resolutions, crops and cameras are errors naming the value.
+pub fn resolve(scene: &Scene, options: &RenderOptions) -> Result<Resolved, RenderError> {
+    if options.spp == 0 || options.spp > MAX_SPP {
+        return Err(RenderError::Settings(format!(
+            "samples per pixel {}: expected 1 to {MAX_SPP}",
+            options.spp
+        )));
+    }
+    let camera = match &options.camera {
+        Some(p) => scene.cameras.iter().find(|c| &c.path == p).ok_or_else(|| {
+            RenderError::NoCamera(format!("no camera at <{p}> in {}", scene.source.display()))
+        })?,
+        None => scene.render_camera().ok_or_else(|| {
+            RenderError::NoCamera(format!("{} has no Camera prim", scene.source.display()))
+        })?,
+    };
+    let settings = scene.render_settings.first();
+    let product = settings.and_then(|s| s.products.first());
+    let resolution = options
+        .resolution
+        .unwrap_or_else(|| scene.default_resolution(camera));
+    if resolution[0] == 0
+        || resolution[1] == 0
+        || resolution[0] > MAX_RESOLUTION
+        || resolution[1] > MAX_RESOLUTION
+    {
+        return Err(RenderError::Settings(format!(
+            "resolution {}×{}: expected 1 to {MAX_RESOLUTION} pixels per side",
+            resolution[0], resolution[1]
+        )));
+    }
+    let par = product
+        .and_then(|p| p.base.pixel_aspect_ratio)
+        .or_else(|| settings.map(|s| s.pixel_aspect_ratio()))
+        .unwrap_or(1.0);
+    let ndc = product
+        .and_then(|p| p.base.data_window_ndc)
+        .or_else(|| settings.map(|s| s.data_window_ndc()))
+        .unwrap_or(DVec4::new(0.0, 0.0, 1.0, 1.0));
+    let view = Camera::new(camera, resolution, par, ndc)?;
+    let mut window = view.pixel_window;
+    if let Some([x0, y0, x1, y1]) = options.crop {
+        if x0 >= x1 || y0 >= y1 || x1 > resolution[0] || y1 > resolution[1] {
+            return Err(RenderError::Settings(format!(
+                "crop {x0},{y0},{x1},{y1}: expected x0 < x1 ≤ {}, y0 < y1 ≤ {}",
+                resolution[0], resolution[1]
+            )));
+        }
+        window = [
+            window[0].max(x0),
+            window[1].max(y0),
+            window[2].min(x1),
+            window[3].min(y1),
+        ];
+        window[2] = window[2].max(window[0]);
+        window[3] = window[3].max(window[1]);
+    }
+    Ok(Resolved {
+        camera: view,
+        window,
+        exposure_scale: camera.linear_exposure_scale(),
+    })
+}
