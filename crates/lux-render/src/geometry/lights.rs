@@ -37,8 +37,9 @@ pub(crate) struct LightShapes {
     unbounded: Vec<u32>,
 }
 
-/// Lights crossed by one ray: their index and hit, in light order (inline up to 8).
-pub struct Crossings {
+/// Lights crossed by one ray found through the BVH, before they are put in light order
+/// (inline up to 8).
+struct Crossings {
     inline: [(u32, LightHit); 8],
     len: usize,
     spill: Vec<(u32, LightHit)>,
@@ -71,24 +72,15 @@ impl Crossings {
         }
     }
 
-    /// The crossings, sorted by light index.
-    fn sorted(mut self) -> Crossings {
-        if self.spill.is_empty() {
-            self.inline[..self.len].sort_unstable_by_key(|c| c.0);
-        } else {
-            self.spill.sort_unstable_by_key(|c| c.0);
-        }
-        self
-    }
-
-    /// The crossings as `(light index, hit)`, by light index.
-    pub fn iter(&self) -> impl Iterator<Item = (usize, LightHit)> + '_ {
+    /// The crossings by light index.
+    fn sorted(&mut self) -> &[(u32, LightHit)] {
         let s = if self.spill.is_empty() {
-            &self.inline[..self.len]
+            &mut self.inline[..self.len]
         } else {
-            &self.spill[..]
+            &mut self.spill[..]
         };
-        s.iter().map(|&(i, h)| (i as usize, h))
+        s.sort_unstable_by_key(|c| c.0);
+        s
     }
 }
 
@@ -193,19 +185,33 @@ impl LightShapes {
         best.map(|(i, h)| (i as usize, h))
     }
 
-    /// Every light crossing `o + t·d`, `t ∈ (tmin, tmax)`, by light index.
+    /// Calls `f` with every light crossing `o + t·d`, `t ∈ (tmin, tmax)`, by light index.
     #[inline]
-    pub fn crossed(&self, lights: &[Light], o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Crossings {
+    pub fn crossed(
+        &self,
+        lights: &[Light],
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        mut f: impl FnMut(usize, LightHit),
+    ) {
+        if self.bvh.is_none() {
+            for &i in &self.all {
+                if let Some(h) = lights[i as usize].intersect(o, d, tmin, tmax) {
+                    f(i as usize, h);
+                }
+            }
+            return;
+        }
         let mut out = Crossings::new();
         self.candidates(o, d, tmin, tmax, |i| {
             if let Some(h) = lights[i as usize].intersect(o, d, tmin, tmax) {
                 out.push(i, h);
             }
         });
-        if self.bvh.is_some() {
-            out.sorted()
-        } else {
-            out
+        for &(i, h) in out.sorted() {
+            f(i as usize, h);
         }
     }
 }
@@ -350,11 +356,8 @@ mod tests {
                 linear.map(|(i, h)| (i, h.t.to_bits())),
                 "ray {k}"
             );
-            let crossed: Vec<(usize, f64)> = shapes
-                .crossed(&lights, o, dir, tmin, tmax)
-                .iter()
-                .map(|(i, h)| (i, h.t))
-                .collect();
+            let mut crossed = Vec::new();
+            shapes.crossed(&lights, o, dir, tmin, tmax, |i, h| crossed.push((i, h.t)));
             assert_eq!(crossed, all, "ray {k}");
             found += usize::from(got.is_some());
             crossings += all.len();

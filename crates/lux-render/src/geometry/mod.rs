@@ -28,8 +28,8 @@ use crate::light::{Light, LightHit};
 use blas::Blas;
 use glam::{DVec2, DVec3, Vec3A};
 use instances::Instances;
+pub use lights::LINEAR_LIGHTS;
 use lights::LightShapes;
-pub use lights::{Crossings, LINEAR_LIGHTS};
 use lux_usd::Scene;
 use obvhs::ray::{Ray, RayHit};
 
@@ -178,8 +178,9 @@ impl Geometry {
             .closest(lights, origin, dir, tmin, tmax, visible)
     }
 
-    /// Every analytic light crossing `origin + t·dir`, `t ∈ (tmin, tmax)`, by light index
-    /// (lights do not occlude one another). `lights` is the slice the geometry was built with.
+    /// Calls `f` with every analytic light crossing `origin + t·dir`, `t ∈ (tmin, tmax)`, and
+    /// its hit, by light index (lights do not occlude one another). `lights` is the slice the
+    /// geometry was built with.
     #[inline]
     pub fn lights_crossed(
         &self,
@@ -188,8 +189,9 @@ impl Geometry {
         dir: DVec3,
         tmin: f64,
         tmax: f64,
-    ) -> Crossings {
-        self.lights.crossed(lights, origin, dir, tmin, tmax)
+        f: impl FnMut(usize, LightHit),
+    ) {
+        self.lights.crossed(lights, origin, dir, tmin, tmax, f)
     }
 
     /// Number of triangles stored in the BVHs: the world meshes' plus each drawn prototype's

@@ -202,16 +202,13 @@ impl<'a> DirectIntegrator<'a> {
                 }
             }
         };
-        for (li, h) in w
-            .geometry
-            .lights_crossed(lights, origin, wi, 0.0, t_geo)
-            .iter()
-        {
-            if h.front {
-                let l = &lights[li];
-                add(l, l.le(h.local, -wi, Seen::Lit), pmf(li) * l.pdf_li(&r, wi));
-            }
-        }
+        w.geometry
+            .lights_crossed(lights, origin, wi, 0.0, t_geo, |li, h| {
+                if h.front {
+                    let l = &lights[li];
+                    add(l, l.le(h.local, -wi, Seen::Lit), pmf(li) * l.pdf_li(&r, wi));
+                }
+            });
         match hit {
             Some(h) => {
                 if let Some(li) = w.lights.mesh_light.get(h.mesh).copied().flatten() {

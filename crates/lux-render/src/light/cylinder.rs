@@ -1,7 +1,7 @@
 //! CylinderLight (UsdLux `CylinderLight`): the lateral surface of a cylinder along local X
 //! (`inputs:length`, `inputs:radius`), no caps, emitting outward.
 
-use super::{LiSample, LightBase, LightHit, box_corners, box_of, quadratic};
+use super::{LiSample, LightBase, LightHit, Seen, box_corners, box_of, quadratic};
 use glam::DVec3;
 use lux_sample::{LightBounds, Reference, Strategy};
 
@@ -38,7 +38,7 @@ impl CylinderLight {
     #[inline]
     pub fn sample_li(&self, r: &Reference, u: [f64; 2], strategy: Strategy) -> Option<LiSample> {
         let s = self.sampler.sample_with(r, u, strategy)?;
-        let l = self.le(self.base.to_local(s.point), -s.wi);
+        let l = self.le(self.base.to_local(s.point), -s.wi, Seen::Lit);
         Some(LiSample::new(s, l))
     }
 
@@ -51,7 +51,7 @@ impl CylinderLight {
     /// Radiance from the local surface point `local` along the world direction `emit`: zero
     /// unless `emit` leaves the outward side (`(0, y, z) · ω_light > 0`).
     #[inline]
-    pub fn le(&self, local: DVec3, emit: DVec3) -> DVec3 {
+    pub fn le(&self, local: DVec3, emit: DVec3, _seen: Seen) -> DVec3 {
         let Some(wl) = self.base.local_direction(emit) else {
             return DVec3::ZERO;
         };
@@ -59,6 +59,12 @@ impl CylinderLight {
             return DVec3::ZERO;
         }
         self.base.shaped(wl)
+    }
+
+    /// A finite light: nothing arrives from infinity.
+    #[inline]
+    pub fn le_escape(&self, _wi: DVec3) -> DVec3 {
+        DVec3::ZERO
     }
 
     /// See [`super::Light::intersect`]: the first root of `y² + z² = r²` within the length.
@@ -87,7 +93,11 @@ impl CylinderLight {
     }
 
     /// World box of the cylinder's local bounding box.
-    pub fn world_box(&self) -> (DVec3, DVec3) {
+    pub fn surface_box(&self) -> Option<(DVec3, DVec3)> {
+        Some(self.world_box())
+    }
+
+    fn world_box(&self) -> (DVec3, DVec3) {
         let (r, hl) = (self.radius, self.half_length);
         box_of(&self.base.xf, box_corners(DVec3::new(hl, r, r)))
     }

@@ -1,7 +1,7 @@
 //! DiskLight (UsdLux `DiskLight`): a disk of `inputs:radius` in local XY, centred, emitting
 //! from its −Z side.
 
-use super::{LiSample, LightBase, LightHit, box_corners, box_of, planar_emission_half_angle};
+use super::{LiSample, LightBase, LightHit, Seen, box_corners, box_of, planar_emission_half_angle};
 use glam::DVec3;
 use lux_sample::{LightBounds, Reference, Strategy};
 
@@ -32,7 +32,7 @@ impl DiskLight {
     #[inline]
     pub fn sample_li(&self, r: &Reference, u: [f64; 2], strategy: Strategy) -> Option<LiSample> {
         let s = self.sampler.sample_with(r, u, strategy)?;
-        let l = self.le(self.base.to_local(s.point), -s.wi);
+        let l = self.le(self.base.to_local(s.point), -s.wi, Seen::Lit);
         Some(LiSample::new(s, l))
     }
 
@@ -44,7 +44,7 @@ impl DiskLight {
 
     /// Radiance along the world direction `emit`: zero unless it leaves the −Z side.
     #[inline]
-    pub fn le(&self, _local: DVec3, emit: DVec3) -> DVec3 {
+    pub fn le(&self, _local: DVec3, emit: DVec3, _seen: Seen) -> DVec3 {
         let Some(wl) = self.base.local_direction(emit) else {
             return DVec3::ZERO;
         };
@@ -52,6 +52,12 @@ impl DiskLight {
             return DVec3::ZERO;
         }
         self.base.shaped(wl)
+    }
+
+    /// A finite light: nothing arrives from infinity.
+    #[inline]
+    pub fn le_escape(&self, _wi: DVec3) -> DVec3 {
+        DVec3::ZERO
     }
 
     /// See [`super::Light::intersect`]: the plane z = 0 within the radius.
@@ -73,7 +79,11 @@ impl DiskLight {
     }
 
     /// World box of the disk's local bounding square.
-    pub fn world_box(&self) -> (DVec3, DVec3) {
+    pub fn surface_box(&self) -> Option<(DVec3, DVec3)> {
+        Some(self.world_box())
+    }
+
+    fn world_box(&self) -> (DVec3, DVec3) {
         let r = self.radius;
         box_of(&self.base.xf, box_corners(DVec3::new(r, r, 0.0)))
     }

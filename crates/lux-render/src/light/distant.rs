@@ -1,7 +1,7 @@
 //! DistantLight (UsdLux `DistantLight`): light from infinitely far away along local −Z, over a
 //! cone of angular diameter `inputs:angle` (a delta direction at 0°).
 
-use super::{LiSample, LightBase};
+use super::{LiSample, LightBase, LightHit, Seen};
 use glam::DVec3;
 use lux_sample::{LightBounds, Reference, Strategy};
 
@@ -59,13 +59,30 @@ impl DistantLight {
         self.emitted(-wi)
     }
 
+    /// At infinity: no surface point emits.
+    #[inline]
+    pub fn le(&self, _local: DVec3, _emit: DVec3, _seen: Seen) -> DVec3 {
+        DVec3::ZERO
+    }
+
+    /// No analytic surface: found by rays only through `le_escape` when they escape.
+    #[inline]
+    pub fn intersect(&self, _o: DVec3, _d: DVec3, _tmin: f64, _tmax: f64) -> Option<LightHit> {
+        None
+    }
+
+    /// No analytic surface.
+    pub fn surface_box(&self) -> Option<(DVec3, DVec3)> {
+        None
+    }
+
     /// At infinity: no bounds.
     pub fn bounds(&self) -> Option<LightBounds> {
         None
     }
 
     /// Power estimate for selection: `Y(base) · π`.
-    pub(super) fn power(&self) -> f64 {
+    pub(super) fn power(&self, _area: f64) -> f64 {
         super::luminance(self.base.radiance).max(0.0) * std::f64::consts::PI
     }
 }

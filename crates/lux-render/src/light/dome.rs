@@ -2,7 +2,7 @@
 //! direction, optionally a latlong texture (`inputs:texture:file`, spec §2 orientation,
 //! `poleAxis`).
 
-use super::{LiSample, LightBase, LightTexture};
+use super::{LiSample, LightBase, LightHit, LightTexture, Seen};
 use glam::{DMat4, DVec3};
 use lux_sample::{DomeTechnique, LatLongMap, LightBounds, Reference, Strategy};
 use lux_usd::{Light as UsdLight, PoleAxis, Scene, UpAxis};
@@ -90,13 +90,30 @@ impl DomeLight {
         self.base.radiance * t.rgb(uv[0], uv[1])
     }
 
+    /// At infinity: no surface point emits.
+    #[inline]
+    pub fn le(&self, _local: DVec3, _emit: DVec3, _seen: Seen) -> DVec3 {
+        DVec3::ZERO
+    }
+
+    /// No analytic surface: found by rays only through `le_escape` when they escape.
+    #[inline]
+    pub fn intersect(&self, _o: DVec3, _d: DVec3, _tmin: f64, _tmax: f64) -> Option<LightHit> {
+        None
+    }
+
+    /// No analytic surface.
+    pub fn surface_box(&self) -> Option<(DVec3, DVec3)> {
+        None
+    }
+
     /// At infinity: no bounds.
     pub fn bounds(&self) -> Option<LightBounds> {
         None
     }
 
     /// Power estimate for selection: `Y(base) · mean texture luminance · π`.
-    pub(super) fn power(&self) -> f64 {
+    pub(super) fn power(&self, _area: f64) -> f64 {
         let mean_tex = self.texture.as_ref().map_or(1.0, |t| {
             let a = t.tex.average();
             super::luminance(DVec3::new(a[0], a[1], a[2]))

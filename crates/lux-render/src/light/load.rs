@@ -165,15 +165,7 @@ impl<'s> Loader<'s> {
         } else {
             0.0
         };
-        let power = match &light {
-            Light::Rect(k) => k.power(area),
-            Light::Disk(k) => k.power(area),
-            Light::Sphere(k) => k.power(area),
-            Light::Cylinder(k) => k.power(area),
-            Light::Mesh(k) => k.power(area),
-            Light::Distant(k) => k.power(),
-            Light::Dome(k) => k.power(),
-        };
+        let power = light.power(area);
         light.base_mut().power = if power.is_finite() { power } else { 0.0 };
         Ok(light)
     }

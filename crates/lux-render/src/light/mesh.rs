@@ -1,7 +1,7 @@
 //! Mesh lights (UsdLux `MeshLightAPI` on a `UsdGeomMesh`): every triangle of the world-space
 //! mesh emits from its front side (both sides when `doubleSided`).
 
-use super::{LiSample, LightBase};
+use super::{LiSample, LightBase, LightHit, Seen};
 use glam::DVec3;
 use lux_sample::{LightBounds, Reference, Strategy};
 use lux_usd::Mesh;
@@ -47,7 +47,7 @@ impl MeshLight {
     #[inline]
     pub fn sample_li(&self, r: &Reference, u: [f64; 2], strategy: Strategy) -> Option<LiSample> {
         let s = self.sampler.sample_with(r, u, strategy)?;
-        Some(LiSample::new(s, self.le(-s.wi)))
+        Some(LiSample::new(s, self.le(DVec3::ZERO, -s.wi, Seen::Lit)))
     }
 
     /// Density of the direction `wi` over every triangle it crosses (O(triangles)); after a
@@ -67,11 +67,28 @@ impl MeshLight {
     /// Radiance along the world direction `emit`: `base · shapingFactor` (the triangle's side
     /// is decided by the sampler and the hit).
     #[inline]
-    pub fn le(&self, emit: DVec3) -> DVec3 {
+    pub fn le(&self, _local: DVec3, emit: DVec3, _seen: Seen) -> DVec3 {
         match self.base.local_direction(emit) {
             Some(wl) => self.base.shaped(wl),
             None => DVec3::ZERO,
         }
+    }
+
+    /// A finite light: nothing arrives from infinity.
+    #[inline]
+    pub fn le_escape(&self, _wi: DVec3) -> DVec3 {
+        DVec3::ZERO
+    }
+
+    /// No analytic surface: found by rays only through the scene's triangle BVH, as the mesh it emits from.
+    #[inline]
+    pub fn intersect(&self, _o: DVec3, _d: DVec3, _tmin: f64, _tmax: f64) -> Option<LightHit> {
+        None
+    }
+
+    /// No analytic surface.
+    pub fn surface_box(&self) -> Option<(DVec3, DVec3)> {
+        None
     }
 
     /// See [`super::Light::bounds`]: normals in every direction, both sides.

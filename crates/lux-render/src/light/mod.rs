@@ -43,8 +43,9 @@
 //! geometry, and a BSDF ray collects every light it crosses before its first surface.
 //!
 //! **Adding a light kind**: its typed description (`lux_math::LightShape`, read by lux-usd),
-//! its sampler in lux-sample, a file here with its type and the six answers above, a variant
-//! of [`Light`] and of the `dispatch!` list below, and its construction in `load.rs`.
+//! its sampler in lux-sample, a file here with its type answering every question above (and
+//! its power estimate), a variant of [`Light`] and a line of the `dispatch!` list below, and
+//! its construction in `load.rs`.
 
 mod cylinder;
 mod disk;
@@ -324,25 +325,14 @@ impl Light {
     /// infinity and on the non-emitting side.
     #[inline]
     pub fn le(&self, local: DVec3, emit: DVec3, seen: Seen) -> DVec3 {
-        match self {
-            Light::Rect(l) => l.le(local, emit, seen),
-            Light::Disk(l) => l.le(local, emit),
-            Light::Sphere(l) => l.le(local, emit),
-            Light::Cylinder(l) => l.le(local, emit),
-            Light::Mesh(l) => l.le(emit),
-            Light::Distant(_) | Light::Dome(_) => DVec3::ZERO,
-        }
+        dispatch!(self, l => l.le(local, emit, seen))
     }
 
     /// Radiance arriving along the world direction `wi` (receiver → light) from a light at
     /// infinity (the dome's texture, a distant light's cone); zero for finite lights.
     #[inline]
     pub fn le_escape(&self, wi: DVec3) -> DVec3 {
-        match self {
-            Light::Dome(l) => l.le_escape(wi),
-            Light::Distant(l) => l.le_escape(wi),
-            _ => DVec3::ZERO,
-        }
+        dispatch!(self, l => l.le_escape(wi))
     }
 
     /// First crossing of the ray `o + t·d`, `t ∈ (tmin, tmax)`, with the light's analytic
@@ -350,30 +340,24 @@ impl Light {
     /// `t` is the same in light space.
     #[inline]
     pub fn intersect(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<LightHit> {
-        match self {
-            Light::Rect(l) => l.intersect(o, d, tmin, tmax),
-            Light::Disk(l) => l.intersect(o, d, tmin, tmax),
-            Light::Sphere(l) => l.intersect(o, d, tmin, tmax),
-            Light::Cylinder(l) => l.intersect(o, d, tmin, tmax),
-            Light::Distant(_) | Light::Dome(_) | Light::Mesh(_) => None,
-        }
+        dispatch!(self, l => l.intersect(o, d, tmin, tmax))
     }
 
     /// World box of the light's analytic surface (rect, disk, sphere, cylinder), `None` for
     /// the others: where [`Light::intersect`] can succeed.
     pub fn surface_box(&self) -> Option<(DVec3, DVec3)> {
-        match self {
-            Light::Rect(l) => Some(l.world_box()),
-            Light::Disk(l) => Some(l.world_box()),
-            Light::Sphere(l) => Some(l.world_box()),
-            Light::Cylinder(l) => Some(l.world_box()),
-            Light::Distant(_) | Light::Dome(_) | Light::Mesh(_) => None,
-        }
+        dispatch!(self, l => l.surface_box())
     }
 
     /// World bounds, power and emission cone for the light BVH; `None` for lights at infinity.
     pub fn bounds(&self) -> Option<LightBounds> {
         dispatch!(self, l => l.bounds())
+    }
+
+    /// Estimated power for light selection (Rec.709 luminance of the base radiance, times the
+    /// world `area` (sizeFactor, unused at infinity) and the shaping's angular integral).
+    fn power(&self, area: f64) -> f64 {
+        dispatch!(self, l => l.power(area))
     }
 
     /// Whether the light lies at infinity (dome, distant).

@@ -86,6 +86,12 @@ impl RectLight {
         l
     }
 
+    /// A finite light: nothing arrives from infinity.
+    #[inline]
+    pub fn le_escape(&self, _wi: DVec3) -> DVec3 {
+        DVec3::ZERO
+    }
+
     /// See [`super::Light::intersect`]: the plane z = 0 within the half extents.
     #[inline]
     pub fn intersect(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<LightHit> {
@@ -105,7 +111,11 @@ impl RectLight {
     }
 
     /// World box of the four corners.
-    pub fn world_box(&self) -> (DVec3, DVec3) {
+    pub fn surface_box(&self) -> Option<(DVec3, DVec3)> {
+        Some(self.world_box())
+    }
+
+    fn world_box(&self) -> (DVec3, DVec3) {
         let [hw, hh] = self.half;
         box_of(
             &self.base.xf,

@@ -1,7 +1,7 @@
 //! SphereLight (UsdLux `SphereLight`): a sphere of `inputs:radius` (an ellipsoid under a
 //! non-uniform scale), every point emitting over its outward hemisphere.
 
-use super::{LiSample, LightBase, LightHit, box_corners, box_of, quadratic};
+use super::{LiSample, LightBase, LightHit, Seen, box_corners, box_of, quadratic};
 use glam::DVec3;
 use lux_sample::{LightBounds, Reference, Strategy};
 
@@ -32,7 +32,7 @@ impl SphereLight {
     #[inline]
     pub fn sample_li(&self, r: &Reference, u: [f64; 2], strategy: Strategy) -> Option<LiSample> {
         let s = self.sampler.sample_with(r, u, strategy)?;
-        let l = self.le(self.base.to_local(s.point), -s.wi);
+        let l = self.le(self.base.to_local(s.point), -s.wi, Seen::Lit);
         Some(LiSample::new(s, l))
     }
 
@@ -45,7 +45,7 @@ impl SphereLight {
     /// Radiance from the local surface point `local` along the world direction `emit`: zero
     /// unless `emit` leaves the outward side (`local · ω_light > 0`).
     #[inline]
-    pub fn le(&self, local: DVec3, emit: DVec3) -> DVec3 {
+    pub fn le(&self, local: DVec3, emit: DVec3, _seen: Seen) -> DVec3 {
         let Some(wl) = self.base.local_direction(emit) else {
             return DVec3::ZERO;
         };
@@ -53,6 +53,12 @@ impl SphereLight {
             return DVec3::ZERO;
         }
         self.base.shaped(wl)
+    }
+
+    /// A finite light: nothing arrives from infinity.
+    #[inline]
+    pub fn le_escape(&self, _wi: DVec3) -> DVec3 {
+        DVec3::ZERO
     }
 
     /// See [`super::Light::intersect`]: the nearer root of `|o + t·d|² = r²` in range.
@@ -79,7 +85,11 @@ impl SphereLight {
     }
 
     /// World box of the sphere's local bounding cube.
-    pub fn world_box(&self) -> (DVec3, DVec3) {
+    pub fn surface_box(&self) -> Option<(DVec3, DVec3)> {
+        Some(self.world_box())
+    }
+
+    fn world_box(&self) -> (DVec3, DVec3) {
         box_of(&self.base.xf, box_corners(DVec3::splat(self.radius)))
     }
 
