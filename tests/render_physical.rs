@@ -155,6 +155,69 @@ fn renderer_emits_the_converted_radiance() {
     assert!(got.z == 0.0 && got.y > got.x, "{got}");
 }
 
+/// lux-spectral takes the shaping factor's integrals from the caller; the renderer computes
+/// them with lux-shaping (`physical::shaping_integrals`). For a real ShapingAPI — a soft,
+/// tinted, focused cone — the resulting G must equal an independent midpoint quadrature of the
+/// same factor (`ShapingIntegral::integrate`, weighted by the luminance of the light's colour of
+/// one nit), for every emitter shape and illuminant colour. lux-spectral's own tests show that
+/// Φ = L·A·G for such a G gives back the authored power.
+#[test]
+fn shaping_integrals_from_lux_shaping_match_a_quadrature_of_the_factor() {
+    use lux::render::physical::shaping_integrals;
+    use lux::spectral::{EmitterShape, ShapingIntegral};
+    let params = ShapingParams {
+        focus: 2.0,
+        focus_tint: [0.2, 0.4, 1.0],
+        cone_angle_deg: 55.0,
+        cone_softness: 0.5,
+        ..ShapingParams::default()
+    };
+    let shaping = Shaping::new(&params, None, ShapingOptions::default()).unwrap();
+    // The midpoint rule's error on 1024 cells in cos θ (h = 2/1024) is about h²/24·∫|f''|: the
+    // cone's smoothstep ramp (27.5° to 55°, Δθ = 0.48 rad) has |f''| ≤ 6/(Δθ²·sin²27.5°) ≈ 120
+    // in cos θ over a band of 0.31, which bounds it near 4·10⁻⁵ of G (measured: 2·10⁻⁶); the
+    // f32 factor adds 6·10⁻⁸ and lux-shaping's integrals 10⁻¹⁰.
+    const TOL: f64 = 1e-4;
+    for illuminant in [IlluminantKind::White, IlluminantKind::Blackbody] {
+        let mut inputs = PhysicalLightInputs::new(PhysicalQuantity::PhotometricPower(1200.0));
+        inputs.illuminant = illuminant;
+        inputs.color_temperature = 2700.0;
+        let rgb = resolve_illuminant(&inputs, ColorSpace::Rec709)
+            .unwrap()
+            .rgb_per_nit;
+        let y = DVec3::from(lux::math::REC709_LUMINANCE) * rgb;
+        for shape in [
+            EmitterShape::Flat,
+            EmitterShape::Sphere,
+            EmitterShape::Cylinder,
+        ] {
+            let g = ShapingIntegral::from_integrals(shape, shaping_integrals(&shaping, shape), rgb)
+                .unwrap()
+                .value();
+            let factor = |w: DVec3| {
+                let c = shaping.factor(w);
+                y.dot(DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64))
+            };
+            let q = ShapingIntegral::integrate(shape, factor, 1024)
+                .unwrap()
+                .value();
+            assert!(
+                (g - q).abs() < TOL * q,
+                "{illuminant:?} {shape:?}: G = {g}, quadrature {q}"
+            );
+        }
+    }
+    // An identity shaping has no integrals: G is exactly the unshaped π.
+    assert_eq!(
+        shaping_integrals(&Shaping::identity(), EmitterShape::Flat),
+        None
+    );
+    assert_eq!(
+        ShapingIntegral::from_integrals(EmitterShape::Flat, None, DVec3::ONE).unwrap(),
+        ShapingIntegral::UNSHAPED
+    );
+}
+
 fn floor_probe_scene(light: Light, x: f64, z: f64) -> Scene {
     probe_scene(vec![light], x, z)
 }

@@ -7,7 +7,7 @@
 //! 1. A Photometric/Radiometric {Area, Dome, Distant} LightAPI (`photometric:power` lm,
 //!    `radiometric:power` W, `photometric:illuminance` lux, `radiometric:irradiance` W/m²) fixes
 //!    the absolute output: `lux_spectral::emitted` with the light's world area
-//!    (`lux_math::size_factor`) and its shaping integral (lux-shaping), or the dome texture's
+//!    (`lux_math::size_factor`) and its shaping integral (the factor's integrals by lux-shaping, `shaping_integrals`), or the dome texture's
 //!    cosine-weighted mean, or the distant angle. `intensity`, `exposure`, `color` and
 //!    `normalize` do not enter (the proposal's `calculateRgbLuminance`).
 //! 2. Else `PhysicalLightIlluminantAPI` alone: the LightAPI luminance
@@ -113,9 +113,9 @@ pub fn base_radiance(
                 };
                 LightGeometry::Area {
                     world_area: lux_math::size_factor(&l.shape, &l.light_to_world, profile),
-                    shaping: ShapingIntegral::from_shaping_textured(
+                    shaping: ShapingIntegral::from_integrals_textured(
                         shape,
-                        shaping,
+                        shaping_integrals(shaping, shape),
                         ill.rgb_per_nit,
                         texture_mean,
                     )
@@ -185,6 +185,21 @@ pub fn base_radiance(
         &l.light_to_world,
         profile,
     )))
+}
+
+/// The integrals of the ShapingAPI factor f that lux-spectral's shaping integral G of an area
+/// light needs (see `ShapingIntegral::from_integrals`), by lux-shaping: ∫_{emitting hemisphere}
+/// f cos θ dω for a flat emitter, ∫_{S²} f dω for a sphere, ∫_{S²} f √(1 − ω_x²) dω for a
+/// cylinder (axis X); `None` for an identity shaping (f ≡ 1, G = π exactly).
+pub fn shaping_integrals(shaping: &Shaping, shape: EmitterShape) -> Option<[f64; 3]> {
+    if shaping.is_identity() {
+        return None;
+    }
+    Some(match shape {
+        EmitterShape::Flat => shaping.integral_cos_hemisphere(),
+        EmitterShape::Sphere => shaping.integral_sphere(),
+        EmitterShape::Cylinder => shaping.integral_weighted(|d| (1.0 - d.x * d.x).max(0.0).sqrt()),
+    })
 }
 
 fn finite(c: DVec3) -> DVec3 {

@@ -9,7 +9,7 @@ use crate::physical::{PhysicalLightInputs, PhysicalQuantity, resolve_illuminant}
 use crate::shaping_integral::ShapingIntegral;
 
 /// The geometry facts a conversion needs, computed by the caller (world areas come from
-/// `lux_math::size_factor`, shaping integrals from lux-shaping).
+/// `lux_math::size_factor`, the integrals of the shaping factor from the caller's shaping model).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum LightGeometry {
     /// Rect, disk, sphere or cylinder light: world-space emitting area (scene units², the

@@ -27,8 +27,9 @@ pub enum EmitterShape {
 /// - cylinder (axis X, no caps): A⊥ = 2 r ℓ √(1 − ω_x²), so G = (1/π) ∫_{S²} f(ω) √(1 − ω_x²) dω
 ///   — π when unshaped.
 ///
-/// [`ShapingIntegral::from_shaping`] takes the integrals from lux-shaping;
-/// [`ShapingIntegral::integrate`] evaluates any other factor by quadrature.
+/// [`ShapingIntegral::from_integrals`] takes the integrals of the factor from the caller (lux's
+/// renderer computes them with lux-shaping, on which this crate does not depend);
+/// [`ShapingIntegral::integrate`] evaluates any factor by quadrature.
 /// For sphere and cylinder the forms assume a similarity transform (no non-uniform scale).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShapingIntegral(f64);
@@ -98,53 +99,56 @@ impl ShapingIntegral {
         Self::new(sum * dw)
     }
 
-    /// G of a light shaped by the UsdLux ShapingAPI, from lux-shaping's integrals of the
-    /// [`lux_shaping::Shaping`] factor (focus, focusTint, cone, softness, IES):
-    /// - flat: ∫_{emitting hemisphere} f(ω) cos θ dω (`Shaping::integral_cos_hemisphere`);
-    /// - sphere: ¼ ∫_{S²} f(ω) dω (`Shaping::integral_sphere`);
-    /// - cylinder: (1/π) ∫_{S²} f(ω) √(1 − ω_x²) dω (`Shaping::integral_weighted`).
+    /// G of a light shaped by the UsdLux ShapingAPI (focus, focusTint, cone, softness, IES),
+    /// from the per-channel integrals of its RGB shaping factor f, which the caller computes
+    /// with its shaping model (lux-shaping's `Shaping` in lux's renderer):
+    /// - flat: I_c = ∫_{emitting hemisphere} f_c(ω) cos θ dω, and G_c = I_c
+    ///   (`Shaping::integral_cos_hemisphere`);
+    /// - sphere: I_c = ∫_{S²} f_c(ω) dω, and G_c = ¼ I_c (`Shaping::integral_sphere`);
+    /// - cylinder: I_c = ∫_{S²} f_c(ω) √(1 − ω_x²) dω, and G_c = I_c / π
+    ///   (`Shaping::integral_weighted` with the weight √(1 − ω_x²)).
     ///
-    /// The factor is RGB (focusTint); its channels are weighted by the luminance of the
-    /// light's colour of one nit, `rgb_per_nit` (Rec.709 luminance 1, see
+    /// `integrals` is `None` for an unshaped light (f ≡ 1, no ShapingAPI or an identity one),
+    /// which gives exactly π. The factor is RGB (focusTint); its channels are weighted by the
+    /// luminance of the light's colour of one nit, `rgb_per_nit` (Rec.709 luminance 1, see
     /// [`crate::ResolvedIlluminant`]): G = Σ_c Y_c·rgb_c·G_c, so that Φ = L·A·G holds for the
-    /// luminous flux of the tinted emission. An identity shaping gives exactly π.
-    pub fn from_shaping(
+    /// luminous flux of the tinted emission.
+    pub fn from_integrals(
         shape: EmitterShape,
-        shaping: &lux_shaping::Shaping,
+        integrals: Option<[f64; 3]>,
         rgb_per_nit: DVec3,
     ) -> Result<Self, SpectralError> {
-        if shaping.is_identity() {
+        let Some(integrals) = integrals else {
             return Ok(Self::UNSHAPED);
-        }
-        let w = DVec3::from(lux_math::REC709_LUMINANCE) * rgb_per_nit;
-        let weigh = |g: [f64; 3]| w.dot(DVec3::from(g));
+        };
+        let weighted =
+            (DVec3::from(lux_math::REC709_LUMINANCE) * rgb_per_nit).dot(DVec3::from(integrals));
         match shape {
-            EmitterShape::Flat => Self::flat(weigh(shaping.integral_cos_hemisphere())),
-            EmitterShape::Sphere => Self::sphere(weigh(shaping.integral_sphere())),
-            EmitterShape::Cylinder => Self::cylinder(weigh(
-                shaping.integral_weighted(|d| (1.0 - d.x * d.x).max(0.0).sqrt()),
-            )),
+            EmitterShape::Flat => Self::flat(weighted),
+            EmitterShape::Sphere => Self::sphere(weighted),
+            EmitterShape::Cylinder => Self::cylinder(weighted),
         }
     }
 
     /// G of a **textured** area light (a RectLight's `inputs:texture:file`), shaped as in
-    /// [`from_shaping`](Self::from_shaping): the texture multiplies the emitted RGB per texel, so
-    /// the luminous flux is Φ = L·A·Σ_c Y_c·rgb_c·t_c·G_c, where `texture_mean` = t is the
-    /// area-weighted mean of the texture's linear RGB over the light's surface (for a texture
-    /// mapped linearly onto the rect, the mean of its texels). The returned value is that sum,
-    /// so that Φ = L·A·G still holds and [`crate::emitted`] needs no texture of its own: a
-    /// texture of mean luminance ½ doubles the converted luminance.
+    /// [`from_integrals`](Self::from_integrals): the texture multiplies the emitted RGB per
+    /// texel, so the luminous flux is Φ = L·A·Σ_c Y_c·rgb_c·t_c·G_c, where `texture_mean` = t is
+    /// the area-weighted mean of the texture's linear RGB over the light's surface (for a
+    /// texture mapped linearly onto the rect, the mean of its texels). The returned value is
+    /// that sum, so that Φ = L·A·G still holds and [`crate::emitted`] needs no texture of its
+    /// own: a texture of mean luminance ½ doubles the converted luminance.
     ///
-    /// `texture_mean` = (1, 1, 1) is exactly [`from_shaping`](Self::from_shaping); a black (or
-    /// negative, or non-finite) mean is an error, since no luminance gives the authored power.
-    pub fn from_shaping_textured(
+    /// `texture_mean` = (1, 1, 1) is exactly [`from_integrals`](Self::from_integrals); a black
+    /// (or negative, or non-finite) mean is an error, since no luminance gives the authored
+    /// power.
+    pub fn from_integrals_textured(
         shape: EmitterShape,
-        shaping: &lux_shaping::Shaping,
+        integrals: Option<[f64; 3]>,
         rgb_per_nit: DVec3,
         texture_mean: DVec3,
     ) -> Result<Self, SpectralError> {
         if texture_mean == DVec3::ONE {
-            return Self::from_shaping(shape, shaping, rgb_per_nit);
+            return Self::from_integrals(shape, integrals, rgb_per_nit);
         }
         if !texture_mean.is_finite() || texture_mean.min_element() < 0.0 {
             return Err(SpectralError::InvalidValue {
@@ -154,12 +158,12 @@ impl ShapingIntegral {
             });
         }
         let tinted = rgb_per_nit * texture_mean;
-        if shaping.is_identity() {
+        if integrals.is_none() {
             // G_c = π in every channel
             let y = DVec3::from(lux_math::REC709_LUMINANCE).dot(tinted);
             return Self::new(Self::UNSHAPED.value() * y);
         }
-        Self::from_shaping(shape, shaping, tinted)
+        Self::from_integrals(shape, integrals, tinted)
     }
 
     /// The value of G, sr.

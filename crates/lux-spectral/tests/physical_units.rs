@@ -156,28 +156,38 @@ fn power_to_luminance_to_power_round_trip_by_quadrature() {
     }
 }
 
-/// The same round trip with a real ShapingAPI (lux-shaping): a soft, tinted, focused cone. The
-/// emitted luminous flux, integrated over the surface and all directions with the RGB shaping
-/// factor weighted by the light's colour of one nit, must give back the authored power.
+/// The same round trip with an RGB shaping factor whose integrals the caller supplies (as the
+/// renderer does from lux-shaping): a tinted focus, f_c(ω) = t_c + (1 − t_c)·cos²θ (the
+/// ShapingAPI's `lerp(|cos θ|^focus, focusTint, white)` with focus 2), whose integrals have
+/// closed forms — flat ∫_H f_c cos θ dω = t_c·π + (1 − t_c)·π/2; sphere ∫_{S²} f_c dω =
+/// t_c·4π + (1 − t_c)·4π/3; cylinder (axis X, ω = (cos α, sin α cos β, sin α sin β))
+/// ∫_{S²} f_c √(1 − ω_x²) dω = t_c·π² + (1 − t_c)·∫ sin⁴α dα ∫ sin²β dβ = t_c·π² + (1 − t_c)·3π²/8.
+/// The emitted luminous flux, integrated over the surface and all directions with the factor
+/// weighted by the light's colour of one nit, must give back the authored power.
 #[test]
-fn power_round_trip_with_lux_shaping() {
-    use lux_shaping::{Shaping, ShapingOptions, ShapingParams};
-    let params = ShapingParams {
-        focus: 2.0,
-        focus_tint: [0.2, 0.4, 1.0],
-        cone_angle_deg: 55.0,
-        cone_softness: 0.5,
-        ..ShapingParams::default()
-    };
-    let shaping = Shaping::new(&params, None, ShapingOptions::default()).unwrap();
+fn power_round_trip_with_caller_supplied_rgb_integrals() {
+    let tint = [0.2, 0.4, 1.0];
+    let integrals = |per_channel: &dyn Fn(f64) -> f64| tint.map(per_channel);
     let shapes = [
-        (Shape::Rect(2.0, 0.5), EmitterShape::Flat, 1.0),
-        (Shape::Disk(0.7), EmitterShape::Flat, PI * 0.49),
-        (Shape::Sphere(0.3), EmitterShape::Sphere, 4.0 * PI * 0.09),
+        (
+            Shape::Rect(2.0, 0.5),
+            EmitterShape::Flat,
+            integrals(&|t| t * PI + (1.0 - t) * PI / 2.0),
+        ),
+        (
+            Shape::Disk(0.7),
+            EmitterShape::Flat,
+            integrals(&|t| t * PI + (1.0 - t) * PI / 2.0),
+        ),
+        (
+            Shape::Sphere(0.3),
+            EmitterShape::Sphere,
+            integrals(&|t| t * 4.0 * PI + (1.0 - t) * 4.0 * PI / 3.0),
+        ),
         (
             Shape::Cylinder(0.2, 1.5),
             EmitterShape::Cylinder,
-            2.0 * PI * 0.3,
+            integrals(&|t| t * PI * PI + (1.0 - t) * 3.0 * PI * PI / 8.0),
         ),
     ];
     for illuminant in [IlluminantKind::White, IlluminantKind::Blackbody] {
@@ -186,16 +196,24 @@ fn power_round_trip_with_lux_shaping() {
         inputs.color_temperature = 2700.0;
         let ill = resolve_illuminant(&inputs, ColorSpace::Rec709).unwrap();
         let y = DVec3::from(lux_math::REC709_LUMINANCE) * ill.rgb_per_nit;
-        for (shape, emitter, area) in shapes {
-            let g = ShapingIntegral::from_shaping(emitter, &shaping, ill.rgb_per_nit).unwrap();
+        for (shape, emitter, channel_integrals) in shapes {
+            let g =
+                ShapingIntegral::from_integrals(emitter, Some(channel_integrals), ill.rgb_per_nit)
+                    .unwrap();
+            let area = match shape {
+                Shape::Rect(w, h) => w * h,
+                Shape::Disk(r) => PI * r * r,
+                Shape::Sphere(r) => 4.0 * PI * r * r,
+                Shape::Cylinder(r, l) => 2.0 * PI * r * l,
+            };
             let geometry = LightGeometry::Area {
                 world_area: area,
                 shaping: g,
             };
             let e = emitted(&inputs, &geometry, ColorSpace::Rec709).unwrap();
             let f = |w: DVec3| {
-                let c = shaping.factor(w);
-                y.x * c[0] as f64 + y.y * c[1] as f64 + y.z * c[2] as f64
+                let c2 = w.z * w.z;
+                DVec3::from(tint.map(|t| t + (1.0 - t) * c2)).dot(y)
             };
             let flux = flux_by_quadrature(shape, e.luminance, &f);
             assert!(
@@ -204,30 +222,29 @@ fn power_round_trip_with_lux_shaping() {
             );
         }
     }
-    // The identity shaping is exactly the unshaped π.
+    // No integrals (an unshaped light) is exactly the unshaped π.
     assert_eq!(
-        ShapingIntegral::from_shaping(EmitterShape::Flat, &Shaping::identity(), DVec3::ONE)
-            .unwrap(),
+        ShapingIntegral::from_integrals(EmitterShape::Flat, None, DVec3::ONE).unwrap(),
         ShapingIntegral::UNSHAPED
     );
 }
 
 #[test]
 fn textured_shaping_integral_weights_the_texture_mean() {
-    let id = lux_shaping::Shaping::identity();
+    let id = None; // unshaped
     let white = DVec3::ONE;
     let flat = EmitterShape::Flat;
     // a white texture is the untextured G
     assert_eq!(
-        ShapingIntegral::from_shaping_textured(flat, &id, white, DVec3::ONE).unwrap(),
-        ShapingIntegral::from_shaping(flat, &id, white).unwrap()
+        ShapingIntegral::from_integrals_textured(flat, id, white, DVec3::ONE).unwrap(),
+        ShapingIntegral::from_integrals(flat, id, white).unwrap()
     );
     // unshaped: G = π · Y(rgb_per_nit · mean); a grey mean of ½ halves G
-    let half = ShapingIntegral::from_shaping_textured(flat, &id, white, DVec3::splat(0.5));
+    let half = ShapingIntegral::from_integrals_textured(flat, id, white, DVec3::splat(0.5));
     assert!(rel(half.unwrap().value(), 0.5 * PI) < 1e-12);
     let y = lux_math::REC709_LUMINANCE;
     let tint = DVec3::new(0.2, 0.7, 0.1);
-    let g = ShapingIntegral::from_shaping_textured(flat, &id, white, tint).unwrap();
+    let g = ShapingIntegral::from_integrals_textured(flat, id, white, tint).unwrap();
     let want = PI * (y[0] * 0.2 + y[1] * 0.7 + y[2] * 0.1);
     assert!(rel(g.value(), want) < 1e-12, "{} vs {want}", g.value());
     // no power is reachable through a black texture; bad texels are typed errors
@@ -238,7 +255,7 @@ fn textured_shaping_integral_weights_the_texture_mean() {
         DVec3::new(0.5, f64::INFINITY, 0.5),
     ] {
         assert!(
-            ShapingIntegral::from_shaping_textured(flat, &id, white, bad).is_err(),
+            ShapingIntegral::from_integrals_textured(flat, id, white, bad).is_err(),
             "{bad:?}"
         );
     }
