@@ -159,12 +159,13 @@ fn renderer_emits_the_converted_radiance() {
 /// them with lux-shaping (`physical::shaping_integrals`). For a real ShapingAPI — a soft,
 /// tinted, focused cone — the resulting G must equal an independent midpoint quadrature of the
 /// same factor (`ShapingIntegral::integrate`, weighted by the luminance of the light's colour of
-/// one nit), for every emitter shape and illuminant colour. lux-spectral's own tests show that
+/// one nit), for every area light kind and illuminant colour. lux-spectral's own tests show that
 /// Φ = L·A·G for such a G gives back the authored power.
 #[test]
 fn shaping_integrals_from_lux_shaping_match_a_quadrature_of_the_factor() {
+    use lux::math::LightKind;
     use lux::render::physical::shaping_integrals;
-    use lux::spectral::{EmitterShape, ShapingIntegral};
+    use lux::spectral::ShapingIntegral;
     let params = ShapingParams {
         focus: 2.0,
         focus_tint: [0.2, 0.4, 1.0],
@@ -186,34 +187,35 @@ fn shaping_integrals_from_lux_shaping_match_a_quadrature_of_the_factor() {
             .unwrap()
             .rgb_per_nit;
         let y = DVec3::from(lux::math::REC709_LUMINANCE) * rgb;
-        for shape in [
-            EmitterShape::Flat,
-            EmitterShape::Sphere,
-            EmitterShape::Cylinder,
+        for kind in [
+            LightKind::Rect,
+            LightKind::Disk,
+            LightKind::Sphere,
+            LightKind::Cylinder,
         ] {
-            let g = ShapingIntegral::from_integrals(shape, shaping_integrals(&shaping, shape), rgb)
+            let g = ShapingIntegral::from_integrals(kind, shaping_integrals(&shaping, kind), rgb)
                 .unwrap()
                 .value();
             let factor = |w: DVec3| {
                 let c = shaping.factor(w);
                 y.dot(DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64))
             };
-            let q = ShapingIntegral::integrate(shape, factor, 1024)
+            let q = ShapingIntegral::integrate(kind, factor, 1024)
                 .unwrap()
                 .value();
             assert!(
                 (g - q).abs() < TOL * q,
-                "{illuminant:?} {shape:?}: G = {g}, quadrature {q}"
+                "{illuminant:?} {kind:?}: G = {g}, quadrature {q}"
             );
         }
     }
     // An identity shaping has no integrals: G is exactly the unshaped π.
     assert_eq!(
-        shaping_integrals(&Shaping::identity(), EmitterShape::Flat),
+        shaping_integrals(&Shaping::identity(), LightKind::Rect),
         None
     );
     assert_eq!(
-        ShapingIntegral::from_integrals(EmitterShape::Flat, None, DVec3::ONE).unwrap(),
+        ShapingIntegral::from_integrals(LightKind::Rect, None, DVec3::ONE).unwrap(),
         ShapingIntegral::UNSHAPED
     );
 }

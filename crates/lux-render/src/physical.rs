@@ -24,8 +24,8 @@ use glam::DVec3;
 use lux_math::{LightKind, LightShape, Profile};
 use lux_shaping::Shaping;
 use lux_spectral::{
-    ColorSpace, EmitterShape, LightGeometry, PhysicalLightInputs, PhysicalQuantity,
-    ShapingIntegral, SpectralInputs, WavelengthUnit,
+    ColorSpace, LightGeometry, PhysicalLightInputs, PhysicalQuantity, ShapingIntegral,
+    SpectralInputs, WavelengthUnit,
 };
 use lux_usd::Light;
 
@@ -99,11 +99,7 @@ pub fn base_radiance(
             | LightShape::Disk { .. }
             | LightShape::Sphere { .. }
             | LightShape::Cylinder { .. } => {
-                let shape = match l.kind {
-                    LightKind::Sphere => EmitterShape::Sphere,
-                    LightKind::Cylinder => EmitterShape::Cylinder,
-                    _ => EmitterShape::Flat,
-                };
+                let kind = l.shape.kind();
                 let texture_mean = match (texture, l.kind) {
                     (Some(t), LightKind::Rect) => {
                         let [r, g, b, _] = t.average();
@@ -114,8 +110,8 @@ pub fn base_radiance(
                 LightGeometry::Area {
                     world_area: lux_math::size_factor(&l.shape, &l.light_to_world, profile),
                     shaping: ShapingIntegral::from_integrals_textured(
-                        shape,
-                        shaping_integrals(shaping, shape),
+                        kind,
+                        shaping_integrals(shaping, kind),
                         ill.rgb_per_nit,
                         texture_mean,
                     )
@@ -189,17 +185,21 @@ pub fn base_radiance(
 
 /// The integrals of the ShapingAPI factor f that lux-spectral's shaping integral G of an area
 /// light needs (see `ShapingIntegral::from_integrals`), by lux-shaping: ∫_{emitting hemisphere}
-/// f cos θ dω for a flat emitter, ∫_{S²} f dω for a sphere, ∫_{S²} f √(1 − ω_x²) dω for a
-/// cylinder (axis X); `None` for an identity shaping (f ≡ 1, G = π exactly).
-pub fn shaping_integrals(shaping: &Shaping, shape: EmitterShape) -> Option<[f64; 3]> {
+/// f cos θ dω for a RectLight or DiskLight, ∫_{S²} f dω for a SphereLight, ∫_{S²} f √(1 − ω_x²)
+/// dω for a CylinderLight (axis X); `None` for an identity shaping (f ≡ 1, G = π exactly) and
+/// for the kinds without an area-light emitter (lux-spectral refuses those with a typed error).
+pub fn shaping_integrals(shaping: &Shaping, kind: LightKind) -> Option<[f64; 3]> {
     if shaping.is_identity() {
         return None;
     }
-    Some(match shape {
-        EmitterShape::Flat => shaping.integral_cos_hemisphere(),
-        EmitterShape::Sphere => shaping.integral_sphere(),
-        EmitterShape::Cylinder => shaping.integral_weighted(|d| (1.0 - d.x * d.x).max(0.0).sqrt()),
-    })
+    match kind {
+        LightKind::Rect | LightKind::Disk => Some(shaping.integral_cos_hemisphere()),
+        LightKind::Sphere => Some(shaping.integral_sphere()),
+        LightKind::Cylinder => {
+            Some(shaping.integral_weighted(|d| (1.0 - d.x * d.x).max(0.0).sqrt()))
+        }
+        LightKind::Distant | LightKind::Dome | LightKind::Portal | LightKind::Mesh => None,
+    }
 }
 
 fn finite(c: DVec3) -> DVec3 {

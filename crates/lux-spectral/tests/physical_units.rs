@@ -5,6 +5,7 @@ mod common;
 
 use common::rel;
 use glam::DVec3;
+use lux_math::LightKind;
 use lux_spectral::*;
 use std::f64::consts::PI;
 
@@ -90,15 +91,16 @@ fn flux_by_quadrature(shape: Shape, luminance: f64, f: &dyn Fn(DVec3) -> f64) ->
 fn shaping_integral_closed_forms() {
     let g = |s, f: &dyn Fn(DVec3) -> f64| ShapingIntegral::integrate(s, f, 256).unwrap().value();
     for shape in [
-        EmitterShape::Flat,
-        EmitterShape::Sphere,
-        EmitterShape::Cylinder,
+        LightKind::Rect,
+        LightKind::Disk,
+        LightKind::Sphere,
+        LightKind::Cylinder,
     ] {
         assert!(rel(g(shape, &|_| 1.0), PI) < 1e-4, "{shape:?} unshaped");
     }
     // ∫_H cos^k cos dω = 2π/(k+2);  ¼ ∫_S² |cos|^k dω = π/(k+1).
-    assert!(rel(g(EmitterShape::Flat, &focus(4)), 2.0 * PI / 6.0) < 1e-4);
-    assert!(rel(g(EmitterShape::Sphere, &focus(4)), PI / 5.0) < 1e-4);
+    assert!(rel(g(LightKind::Rect, &focus(4)), 2.0 * PI / 6.0) < 1e-4);
+    assert!(rel(g(LightKind::Sphere, &focus(4)), PI / 5.0) < 1e-4);
     assert_eq!(
         ShapingIntegral::sphere(4.0 * PI).unwrap(),
         ShapingIntegral::UNSHAPED
@@ -108,15 +110,40 @@ fn shaping_integral_closed_forms() {
         ShapingIntegral::UNSHAPED
     );
     assert!(ShapingIntegral::new(0.0).is_err() && ShapingIntegral::new(f64::NAN).is_err());
+    // G is defined for the four area light kinds only; the others are typed errors, not a
+    // silent flat emitter
+    for kind in [
+        LightKind::Distant,
+        LightKind::Dome,
+        LightKind::Portal,
+        LightKind::Mesh,
+    ] {
+        let want = Err(SpectralError::NotAnAreaEmitter {
+            light: kind.usd_type_name(),
+        });
+        assert_eq!(ShapingIntegral::integrate(kind, |_| 1.0, 16), want);
+        assert_eq!(
+            ShapingIntegral::from_integrals(kind, None, DVec3::ONE),
+            want
+        );
+        assert_eq!(
+            ShapingIntegral::from_integrals(kind, Some([1.0; 3]), DVec3::ONE),
+            want
+        );
+        assert_eq!(
+            ShapingIntegral::from_integrals_textured(kind, None, DVec3::ONE, DVec3::splat(0.5)),
+            want
+        );
+    }
 }
 
 #[test]
 fn power_to_luminance_to_power_round_trip_by_quadrature() {
     let shapes = [
-        (Shape::Rect(2.0, 0.5), EmitterShape::Flat),
-        (Shape::Disk(0.7), EmitterShape::Flat),
-        (Shape::Sphere(0.3), EmitterShape::Sphere),
-        (Shape::Cylinder(0.2, 1.5), EmitterShape::Cylinder),
+        (Shape::Rect(2.0, 0.5), LightKind::Rect),
+        (Shape::Disk(0.7), LightKind::Disk),
+        (Shape::Sphere(0.3), LightKind::Sphere),
+        (Shape::Cylinder(0.2, 1.5), LightKind::Cylinder),
     ];
     for (shape, emitter) in shapes {
         let area = match shape {
@@ -171,22 +198,22 @@ fn power_round_trip_with_caller_supplied_rgb_integrals() {
     let shapes = [
         (
             Shape::Rect(2.0, 0.5),
-            EmitterShape::Flat,
+            LightKind::Rect,
             integrals(&|t| t * PI + (1.0 - t) * PI / 2.0),
         ),
         (
             Shape::Disk(0.7),
-            EmitterShape::Flat,
+            LightKind::Disk,
             integrals(&|t| t * PI + (1.0 - t) * PI / 2.0),
         ),
         (
             Shape::Sphere(0.3),
-            EmitterShape::Sphere,
+            LightKind::Sphere,
             integrals(&|t| t * 4.0 * PI + (1.0 - t) * 4.0 * PI / 3.0),
         ),
         (
             Shape::Cylinder(0.2, 1.5),
-            EmitterShape::Cylinder,
+            LightKind::Cylinder,
             integrals(&|t| t * PI * PI + (1.0 - t) * 3.0 * PI * PI / 8.0),
         ),
     ];
@@ -224,7 +251,7 @@ fn power_round_trip_with_caller_supplied_rgb_integrals() {
     }
     // No integrals (an unshaped light) is exactly the unshaped π.
     assert_eq!(
-        ShapingIntegral::from_integrals(EmitterShape::Flat, None, DVec3::ONE).unwrap(),
+        ShapingIntegral::from_integrals(LightKind::Rect, None, DVec3::ONE).unwrap(),
         ShapingIntegral::UNSHAPED
     );
 }
@@ -233,7 +260,7 @@ fn power_round_trip_with_caller_supplied_rgb_integrals() {
 fn textured_shaping_integral_weights_the_texture_mean() {
     let id = None; // unshaped
     let white = DVec3::ONE;
-    let flat = EmitterShape::Flat;
+    let flat = LightKind::Rect;
     // a white texture is the untextured G
     assert_eq!(
         ShapingIntegral::from_integrals_textured(flat, id, white, DVec3::ONE).unwrap(),
