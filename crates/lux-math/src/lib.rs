@@ -28,6 +28,7 @@ mod blackbody;
 mod elliptic;
 mod emission;
 pub mod fastmath;
+mod latlong;
 mod polar;
 mod profile;
 mod scalar;
@@ -45,6 +46,10 @@ pub use elliptic::{
     ellipsoid_area, ellipsoid_area_thomsen,
 };
 pub use emission::{LightParams, emission, emitted_radiance};
+pub use latlong::{
+    latlong_column_edge, latlong_direction, latlong_direction_from_angles, latlong_row_edge,
+    latlong_uv,
+};
 pub use polar::{
     Frame, azimuth_from_xy, azimuth_from_xy_fast, light_direction, light_polar, light_polar_fast,
     polar_angle_fast, polar_angles_fast,
