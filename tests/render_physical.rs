@@ -186,7 +186,6 @@ fn shaping_integrals_from_lux_shaping_match_a_quadrature_of_the_factor() {
         let rgb = resolve_illuminant(&inputs, ColorSpace::Rec709)
             .unwrap()
             .rgb_per_nit;
-        let y = DVec3::from(lux::math::REC709_LUMINANCE) * rgb;
         for kind in [
             LightKind::Rect,
             LightKind::Disk,
@@ -198,7 +197,7 @@ fn shaping_integrals_from_lux_shaping_match_a_quadrature_of_the_factor() {
                 .value();
             let factor = |w: DVec3| {
                 let c = shaping.factor(w);
-                y.dot(DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64))
+                lux::math::luminance(rgb * DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64))
             };
             let q = ShapingIntegral::integrate(kind, factor, 1024)
                 .unwrap()
@@ -320,8 +319,7 @@ fn probed_illuminance(scene: &Scene, spp: u32) -> f64 {
     let mut o = common::options(Profile::Spec, spp, [1, 1]);
     o.selection = LightSelection::All;
     let p = Renderer::new(scene, o).unwrap().pixel_value(0, 0);
-    let y = lux::math::REC709_LUMINANCE;
-    PI * (y[0] * p.x + y[1] * p.y + y[2] * p.z)
+    PI * lux::math::luminance(p.truncate())
 }
 
 #[test]

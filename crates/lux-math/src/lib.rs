@@ -39,7 +39,7 @@ mod transform;
 
 pub use blackbody::{
     REC709_LUMINANCE, color_temperature_rgb, hdembree_blackbody_rgb, krystek_planckian_uv,
-    spec_blackbody_rgb, usdlux_blackbody_rgb,
+    luminance, spec_blackbody_rgb, usdlux_blackbody_rgb,
 };
 pub use elliptic::{
     THOMSEN_P, carlson_rf_rd, carlson_rg, ellipse_perimeter, ellipse_perimeter_ramanujan,

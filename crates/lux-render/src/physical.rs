@@ -126,10 +126,11 @@ pub fn base_radiance(
                             .texels()
                             .iter()
                             .map(|p| {
-                                (lux_math::REC709_LUMINANCE[0] * p[0] as f64
-                                    + lux_math::REC709_LUMINANCE[1] * p[1] as f64
-                                    + lux_math::REC709_LUMINANCE[2] * p[2] as f64)
-                                    as f32
+                                lux_math::luminance(DVec3::new(
+                                    p[0] as f64,
+                                    p[1] as f64,
+                                    p[2] as f64,
+                                )) as f32
                             })
                             .collect();
                         lux_spectral::latlong_cosine_weighted_mean(

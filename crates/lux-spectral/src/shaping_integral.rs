@@ -144,6 +144,9 @@ impl ShapingIntegral {
         let Some(integrals) = integrals else {
             return Ok(Self::UNSHAPED);
         };
+        // Σ_c (Y_c·rgb_c)·I_c, the luminance weights scaled by the colour first: the order of
+        // the operations the renders were made with (`lux_math::luminance(rgb · I)`, the same
+        // sum grouped Y_c·(rgb_c·I_c), can differ in the last bit)
         let weighted =
             (DVec3::from(lux_math::REC709_LUMINANCE) * rgb_per_nit).dot(DVec3::from(integrals));
         match shape {
@@ -184,7 +187,7 @@ impl ShapingIntegral {
         let tinted = rgb_per_nit * texture_mean;
         if integrals.is_none() {
             // G_c = π in every channel
-            let y = DVec3::from(lux_math::REC709_LUMINANCE).dot(tinted);
+            let y = lux_math::luminance(tinted);
             return Self::new(Self::UNSHAPED.value() * y);
         }
         Self::from_integrals(kind, integrals, tinted)

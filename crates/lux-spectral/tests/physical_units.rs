@@ -222,7 +222,6 @@ fn power_round_trip_with_caller_supplied_rgb_integrals() {
         inputs.illuminant = illuminant;
         inputs.color_temperature = 2700.0;
         let ill = resolve_illuminant(&inputs, ColorSpace::Rec709).unwrap();
-        let y = DVec3::from(lux_math::REC709_LUMINANCE) * ill.rgb_per_nit;
         for (shape, emitter, channel_integrals) in shapes {
             let g =
                 ShapingIntegral::from_integrals(emitter, Some(channel_integrals), ill.rgb_per_nit)
@@ -240,7 +239,7 @@ fn power_round_trip_with_caller_supplied_rgb_integrals() {
             let e = emitted(&inputs, &geometry, ColorSpace::Rec709).unwrap();
             let f = |w: DVec3| {
                 let c2 = w.z * w.z;
-                DVec3::from(tint.map(|t| t + (1.0 - t) * c2)).dot(y)
+                lux_math::luminance(ill.rgb_per_nit * DVec3::from(tint.map(|t| t + (1.0 - t) * c2)))
             };
             let flux = flux_by_quadrature(shape, e.luminance, &f);
             assert!(
@@ -269,10 +268,9 @@ fn textured_shaping_integral_weights_the_texture_mean() {
     // unshaped: G = π · Y(rgb_per_nit · mean); a grey mean of ½ halves G
     let half = ShapingIntegral::from_integrals_textured(flat, id, white, DVec3::splat(0.5));
     assert!(rel(half.unwrap().value(), 0.5 * PI) < 1e-12);
-    let y = lux_math::REC709_LUMINANCE;
     let tint = DVec3::new(0.2, 0.7, 0.1);
     let g = ShapingIntegral::from_integrals_textured(flat, id, white, tint).unwrap();
-    let want = PI * (y[0] * 0.2 + y[1] * 0.7 + y[2] * 0.1);
+    let want = PI * lux_math::luminance(tint);
     assert!(rel(g.value(), want) < 1e-12, "{} vs {want}", g.value());
     // no power is reachable through a black texture; bad texels are typed errors
     for bad in [
