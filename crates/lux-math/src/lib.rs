@@ -35,6 +35,7 @@ mod scalar;
 mod shadow;
 mod shape;
 mod size;
+mod tables;
 mod transform;
 
 pub use blackbody::{
