@@ -77,7 +77,7 @@ fn physical_units_and_spectra_are_reported_with_their_converted_radiance() {
         .iter()
         .map(|c| c.as_f64().unwrap())
         .collect();
-    let y = 0.2126390058715104 * rgb[0] + 0.7151686787677559 * rgb[1] + 0.0721923153607337 * rgb[2];
+    let y = lux::math::luminance(glam::DVec3::new(rgb[0], rgb[1], rgb[2]));
     assert!(
         (y - 800.0 / std::f64::consts::PI).abs() < 1e-6 * y,
         "{rgb:?}"

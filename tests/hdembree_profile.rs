@@ -20,7 +20,7 @@
 mod common;
 
 use glam::{DMat4, DQuat, DVec2, DVec3};
-use lux::math::{LightShape, Profile};
+use lux::math::{LightShape, Profile, luminance};
 use lux::render::image_io::{ImageRgba, write_exr};
 use lux::render::render::Renderer;
 use lux::render::settings::SamplingMode;
@@ -365,13 +365,4 @@ fn rect_frame_21_last_lit_row_matches_the_closed_form() {
         (71.8 - want).abs() < sd,
         "the reference's 71.8 is within one sd of the closed form"
     );
-}
-
-/// Rec.709 luminance.
-fn luminance(c: DVec3) -> f64 {
-    c.dot(DVec3::new(
-        0.2126390058715104,
-        0.7151686787677559,
-        0.0721923153607337,
-    ))
 }

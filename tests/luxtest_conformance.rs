@@ -82,7 +82,7 @@ fn windows(r: &Renderer) -> Vec<(f64, f64, DVec3)> {
             let mut var = 0.0;
             let mut rgb = DVec3::ZERO;
             for (m, y2) in &px {
-                let y = lux::render::light::luminance(m.truncate());
+                let y = lux::math::luminance(m.truncate());
                 lum += y;
                 rgb += m.truncate();
                 // Variance of the pixel estimate: sample variance / spp.

@@ -156,6 +156,70 @@ fn renderer_emits_the_converted_radiance() {
     assert!(got.z == 0.0 && got.y > got.x, "{got}");
 }
 
+/// lux-spectral takes the shaping factor's integrals from the caller; the renderer computes
+/// them with lux-shaping (`physical::shaping_integrals`). For a real ShapingAPI — a soft,
+/// tinted, focused cone — the resulting G must equal an independent midpoint quadrature of the
+/// same factor (`ShapingIntegral::integrate`, weighted by the luminance of the light's colour of
+/// one nit), for every area light kind and illuminant colour. lux-spectral's own tests show that
+/// Φ = L·A·G for such a G gives back the authored power.
+#[test]
+fn shaping_integrals_from_lux_shaping_match_a_quadrature_of_the_factor() {
+    use lux::math::LightKind;
+    use lux::render::physical::shaping_integrals;
+    use lux::spectral::ShapingIntegral;
+    let params = ShapingParams {
+        focus: 2.0,
+        focus_tint: [0.2, 0.4, 1.0],
+        cone_angle_deg: 55.0,
+        cone_softness: 0.5,
+        ..ShapingParams::default()
+    };
+    let shaping = Shaping::new(&params, None, ShapingOptions::default()).unwrap();
+    // The midpoint rule's error on 1024 cells in cos θ (h = 2/1024) is about h²/24·∫|f''|: the
+    // cone's smoothstep ramp (27.5° to 55°, Δθ = 0.48 rad) has |f''| ≤ 6/(Δθ²·sin²27.5°) ≈ 120
+    // in cos θ over a band of 0.31, which bounds it near 4·10⁻⁵ of G (measured: 2·10⁻⁶); the
+    // f32 factor adds 6·10⁻⁸ and lux-shaping's integrals 10⁻¹⁰.
+    const TOL: f64 = 1e-4;
+    for illuminant in [IlluminantKind::White, IlluminantKind::Blackbody] {
+        let mut inputs = PhysicalLightInputs::new(PhysicalQuantity::PhotometricPower(1200.0));
+        inputs.illuminant = illuminant;
+        inputs.color_temperature = 2700.0;
+        let rgb = resolve_illuminant(&inputs, ColorSpace::Rec709)
+            .unwrap()
+            .rgb_per_nit;
+        for kind in [
+            LightKind::Rect,
+            LightKind::Disk,
+            LightKind::Sphere,
+            LightKind::Cylinder,
+        ] {
+            let g = ShapingIntegral::from_integrals(kind, shaping_integrals(&shaping, kind), rgb)
+                .unwrap()
+                .value();
+            let factor = |w: DVec3| {
+                let c = shaping.factor(w);
+                lux::math::luminance(rgb * DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64))
+            };
+            let q = ShapingIntegral::integrate(kind, factor, 1024)
+                .unwrap()
+                .value();
+            assert!(
+                (g - q).abs() < TOL * q,
+                "{illuminant:?} {kind:?}: G = {g}, quadrature {q}"
+            );
+        }
+    }
+    // An identity shaping has no integrals: G is exactly the unshaped π.
+    assert_eq!(
+        shaping_integrals(&Shaping::identity(), LightKind::Rect),
+        None
+    );
+    assert_eq!(
+        ShapingIntegral::from_integrals(LightKind::Rect, None, DVec3::ONE).unwrap(),
+        ShapingIntegral::UNSHAPED
+    );
+}
+
 fn floor_probe_scene(light: Light, x: f64, z: f64) -> Scene {
     probe_scene(vec![light], x, z)
 }
@@ -256,8 +320,7 @@ fn probed_illuminance(scene: &Scene, spp: u32) -> f64 {
     let mut o = common::options(Profile::Spec, spp, [1, 1]);
     o.selection = LightSelection::All;
     let p = Renderer::new(scene, o).unwrap().pixel_value(0, 0);
-    let y = lux::math::REC709_LUMINANCE;
-    PI * (y[0] * p.x + y[1] * p.y + y[2] * p.z)
+    PI * lux::math::luminance(p.truncate())
 }
 
 #[test]

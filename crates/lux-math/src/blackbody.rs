@@ -39,7 +39,9 @@ const KNOTS: [[f64; 3]; 22] = [
     [0.609681, 0.695588, 1.000000],
 ];
 
-/// Rec.709 luma weights used by `UsdLuxBlackbodyTemperatureAsRgb` to normalise its result.
+/// The Rec.709 luma weights rounded to four digits, as `UsdLuxBlackbodyTemperatureAsRgb`
+/// normalises its result with them. Deliberately not [`luminance`]: the spec's colour depends on
+/// these rounded values (and they enter a `const` table).
 const REC709_LUMA: [f64; 3] = [0.2126, 0.7152, 0.0722];
 
 /// The Catmull-Rom segment polynomials of [`KNOTS`], per segment: for each of r, g, b and
@@ -169,6 +171,16 @@ pub const REC709_LUMINANCE: [f64; 3] = [
     0.072_192_315_360_733_71,
 ];
 
+/// The Rec.709 relative luminance of a linear Rec.709 colour, **Y = c · REC709_LUMINANCE**
+/// (`0.2126 r + 0.7152 g + 0.0722 b` to four digits; [`REC709_LUMINANCE`] has the exact
+/// weights). The one luminance of lux: light power for selection, the importance of dome texels,
+/// the colour of one nit, test probes. Evaluated as `c.x·Y_r + c.y·Y_g + c.z·Y_b` left to right
+/// (glam's `dot`), so any caller writing that sum gets the same bits.
+#[inline]
+pub fn luminance(c: DVec3) -> f64 {
+    c.dot(DVec3::from(REC709_LUMINANCE))
+}
+
 /// Krystek (1985) rational fit of the Planckian locus: CIE 1960 (u, v) at `T` kelvin
 /// (stated for 1000–15000 K).
 pub fn krystek_planckian_uv(kelvin: f64) -> (f64, f64) {
@@ -218,7 +230,7 @@ pub fn hdembree_blackbody_rgb(kelvin: f64) -> DVec3 {
         m[2][0] * x + m[2][1] + m[2][2] * z,
     )
     .abs();
-    let out = rgb * (1.0 / DVec3::from(REC709_LUMINANCE).dot(rgb));
+    let out = rgb * (1.0 / luminance(rgb));
     if out.is_finite() { out } else { DVec3::ONE }
 }
 
@@ -254,7 +266,6 @@ mod tests {
         let c = hdembree_blackbody_rgb(2000.0);
         assert!((c - DVec3::new(2.5199, 0.6470, 0.0204)).abs().max_element() < 1e-4);
         // Luminance 1 by construction.
-        let l = REC709_LUMINANCE[0] * c.x + REC709_LUMINANCE[1] * c.y + REC709_LUMINANCE[2] * c.z;
-        assert!((l - 1.0).abs() < 1e-14);
+        assert!((luminance(c) - 1.0).abs() < 1e-14);
     }
 }

@@ -28,23 +28,29 @@ mod blackbody;
 mod elliptic;
 mod emission;
 pub mod fastmath;
+mod latlong;
 mod polar;
 mod profile;
 mod scalar;
 mod shadow;
 mod shape;
 mod size;
+mod tables;
 mod transform;
 
 pub use blackbody::{
     REC709_LUMINANCE, color_temperature_rgb, hdembree_blackbody_rgb, krystek_planckian_uv,
-    spec_blackbody_rgb, usdlux_blackbody_rgb,
+    luminance, spec_blackbody_rgb, usdlux_blackbody_rgb,
 };
 pub use elliptic::{
     THOMSEN_P, carlson_rf_rd, carlson_rg, ellipse_perimeter, ellipse_perimeter_ramanujan,
     ellipsoid_area, ellipsoid_area_thomsen,
 };
 pub use emission::{LightParams, emission, emitted_radiance};
+pub use latlong::{
+    latlong_column_edge, latlong_direction, latlong_direction_from_angles, latlong_row_edge,
+    latlong_uv,
+};
 pub use polar::{
     Frame, azimuth_from_xy, azimuth_from_xy_fast, light_direction, light_polar, light_polar_fast,
     polar_angle_fast, polar_angles_fast,

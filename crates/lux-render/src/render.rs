@@ -141,7 +141,7 @@ impl<'s> Renderer<'s> {
             y,
             &mut Counters::default(),
             &mut |rgb| {
-                let l = crate::light::luminance(rgb);
+                let l = lux_math::luminance(rgb);
                 y2 += l * l;
             },
         );

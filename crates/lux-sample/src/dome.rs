@@ -8,11 +8,12 @@ use crate::warp::{sample_uniform_hemisphere, sample_uniform_sphere};
 use crate::{LightSample, Reference, Strategy};
 use core::f64::consts::{FRAC_1_PI, PI};
 use glam::DVec3;
-use lux_math::Frame;
+use lux_math::{Frame, latlong_direction, latlong_uv};
 
 /// A latlong luminance map, row-major, row 0 at the top (+Y), per spec §2 / OpenEXR latlong:
 /// the centre column looks along +Z, u = 0.25 along +X, longitude runs from +π at u = 0 to −π at
-/// u = 1. The renderer passes a scalar importance per texel (e.g. Rec.709 luminance of RGB).
+/// u = 1 (the convention of [`lux_math::latlong_direction`], defined there). The renderer
+/// passes a scalar importance per texel (e.g. Rec.709 luminance of RGB).
 #[derive(Clone, Debug)]
 pub struct LatLongMap {
     width: usize,
@@ -67,27 +68,6 @@ impl LatLongMap {
         let y = ((uv[1] * self.height as f64) as usize).min(self.height - 1);
         self.texels[y * self.width + x]
     }
-}
-
-/// Latlong (u, v) → unit local direction: θ = πv from +Y, longitude λ = π(1 − 2u),
-/// d = (sin θ sin λ, cos θ, sin θ cos λ).
-#[inline]
-pub fn latlong_direction(uv: [f64; 2]) -> DVec3 {
-    let (st, ct) = (PI * uv[1]).sin_cos();
-    let (sl, cl) = (PI * (1.0 - 2.0 * uv[0])).sin_cos();
-    DVec3::new(st * sl, ct, st * cl)
-}
-
-/// Inverse of [`latlong_direction`] for a unit direction.
-#[inline]
-pub fn latlong_uv(d: DVec3) -> [f64; 2] {
-    let v = d.y.clamp(-1.0, 1.0).acos() * FRAC_1_PI;
-    let lambda = d.x.atan2(d.z);
-    let mut u = 0.5 * (1.0 - lambda * FRAC_1_PI);
-    if u >= 1.0 {
-        u -= 1.0;
-    }
-    [u.clamp(0.0, 1.0), v]
 }
 
 /// How the dome's directions are chosen.
@@ -271,18 +251,6 @@ impl DomeLight {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn latlong_convention() {
-        // Spec §2: top row +Y, centre column +Z, u = 0.25 is +X.
-        assert!((latlong_direction([0.5, 0.0]) - DVec3::Y).length() < 1e-12);
-        assert!((latlong_direction([0.5, 0.5]) - DVec3::Z).length() < 1e-12);
-        assert!((latlong_direction([0.25, 0.5]) - DVec3::X).length() < 1e-12);
-        assert!((latlong_direction([0.75, 0.5]) + DVec3::X).length() < 1e-12);
-        let uv = latlong_uv(DVec3::new(0.3, -0.5, -0.8).normalize());
-        let back = latlong_direction(uv);
-        assert!((back - DVec3::new(0.3, -0.5, -0.8).normalize()).length() < 1e-12);
-    }
 
     #[test]
     fn rejects_bad_maps() {

@@ -13,7 +13,7 @@
 //!
 //! Light-space conventions follow the spec §2: lights emit along local −Z; rect and disk lie in
 //! local XY and emit from the −Z side only; the cylinder's axis is local X; the dome texture is
-//! latlong with +Y up and +Z at the centre column.
+//! latlong with +Y up and +Z at the centre column (`lux_math::latlong_direction`).
 
 #![warn(missing_docs)]
 
@@ -45,9 +45,12 @@ pub use cylinder::{CylinderLight, CylinderTechnique};
 pub use disk::{DiskLight, DiskTechnique};
 pub use distant::DistantLight;
 pub use distribution::{Distribution1D, Distribution2D};
-pub use dome::{DomeLight, DomeTechnique, LatLongMap, latlong_direction, latlong_uv};
+pub use dome::{DomeLight, DomeTechnique, LatLongMap};
 pub use error::{MAX_ENTRIES, SampleError};
 pub use light::Light;
+/// The latlong convention of the dome texture (spec §2), defined in lux-math and re-exported
+/// here for the samplers' callers.
+pub use lux_math::{latlong_direction, latlong_uv};
 pub use mesh::{MeshLight, MeshTechnique};
 pub use rect::{RectLight, RectTechnique};
 pub use rng::SplitMix64;

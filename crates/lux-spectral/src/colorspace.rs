@@ -172,7 +172,9 @@ impl ColorSpace {
         apply(self.rows().0, rgb)
     }
 
-    /// Luminance Y of linear RGB (the middle row of RGB → XYZ; Rec.709: 0.2126, 0.7152, 0.0722).
+    /// Luminance Y of linear RGB in this space: the middle row of its RGB → XYZ matrix
+    /// (Rec.709: 0.2126, 0.7152, 0.0722). For Rec.709 this is `lux_math::luminance` (the same
+    /// weights, derived here from the primaries; the tests hold them equal to 1e-15).
     #[inline]
     pub fn luminance(self, rgb: DVec3) -> f64 {
         let r = &self.rows().0[1];

@@ -1,6 +1,7 @@
 //! The cosine-weighted mean of a dome light's latlong texture (for `photometric:illuminance`).
 
 use glam::DVec3;
+use lux_math::{latlong_column_edge, latlong_direction_from_angles, latlong_row_edge};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use crate::error::SpectralError;
@@ -11,10 +12,11 @@ pub const MAX_LATLONG_TEXELS: usize = 1 << 35;
 /// m = (1/π) ∫_{ω·up > 0} Y(ω) (ω·up) dω for a latlong luminance texture, the factor in
 /// [`crate::dome_light_luminance`] (1 for a uniform texture of luminance 1).
 ///
-/// Texture convention (OpenEXR latlong, as the spec's §2 states for DomeLight): row 0 is +Y,
-/// the centre column is +Z, u = 0.25 is +X, longitude runs from +π at u = 0 to −π at u = 1,
-/// so ω = (sin θ sin φ, cos θ, sin θ cos φ) with θ = π·v, φ = π − 2π·u. `up` is the stage's
-/// up axis in the texture's frame (+Y, or +Z after `poleAxis = "Z"`), normalised here.
+/// Texture convention: lux-math's latlong (spec §2 for DomeLight, OpenEXR latlong; see
+/// [`lux_math::latlong_direction`]): row 0 is +Y, the centre column is +Z, u = 0.25 is +X, so
+/// ω = (sin θ sin φ, cos θ, sin θ cos φ) with θ = π·v and the longitude φ = π − 2π·u, texel
+/// edges by [`lux_math::latlong_row_edge`] and [`lux_math::latlong_column_edge`]. `up` is the
+/// stage's up axis in the texture's frame (+Y, or +Z after `poleAxis = "Z"`), normalised here.
 /// `luminance` is row-major, `width × height` values (cd/m² relative units).
 ///
 /// The texture is taken as constant over each texel and the integral is **exact** for that
@@ -71,13 +73,13 @@ pub fn latlong_cosine_weighted_mean(
             ));
         }
     }
-    let theta = |row: usize| PI * row as f64 / height as f64;
+    let theta = |row: usize| latlong_row_edge(row, height);
     // Per column: φ₀ < φ₁ (φ decreases with u), a·∫sin φ + b·∫cos φ, and the range of
     // g(φ) = a sin φ + b cos φ.
     let cols: Vec<[f64; 5]> = (0..width)
         .map(|col| {
-            let p0 = PI - 2.0 * PI * (col + 1) as f64 / width as f64;
-            let p1 = PI - 2.0 * PI * col as f64 / width as f64;
+            let p0 = latlong_column_edge(col + 1, width);
+            let p1 = latlong_column_edge(col, width);
             let (sp0, cp0) = p0.sin_cos();
             let (sp1, cp1) = p1.sin_cos();
             let (gmin, gmax) = sinusoid_range(up.x, up.z, p0, p1);
@@ -142,9 +144,7 @@ fn clipped_cosine_integral(up: DVec3, t0: f64, t1: f64, p0: f64, p1: f64, depth:
     }
     let (tm, pm) = (0.5 * (t0 + t1), 0.5 * (p0 + p1));
     if depth == 0 {
-        let (st, ct) = tm.sin_cos();
-        let (sp, cp) = pm.sin_cos();
-        let centre = DVec3::new(st * sp, ct, st * cp).dot(up);
+        let centre = latlong_direction_from_angles(tm, pm).dot(up);
         return if centre > 0.0 {
             cosine_integral(up, t0, t1, p0, p1)
         } else {

@@ -9,7 +9,14 @@ use crate::physical::{PhysicalLightInputs, PhysicalQuantity, resolve_illuminant}
 use crate::shaping_integral::ShapingIntegral;
 
 /// The geometry facts a conversion needs, computed by the caller (world areas come from
-/// `lux_math::size_factor`, shaping integrals from lux-shaping).
+/// `lux_math::size_factor`, the integrals of the shaping factor from the caller's shaping model).
+///
+/// This is the photometric category of the proposal's Photometric/Radiometric {Area, Dome,
+/// Distant} LightAPIs, not a light kind: which quantity applies (power for `Area`, illuminance
+/// for `Dome` and `Distant`) and the numbers its conversion needs. The four area light kinds
+/// (`lux_math::LightKind::{Rect, Disk, Sphere, Cylinder}`) share `Area`, their differences
+/// being folded into the world area and [`ShapingIntegral`] (built from the kind); a kind's
+/// shape is never matched on here.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum LightGeometry {
     /// Rect, disk, sphere or cylinder light: world-space emitting area (scene units², the

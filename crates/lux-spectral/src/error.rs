@@ -161,6 +161,17 @@ pub enum SpectralError {
         /// The geometry it was paired with.
         geometry: &'static str,
     },
+    /// A shaping integral was asked of a light kind without an area-light emitter model
+    /// (`DistantLight`, `DomeLight`, `PortalLight`, a `MeshLightAPI` gprim): G is defined for
+    /// `RectLight`, `DiskLight`, `SphereLight` and `CylinderLight` only.
+    #[error(
+        "{light} has no area-light emitter model for the shaping integral, expected a RectLight, \
+         DiskLight, SphereLight or CylinderLight"
+    )]
+    NotAnAreaEmitter {
+        /// The USD type name of the light kind (`lux_math::LightKind::usd_type_name`).
+        light: &'static str,
+    },
 }
 
 impl SpectralError {

@@ -51,7 +51,7 @@ pub use physical::{
 };
 pub use planck::{BOLTZMANN_K, Blackbody, C1L, C2, PLANCK_H, SPEED_OF_LIGHT, planck_radiance};
 pub use sellmeier::Sellmeier;
-pub use shaping_integral::{EmitterShape, ShapingIntegral};
+pub use shaping_integral::ShapingIntegral;
 pub use spectral_api::{IorAttribute, SpectralAttribute, SpectralInputs};
 pub use spectrum::SampledSpectrum;
 pub use wavelength::WavelengthUnit;

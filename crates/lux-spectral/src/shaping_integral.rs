@@ -1,12 +1,14 @@
 //! The shaping integral G of an area light: flux per unit area and unit luminance.
 
 use glam::DVec3;
+use lux_math::LightKind;
 
 use crate::error::SpectralError;
 
-/// The emitting surface of an area light, in the light's local frame.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum EmitterShape {
+/// The emitting surface of an area light kind, in the light's local frame: the three forms of
+/// G below.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Emitter {
     /// RectLight / DiskLight: one-sided, normal −Z.
     Flat,
     /// SphereLight: every point emits over its outward hemisphere.
@@ -15,20 +17,40 @@ pub enum EmitterShape {
     Cylinder,
 }
 
+impl Emitter {
+    /// The emitter of `kind`; a typed error for the kinds G is not defined for (distant, dome,
+    /// portal, and mesh lights, whose triangles face every way).
+    fn of(kind: LightKind) -> Result<Emitter, SpectralError> {
+        match kind {
+            LightKind::Rect | LightKind::Disk => Ok(Emitter::Flat),
+            LightKind::Sphere => Ok(Emitter::Sphere),
+            LightKind::Cylinder => Ok(Emitter::Cylinder),
+            LightKind::Distant | LightKind::Dome | LightKind::Portal | LightKind::Mesh => {
+                Err(SpectralError::NotAnAreaEmitter {
+                    light: kind.usd_type_name(),
+                })
+            }
+        }
+    }
+}
+
 /// G = (1/A) ∫_A ∫_{H(n(x))} f(ω) (ω·n(x)) dω dA: the shaping-weighted projected solid angle per
 /// unit area, so that the flux of an area light of luminance L (nits) and world area A is
 /// **Φ = L · A · G** (lm; W with radiance). f is the ShapingAPI factor (focus, cone, IES; 1 when
 /// unshaped), a function of the emission direction only.
 ///
 /// Exchanging the integrals, G = (1/A) ∫_{S²} f(ω) A⊥(ω) dω with A⊥ the projected area of the
-/// emitting surface seen from ω, which gives for each shape (local frame, emission around −Z):
+/// emitting surface seen from ω, which gives for each area light kind (local frame, emission
+/// around −Z; [`LightKind`]s without such a surface — distant, dome, portal, mesh — are a
+/// [`SpectralError::NotAnAreaEmitter`]):
 /// - flat (rect, disk): G = ∫_{ω·(−Z) > 0} f(ω) cos θ dω  — π when unshaped;
 /// - sphere: A⊥ = πr² for every ω, so G = ¼ ∫_{S²} f(ω) dω  — π when unshaped;
 /// - cylinder (axis X, no caps): A⊥ = 2 r ℓ √(1 − ω_x²), so G = (1/π) ∫_{S²} f(ω) √(1 − ω_x²) dω
 ///   — π when unshaped.
 ///
-/// [`ShapingIntegral::from_shaping`] takes the integrals from lux-shaping;
-/// [`ShapingIntegral::integrate`] evaluates any other factor by quadrature.
+/// [`ShapingIntegral::from_integrals`] takes the integrals of the factor from the caller (lux's
+/// renderer computes them with lux-shaping, on which this crate does not depend);
+/// [`ShapingIntegral::integrate`] evaluates any factor by quadrature.
 /// For sphere and cylinder the forms assume a similarity transform (no non-uniform scale).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShapingIntegral(f64);
@@ -67,12 +89,14 @@ impl ShapingIntegral {
 
     /// G by deterministic midpoint quadrature over the sphere of directions (n × 2n cells
     /// uniform in cos θ and φ, n clamped to [4, 4096]) of a shaping factor `f(ω)` given in the
-    /// light's local frame. For when no closed form is at hand.
+    /// light's local frame, for the emitter of `kind` (an error for a kind without one). For when
+    /// no closed form is at hand.
     pub fn integrate(
-        shape: EmitterShape,
+        kind: LightKind,
         f: impl Fn(DVec3) -> f64,
         n: usize,
     ) -> Result<Self, SpectralError> {
+        let shape = Emitter::of(kind)?;
         let n = n.clamp(4, 4096);
         let (nu, nphi) = (n, 2 * n);
         let dw = (2.0 / nu as f64) * (2.0 * std::f64::consts::PI / nphi as f64);
@@ -84,11 +108,9 @@ impl ShapingIntegral {
                 let phi = (j as f64 + 0.5) * 2.0 * std::f64::consts::PI / nphi as f64;
                 let w = DVec3::new(s * phi.cos(), s * phi.sin(), z);
                 let weight = match shape {
-                    EmitterShape::Flat => (-w.z).max(0.0),
-                    EmitterShape::Sphere => 0.25,
-                    EmitterShape::Cylinder => {
-                        (1.0 - w.x * w.x).max(0.0).sqrt() / std::f64::consts::PI
-                    }
+                    Emitter::Flat => (-w.z).max(0.0),
+                    Emitter::Sphere => 0.25,
+                    Emitter::Cylinder => (1.0 - w.x * w.x).max(0.0).sqrt() / std::f64::consts::PI,
                 };
                 if weight > 0.0 {
                     sum += f(w) * weight;
@@ -98,53 +120,62 @@ impl ShapingIntegral {
         Self::new(sum * dw)
     }
 
-    /// G of a light shaped by the UsdLux ShapingAPI, from lux-shaping's integrals of the
-    /// [`lux_shaping::Shaping`] factor (focus, focusTint, cone, softness, IES):
-    /// - flat: ∫_{emitting hemisphere} f(ω) cos θ dω (`Shaping::integral_cos_hemisphere`);
-    /// - sphere: ¼ ∫_{S²} f(ω) dω (`Shaping::integral_sphere`);
-    /// - cylinder: (1/π) ∫_{S²} f(ω) √(1 − ω_x²) dω (`Shaping::integral_weighted`).
+    /// G of a light shaped by the UsdLux ShapingAPI (focus, focusTint, cone, softness, IES),
+    /// from the per-channel integrals of its RGB shaping factor f, which the caller computes
+    /// with its shaping model (lux-shaping's `Shaping` in lux's renderer), for the emitter of
+    /// `kind` (an error for a kind without one):
+    /// - flat (RectLight, DiskLight): I_c = ∫_{emitting hemisphere} f_c(ω) cos θ dω, and G_c = I_c
+    ///   (`Shaping::integral_cos_hemisphere`);
+    /// - SphereLight: I_c = ∫_{S²} f_c(ω) dω, and G_c = ¼ I_c (`Shaping::integral_sphere`);
+    /// - CylinderLight: I_c = ∫_{S²} f_c(ω) √(1 − ω_x²) dω, and G_c = I_c / π
+    ///   (`Shaping::integral_weighted` with the weight √(1 − ω_x²)).
     ///
-    /// The factor is RGB (focusTint); its channels are weighted by the luminance of the
-    /// light's colour of one nit, `rgb_per_nit` (Rec.709 luminance 1, see
+    /// `integrals` is `None` for an unshaped light (f ≡ 1, no ShapingAPI or an identity one),
+    /// which gives exactly π. The factor is RGB (focusTint); its channels are weighted by the
+    /// luminance of the light's colour of one nit, `rgb_per_nit` (Rec.709 luminance 1, see
     /// [`crate::ResolvedIlluminant`]): G = Σ_c Y_c·rgb_c·G_c, so that Φ = L·A·G holds for the
-    /// luminous flux of the tinted emission. An identity shaping gives exactly π.
-    pub fn from_shaping(
-        shape: EmitterShape,
-        shaping: &lux_shaping::Shaping,
+    /// luminous flux of the tinted emission.
+    pub fn from_integrals(
+        kind: LightKind,
+        integrals: Option<[f64; 3]>,
         rgb_per_nit: DVec3,
     ) -> Result<Self, SpectralError> {
-        if shaping.is_identity() {
+        let shape = Emitter::of(kind)?;
+        let Some(integrals) = integrals else {
             return Ok(Self::UNSHAPED);
-        }
-        let w = DVec3::from(lux_math::REC709_LUMINANCE) * rgb_per_nit;
-        let weigh = |g: [f64; 3]| w.dot(DVec3::from(g));
+        };
+        // Σ_c (Y_c·rgb_c)·I_c, the luminance weights scaled by the colour first: the order of
+        // the operations the renders were made with (`lux_math::luminance(rgb · I)`, the same
+        // sum grouped Y_c·(rgb_c·I_c), can differ in the last bit)
+        let weighted =
+            (DVec3::from(lux_math::REC709_LUMINANCE) * rgb_per_nit).dot(DVec3::from(integrals));
         match shape {
-            EmitterShape::Flat => Self::flat(weigh(shaping.integral_cos_hemisphere())),
-            EmitterShape::Sphere => Self::sphere(weigh(shaping.integral_sphere())),
-            EmitterShape::Cylinder => Self::cylinder(weigh(
-                shaping.integral_weighted(|d| (1.0 - d.x * d.x).max(0.0).sqrt()),
-            )),
+            Emitter::Flat => Self::flat(weighted),
+            Emitter::Sphere => Self::sphere(weighted),
+            Emitter::Cylinder => Self::cylinder(weighted),
         }
     }
 
     /// G of a **textured** area light (a RectLight's `inputs:texture:file`), shaped as in
-    /// [`from_shaping`](Self::from_shaping): the texture multiplies the emitted RGB per texel, so
-    /// the luminous flux is Φ = L·A·Σ_c Y_c·rgb_c·t_c·G_c, where `texture_mean` = t is the
-    /// area-weighted mean of the texture's linear RGB over the light's surface (for a texture
-    /// mapped linearly onto the rect, the mean of its texels). The returned value is that sum,
-    /// so that Φ = L·A·G still holds and [`crate::emitted`] needs no texture of its own: a
-    /// texture of mean luminance ½ doubles the converted luminance.
+    /// [`from_integrals`](Self::from_integrals): the texture multiplies the emitted RGB per
+    /// texel, so the luminous flux is Φ = L·A·Σ_c Y_c·rgb_c·t_c·G_c, where `texture_mean` = t is
+    /// the area-weighted mean of the texture's linear RGB over the light's surface (for a
+    /// texture mapped linearly onto the rect, the mean of its texels). The returned value is
+    /// that sum, so that Φ = L·A·G still holds and [`crate::emitted`] needs no texture of its
+    /// own: a texture of mean luminance ½ doubles the converted luminance.
     ///
-    /// `texture_mean` = (1, 1, 1) is exactly [`from_shaping`](Self::from_shaping); a black (or
-    /// negative, or non-finite) mean is an error, since no luminance gives the authored power.
-    pub fn from_shaping_textured(
-        shape: EmitterShape,
-        shaping: &lux_shaping::Shaping,
+    /// `texture_mean` = (1, 1, 1) is exactly [`from_integrals`](Self::from_integrals); a black
+    /// (or negative, or non-finite) mean is an error, since no luminance gives the authored
+    /// power.
+    pub fn from_integrals_textured(
+        kind: LightKind,
+        integrals: Option<[f64; 3]>,
         rgb_per_nit: DVec3,
         texture_mean: DVec3,
     ) -> Result<Self, SpectralError> {
+        Emitter::of(kind)?;
         if texture_mean == DVec3::ONE {
-            return Self::from_shaping(shape, shaping, rgb_per_nit);
+            return Self::from_integrals(kind, integrals, rgb_per_nit);
         }
         if !texture_mean.is_finite() || texture_mean.min_element() < 0.0 {
             return Err(SpectralError::InvalidValue {
@@ -154,12 +185,12 @@ impl ShapingIntegral {
             });
         }
         let tinted = rgb_per_nit * texture_mean;
-        if shaping.is_identity() {
+        if integrals.is_none() {
             // G_c = π in every channel
-            let y = DVec3::from(lux_math::REC709_LUMINANCE).dot(tinted);
+            let y = lux_math::luminance(tinted);
             return Self::new(Self::UNSHAPED.value() * y);
         }
-        Self::from_shaping(shape, shaping, tinted)
+        Self::from_integrals(kind, integrals, tinted)
     }
 
     /// The value of G, sr.

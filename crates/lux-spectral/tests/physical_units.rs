@@ -5,6 +5,7 @@ mod common;
 
 use common::rel;
 use glam::DVec3;
+use lux_math::LightKind;
 use lux_spectral::*;
 use std::f64::consts::PI;
 
@@ -90,15 +91,16 @@ fn flux_by_quadrature(shape: Shape, luminance: f64, f: &dyn Fn(DVec3) -> f64) ->
 fn shaping_integral_closed_forms() {
     let g = |s, f: &dyn Fn(DVec3) -> f64| ShapingIntegral::integrate(s, f, 256).unwrap().value();
     for shape in [
-        EmitterShape::Flat,
-        EmitterShape::Sphere,
-        EmitterShape::Cylinder,
+        LightKind::Rect,
+        LightKind::Disk,
+        LightKind::Sphere,
+        LightKind::Cylinder,
     ] {
         assert!(rel(g(shape, &|_| 1.0), PI) < 1e-4, "{shape:?} unshaped");
     }
     // ∫_H cos^k cos dω = 2π/(k+2);  ¼ ∫_S² |cos|^k dω = π/(k+1).
-    assert!(rel(g(EmitterShape::Flat, &focus(4)), 2.0 * PI / 6.0) < 1e-4);
-    assert!(rel(g(EmitterShape::Sphere, &focus(4)), PI / 5.0) < 1e-4);
+    assert!(rel(g(LightKind::Rect, &focus(4)), 2.0 * PI / 6.0) < 1e-4);
+    assert!(rel(g(LightKind::Sphere, &focus(4)), PI / 5.0) < 1e-4);
     assert_eq!(
         ShapingIntegral::sphere(4.0 * PI).unwrap(),
         ShapingIntegral::UNSHAPED
@@ -108,15 +110,40 @@ fn shaping_integral_closed_forms() {
         ShapingIntegral::UNSHAPED
     );
     assert!(ShapingIntegral::new(0.0).is_err() && ShapingIntegral::new(f64::NAN).is_err());
+    // G is defined for the four area light kinds only; the others are typed errors, not a
+    // silent flat emitter
+    for kind in [
+        LightKind::Distant,
+        LightKind::Dome,
+        LightKind::Portal,
+        LightKind::Mesh,
+    ] {
+        let want = Err(SpectralError::NotAnAreaEmitter {
+            light: kind.usd_type_name(),
+        });
+        assert_eq!(ShapingIntegral::integrate(kind, |_| 1.0, 16), want);
+        assert_eq!(
+            ShapingIntegral::from_integrals(kind, None, DVec3::ONE),
+            want
+        );
+        assert_eq!(
+            ShapingIntegral::from_integrals(kind, Some([1.0; 3]), DVec3::ONE),
+            want
+        );
+        assert_eq!(
+            ShapingIntegral::from_integrals_textured(kind, None, DVec3::ONE, DVec3::splat(0.5)),
+            want
+        );
+    }
 }
 
 #[test]
 fn power_to_luminance_to_power_round_trip_by_quadrature() {
     let shapes = [
-        (Shape::Rect(2.0, 0.5), EmitterShape::Flat),
-        (Shape::Disk(0.7), EmitterShape::Flat),
-        (Shape::Sphere(0.3), EmitterShape::Sphere),
-        (Shape::Cylinder(0.2, 1.5), EmitterShape::Cylinder),
+        (Shape::Rect(2.0, 0.5), LightKind::Rect),
+        (Shape::Disk(0.7), LightKind::Disk),
+        (Shape::Sphere(0.3), LightKind::Sphere),
+        (Shape::Cylinder(0.2, 1.5), LightKind::Cylinder),
     ];
     for (shape, emitter) in shapes {
         let area = match shape {
@@ -156,28 +183,38 @@ fn power_to_luminance_to_power_round_trip_by_quadrature() {
     }
 }
 
-/// The same round trip with a real ShapingAPI (lux-shaping): a soft, tinted, focused cone. The
-/// emitted luminous flux, integrated over the surface and all directions with the RGB shaping
-/// factor weighted by the light's colour of one nit, must give back the authored power.
+/// The same round trip with an RGB shaping factor whose integrals the caller supplies (as the
+/// renderer does from lux-shaping): a tinted focus, f_c(ω) = t_c + (1 − t_c)·cos²θ (the
+/// ShapingAPI's `lerp(|cos θ|^focus, focusTint, white)` with focus 2), whose integrals have
+/// closed forms — flat ∫_H f_c cos θ dω = t_c·π + (1 − t_c)·π/2; sphere ∫_{S²} f_c dω =
+/// t_c·4π + (1 − t_c)·4π/3; cylinder (axis X, ω = (cos α, sin α cos β, sin α sin β))
+/// ∫_{S²} f_c √(1 − ω_x²) dω = t_c·π² + (1 − t_c)·∫ sin⁴α dα ∫ sin²β dβ = t_c·π² + (1 − t_c)·3π²/8.
+/// The emitted luminous flux, integrated over the surface and all directions with the factor
+/// weighted by the light's colour of one nit, must give back the authored power.
 #[test]
-fn power_round_trip_with_lux_shaping() {
-    use lux_shaping::{Shaping, ShapingOptions, ShapingParams};
-    let params = ShapingParams {
-        focus: 2.0,
-        focus_tint: [0.2, 0.4, 1.0],
-        cone_angle_deg: 55.0,
-        cone_softness: 0.5,
-        ..ShapingParams::default()
-    };
-    let shaping = Shaping::new(&params, None, ShapingOptions::default()).unwrap();
+fn power_round_trip_with_caller_supplied_rgb_integrals() {
+    let tint = [0.2, 0.4, 1.0];
+    let integrals = |per_channel: &dyn Fn(f64) -> f64| tint.map(per_channel);
     let shapes = [
-        (Shape::Rect(2.0, 0.5), EmitterShape::Flat, 1.0),
-        (Shape::Disk(0.7), EmitterShape::Flat, PI * 0.49),
-        (Shape::Sphere(0.3), EmitterShape::Sphere, 4.0 * PI * 0.09),
+        (
+            Shape::Rect(2.0, 0.5),
+            LightKind::Rect,
+            integrals(&|t| t * PI + (1.0 - t) * PI / 2.0),
+        ),
+        (
+            Shape::Disk(0.7),
+            LightKind::Disk,
+            integrals(&|t| t * PI + (1.0 - t) * PI / 2.0),
+        ),
+        (
+            Shape::Sphere(0.3),
+            LightKind::Sphere,
+            integrals(&|t| t * 4.0 * PI + (1.0 - t) * 4.0 * PI / 3.0),
+        ),
         (
             Shape::Cylinder(0.2, 1.5),
-            EmitterShape::Cylinder,
-            2.0 * PI * 0.3,
+            LightKind::Cylinder,
+            integrals(&|t| t * PI * PI + (1.0 - t) * 3.0 * PI * PI / 8.0),
         ),
     ];
     for illuminant in [IlluminantKind::White, IlluminantKind::Blackbody] {
@@ -185,17 +222,24 @@ fn power_round_trip_with_lux_shaping() {
         inputs.illuminant = illuminant;
         inputs.color_temperature = 2700.0;
         let ill = resolve_illuminant(&inputs, ColorSpace::Rec709).unwrap();
-        let y = DVec3::from(lux_math::REC709_LUMINANCE) * ill.rgb_per_nit;
-        for (shape, emitter, area) in shapes {
-            let g = ShapingIntegral::from_shaping(emitter, &shaping, ill.rgb_per_nit).unwrap();
+        for (shape, emitter, channel_integrals) in shapes {
+            let g =
+                ShapingIntegral::from_integrals(emitter, Some(channel_integrals), ill.rgb_per_nit)
+                    .unwrap();
+            let area = match shape {
+                Shape::Rect(w, h) => w * h,
+                Shape::Disk(r) => PI * r * r,
+                Shape::Sphere(r) => 4.0 * PI * r * r,
+                Shape::Cylinder(r, l) => 2.0 * PI * r * l,
+            };
             let geometry = LightGeometry::Area {
                 world_area: area,
                 shaping: g,
             };
             let e = emitted(&inputs, &geometry, ColorSpace::Rec709).unwrap();
             let f = |w: DVec3| {
-                let c = shaping.factor(w);
-                y.x * c[0] as f64 + y.y * c[1] as f64 + y.z * c[2] as f64
+                let c2 = w.z * w.z;
+                lux_math::luminance(ill.rgb_per_nit * DVec3::from(tint.map(|t| t + (1.0 - t) * c2)))
             };
             let flux = flux_by_quadrature(shape, e.luminance, &f);
             assert!(
@@ -204,31 +248,29 @@ fn power_round_trip_with_lux_shaping() {
             );
         }
     }
-    // The identity shaping is exactly the unshaped π.
+    // No integrals (an unshaped light) is exactly the unshaped π.
     assert_eq!(
-        ShapingIntegral::from_shaping(EmitterShape::Flat, &Shaping::identity(), DVec3::ONE)
-            .unwrap(),
+        ShapingIntegral::from_integrals(LightKind::Rect, None, DVec3::ONE).unwrap(),
         ShapingIntegral::UNSHAPED
     );
 }
 
 #[test]
 fn textured_shaping_integral_weights_the_texture_mean() {
-    let id = lux_shaping::Shaping::identity();
+    let id = None; // unshaped
     let white = DVec3::ONE;
-    let flat = EmitterShape::Flat;
+    let flat = LightKind::Rect;
     // a white texture is the untextured G
     assert_eq!(
-        ShapingIntegral::from_shaping_textured(flat, &id, white, DVec3::ONE).unwrap(),
-        ShapingIntegral::from_shaping(flat, &id, white).unwrap()
+        ShapingIntegral::from_integrals_textured(flat, id, white, DVec3::ONE).unwrap(),
+        ShapingIntegral::from_integrals(flat, id, white).unwrap()
     );
     // unshaped: G = π · Y(rgb_per_nit · mean); a grey mean of ½ halves G
-    let half = ShapingIntegral::from_shaping_textured(flat, &id, white, DVec3::splat(0.5));
+    let half = ShapingIntegral::from_integrals_textured(flat, id, white, DVec3::splat(0.5));
     assert!(rel(half.unwrap().value(), 0.5 * PI) < 1e-12);
-    let y = lux_math::REC709_LUMINANCE;
     let tint = DVec3::new(0.2, 0.7, 0.1);
-    let g = ShapingIntegral::from_shaping_textured(flat, &id, white, tint).unwrap();
-    let want = PI * (y[0] * 0.2 + y[1] * 0.7 + y[2] * 0.1);
+    let g = ShapingIntegral::from_integrals_textured(flat, id, white, tint).unwrap();
+    let want = PI * lux_math::luminance(tint);
     assert!(rel(g.value(), want) < 1e-12, "{} vs {want}", g.value());
     // no power is reachable through a black texture; bad texels are typed errors
     for bad in [
@@ -238,7 +280,7 @@ fn textured_shaping_integral_weights_the_texture_mean() {
         DVec3::new(0.5, f64::INFINITY, 0.5),
     ] {
         assert!(
-            ShapingIntegral::from_shaping_textured(flat, &id, white, bad).is_err(),
+            ShapingIntegral::from_integrals_textured(flat, id, white, bad).is_err(),
             "{bad:?}"
         );
     }

@@ -83,6 +83,6 @@ impl DistantLight {
 
     /// Power estimate for selection: `Y(base) · π`.
     pub(super) fn power(&self, _area: f64) -> f64 {
-        super::luminance(self.base.radiance).max(0.0) * std::f64::consts::PI
+        lux_math::luminance(self.base.radiance).max(0.0) * std::f64::consts::PI
     }
 }

@@ -44,8 +44,8 @@ impl DomeLight {
                     .texels()
                     .iter()
                     .map(|p| {
-                        super::luminance(DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)).max(0.0)
-                            as f32
+                        lux_math::luminance(DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64))
+                            .max(0.0) as f32
                     })
                     .collect();
                 LatLongMap::new(w, h, lum)
@@ -116,8 +116,8 @@ impl DomeLight {
     pub(super) fn power(&self, _area: f64) -> f64 {
         let mean_tex = self.texture.as_ref().map_or(1.0, |t| {
             let a = t.tex.average();
-            super::luminance(DVec3::new(a[0], a[1], a[2]))
+            lux_math::luminance(DVec3::new(a[0], a[1], a[2]))
         });
-        super::luminance(self.base.radiance).max(0.0) * mean_tex * std::f64::consts::PI
+        lux_math::luminance(self.base.radiance).max(0.0) * mean_tex * std::f64::consts::PI
     }
 }

@@ -434,12 +434,6 @@ fn planar_emission_half_angle(base: &LightBase) -> f64 {
     }
 }
 
-/// Rec.709 luminance of an RGB triple.
-#[inline]
-pub fn luminance(c: DVec3) -> f64 {
-    c.dot(DVec3::from(lux_math::REC709_LUMINANCE))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -135,9 +135,10 @@ impl RectLight {
     pub(super) fn power(&self, area: f64) -> f64 {
         let mean_tex = self.texture.as_ref().map_or(1.0, |t| {
             let a = t.tex.average();
-            super::luminance(DVec3::new(a[0], a[1], a[2]))
+            lux_math::luminance(DVec3::new(a[0], a[1], a[2]))
         });
-        let g = super::luminance(DVec3::from(self.base.shaping.integral_cos_hemisphere())).max(0.0);
-        super::luminance(self.base.radiance).max(0.0) * mean_tex * area * g
+        let g =
+            lux_math::luminance(DVec3::from(self.base.shaping.integral_cos_hemisphere())).max(0.0);
+        lux_math::luminance(self.base.radiance).max(0.0) * mean_tex * area * g
     }
 }

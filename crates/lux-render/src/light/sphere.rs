@@ -102,7 +102,7 @@ impl SphereLight {
 
     /// Power estimate: `Y(base) · area · π · max shaping factor`.
     pub(super) fn power(&self, area: f64) -> f64 {
-        super::luminance(self.base.radiance).max(0.0)
+        lux_math::luminance(self.base.radiance).max(0.0)
             * area
             * std::f64::consts::PI
             * self.base.shaping.max_factor() as f64
