@@ -131,22 +131,21 @@ fn blackbody(c: &mut Criterion) {
     g.finish();
 }
 
-/// Latency floors used in the issue notes (not targets): one dependent chain through
-/// `fastmath::atan2` and one through `fastmath::sin_cos`, each step feeding the next.
+/// Latency floors used in the issue notes (not targets): one dependent chain through libm's
+/// `atan2` and one through its `sin_cos`, each step feeding the next.
 fn latency(c: &mut Criterion) {
-    use lux::math::fastmath;
     let mut g = c.benchmark_group("latency");
     g.bench_function("atan2_chain", |b| {
         let mut x = 0.3f64;
         b.iter(|| {
-            x = fastmath::atan2(black_box(x), 1.7) + 0.25;
+            x = black_box(x).atan2(1.7) + 0.25;
             x
         })
     });
     g.bench_function("sin_cos_chain", |b| {
         let mut x = 0.3f64;
         b.iter(|| {
-            let (s, c) = fastmath::sin_cos(black_box(x));
+            let (s, c) = black_box(x).sin_cos();
             x = s * 0.5 + c * 0.25 + 0.5;
             x
         })

@@ -374,8 +374,8 @@ impl PhotometricWeb {
     }
 
     /// Converts light-space (θ, φ) to native (vertical, horizontal) radians (types A/B; type C is
-    /// the identity with φ wrapped into [0, 2π)). The inverse trigonometry is
-    /// [`lux_math::fastmath`]'s (within a few ulp of libm's).
+    /// the identity with φ wrapped into [0, 2π)): V = asin(y), H = atan2(x, z) of the direction
+    /// in the type's frame.
     #[inline]
     pub fn light_to_native(&self, theta: f64, phi: f64) -> (f64, f64) {
         match self.ptype {
@@ -388,10 +388,7 @@ impl PhotometricWeb {
                     (-d.y, d.x, -d.z)
                 };
                 // x = cos V sin H, y = sin V, z = cos V cos H
-                (
-                    lux_math::fastmath::asin(y.clamp(-1.0, 1.0)),
-                    lux_math::fastmath::atan2(x, z),
-                )
+                (y.clamp(-1.0, 1.0).asin(), x.atan2(z))
             }
         }
     }

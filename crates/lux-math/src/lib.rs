@@ -27,7 +27,6 @@
 mod blackbody;
 mod elliptic;
 mod emission;
-pub mod fastmath;
 mod latlong;
 mod polar;
 mod profile;
@@ -51,10 +50,7 @@ pub use latlong::{
     latlong_column_edge, latlong_direction, latlong_direction_from_angles, latlong_row_edge,
     latlong_uv,
 };
-pub use polar::{
-    Frame, azimuth_from_xy, azimuth_from_xy_fast, light_direction, light_polar, light_polar_fast,
-    polar_angle_fast, polar_angles_fast,
-};
+pub use polar::{Frame, azimuth_from_xy, light_direction, light_polar, polar_angle, polar_angles};
 pub use profile::{Profile, UnknownProfile};
 pub use scalar::{lerp, lerp_f32, smooth_step, smooth_step_f32, smooth_step_fraction};
 pub use shadow::{shadow_strength, shadowed};

@@ -8,7 +8,7 @@ use crate::warp::sample_uniform_sphere;
 use crate::{LightSample, Reference, Strategy};
 use core::f64::consts::{PI, TAU};
 use glam::DVec3;
-use lux_math::{Frame, fastmath};
+use lux_math::Frame;
 
 /// How a [`SphereLight`] chooses its points from outside (inside, both use area sampling).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -97,7 +97,7 @@ fn sample_cone(p: DVec3, d2: f64, rad: f64, inv_tau_r2: f64, u: [f64; 2]) -> Con
     let cos_t = 1.0 - ur2 * inv_dde;
     let sin_t = (ur2 * (2.0 * dde - ur2)).max(0.0).sqrt() * inv_dde;
     let sin2_t = sin_t * sin_t;
-    let (sp, cp) = fastmath::sin_cos_turns(u[1]);
+    let (sp, cp) = (TAU * u[1]).sin_cos();
     let wc = DVec3::new(sin_t * cp, sin_t * sp, cos_t);
     // Nearest hit along wc from the reference point, which sits at (0, 0, −d) in the cone
     // frame: t = d·(cos θ − g) with g² = sin²α − sin²θ = cos²θ − cos²α

@@ -3,7 +3,6 @@
 //! triangle (Arvo 1995, "Stratified sampling of spherical triangles").
 
 use glam::DVec3;
-use lux_math::fastmath;
 
 /// A rectangle seen from a point, prepared for uniform solid-angle sampling (Ureña et al. 2013,
 /// §3–4). The rectangle is `corner + s·ex + t·ey`, s, t ∈ \[0,1\], with `ex ⟂ ey`.
@@ -73,7 +72,7 @@ fn rect_solid_angle(x0: f64, x1: f64, y0: f64, y1: f64, z0: f64) -> (f64, [f64; 
     let den2 = r00 * r11 * r01 + d00_11 * r01 + d00_01 * r11 + d11_01 * r00;
     let re = den1 * den2 - n * n;
     let im = n * (den1 + den2);
-    (2.0 * fastmath::atan2(im.max(0.0), re), [r00, r10, r11, r01])
+    (2.0 * im.max(0.0).atan2(re), [r00, r10, r11, r01])
 }
 
 impl SphericalRectangle {
@@ -252,7 +251,7 @@ impl SphericalRectangle {
     /// `(N, D)` of [`Self::sample`] for `u₀`: `xu = N/√D`.
     #[inline(always)]
     fn horizontal_terms(&self, u0: f64) -> (f64, f64) {
-        let (s, c) = fastmath::sin_cos(u0 * self.solid_angle);
+        let (s, c) = (u0 * self.solid_angle).sin_cos();
         let cau = c * self.cos_k - s * self.sin_k;
         let sau = s * self.cos_k + c * self.sin_k;
         let n = cau * self.b0 - self.b1;

@@ -102,16 +102,8 @@ fn main() {
         let (t, p) = lux_math::light_polar(d).unwrap();
         [(t + p) as f32; 3]
     });
-    measure("calibration: light_polar_fast", &sphere, |d| {
-        let (t, p) = lux_math::light_polar_fast(d).unwrap();
-        [(t + p) as f32; 3]
-    });
     measure("calibration: intensity(light_polar)", &sphere, |d| {
         let (t, p) = lux_math::light_polar(d).unwrap();
-        [web.intensity(t, p) as f32; 3]
-    });
-    measure("calibration: intensity(light_polar_fast)", &sphere, |d| {
-        let (t, p) = lux_math::light_polar_fast(d).unwrap();
         [web.intensity(t, p) as f32; 3]
     });
     // the loop of benches/ies.rs: (θ, φ) uniform on the sphere, summed

@@ -101,7 +101,7 @@ impl EvenGrid {
     }
 
     /// The scaled intensity at lookup angles (θies, φ), φ ∈ \[0, 2π) (the azimuth of
-    /// [`lux_math::fastmath::azimuth`]; ignored for an axial profile); `None` for θies ≥ π
+    /// [`lux_math::azimuth_from_xy`]; ignored for an axial profile); `None` for θies ≥ π
     /// beyond the last vertical angle, where the web's last-angle rule applies.
     #[inline(always)]
     pub(crate) fn eval(&self, theta: f64, phi: f64) -> Option<f64> {

@@ -13,7 +13,7 @@ use crate::quad;
 use core::f64::consts::{FRAC_PI_2, PI, TAU};
 use glam::DVec3;
 use lux_ies::PhotometricWeb;
-use lux_math::{lerp, polar_angle_fast, polar_angles_fast};
+use lux_math::{lerp, polar_angle, polar_angles};
 
 /// Relative accuracy requested from the outer (θ) quadrature.
 const REL_OUTER: f64 = 1e-10;
@@ -275,9 +275,8 @@ impl Shaping {
     /// (values beyond `f32::MAX` saturate). Allocation-free; the cone is tested on the cosine
     /// (no square root or angle unless the direction is inside a soft ramp or an IES profile is
     /// looked up), an integer focus uses multiplications only, the azimuth is computed only for
-    /// IES profiles that depend on it, and the angles are those of
-    /// [`lux_math::light_polar_fast`] (θ = atan2(√(x² + y²), −z), φ the IES azimuth, by the
-    /// libm-free [`lux_math::fastmath`], within a few ulp of [`lux_math::light_polar`]). A type C
+    /// IES profiles that depend on it, and the angles are those of [`lux_math::light_polar`]
+    /// (θ = atan2(√(x² + y²), −z), φ the IES azimuth). A type C
     /// profile with evenly spaced angles and bilinear interpolation is looked up on a copy of
     /// its table with the `ies:normalize` divisor folded in, the cell found by arithmetic
     /// (`u = θies/Δv`, `⌊u⌋`, `u − ⌊u⌋`); the value is the same bilinear interpolant as
@@ -311,7 +310,7 @@ impl Shaping {
     #[inline(always)]
     fn factor_no_ies(&self, d: DVec3, len2: f64) -> [f32; 3] {
         let w = -d.z;
-        let cone = self.cone.hit(w, len2).factor(|| polar_angle_fast(d));
+        let cone = self.cone.hit(w, len2).factor(|| polar_angle(d));
         if cone == 0.0 {
             return [0.0; 3];
         }
@@ -322,7 +321,7 @@ impl Shaping {
     }
 
     /// With an IES profile: θ = atan2(√(x² + y²), −z) and φ as [`lux_math::light_polar`]
-    /// (by [`lux_math::fastmath`]; φ is not computed for an axially symmetric type C profile),
+    /// (φ is not computed for an axially symmetric type C profile),
     /// the cone tested on the cosine as without IES, the profile looked up on its even grid
     /// when it has one (see `IesPart::sample_for_factor`).
     #[inline(always)]
@@ -333,9 +332,9 @@ impl Shaping {
             return [0.0; 3];
         }
         let (theta, phi) = if ies.axial_c {
-            (polar_angle_fast(d), 0.0)
+            (polar_angle(d), 0.0)
         } else {
-            polar_angles_fast(d)
+            polar_angles(d)
         };
         let cone = hit.factor(|| theta);
         let s = cone * ies.sample_for_factor(theta, phi);
@@ -489,11 +488,11 @@ mod tests {
         }
     }
 
-    /// The fast path of `factor` (cone on the cosine, θ and φ by `lux_math::fastmath`) against
-    /// the polar path with libm angles (`light_polar`) and the cone on θ, with IES profiles of
+    /// The fast path of `factor` (cone on the cosine, the even-grid lookup) against the polar
+    /// path (angles of `light_polar`, the cone on θ, the web's lookup), with IES profiles of
     /// types C and B, bilinear and bicubic, with and without angleScale, cone and focus.
     #[test]
-    fn ies_factor_agrees_with_the_libm_polar_path() {
+    fn ies_factor_agrees_with_the_polar_path() {
         let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/ies/");
         let mut next = {
             let mut s = 0x9E3779B97F4A7C15u64;

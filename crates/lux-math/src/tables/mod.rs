@@ -9,12 +9,3 @@
 #[rustfmt::skip]
 #[allow(clippy::excessive_precision, clippy::unreadable_literal)]
 pub(crate) mod elliptic;
-
-/// The arctangent tables of `crate::fastmath` (`scripts/gen_atan_tables.py`, mpmath).
-#[rustfmt::skip]
-#[allow(clippy::approx_constant)] // π/4, π/2, π, 2π are among the entries
-pub(crate) mod atan;
-
-/// A table aligned to a 64-byte cache line (the arctangent's coefficient rows).
-#[repr(align(64))]
-pub(crate) struct Aligned<T>(pub(crate) T);
