@@ -30,6 +30,10 @@ pub struct CylinderLight {
     length: f64,
     xf: LightTransform,
     technique: CylinderTechnique,
+    /// tan θe of the emission cone ([`Self::with_emission_cone`]); ∞ without one.
+    tan_cut: f64,
+    /// θe itself (π/2 without a cone).
+    cut: f64,
 }
 
 impl CylinderLight {
@@ -45,12 +49,71 @@ impl CylinderLight {
             length: positive("length", length)?,
             xf,
             technique,
+            tan_cut: f64::INFINITY,
+            cut: core::f64::consts::FRAC_PI_2,
         })
     }
 
     /// The sampling technique.
     pub fn technique(&self) -> CylinderTechnique {
         self.technique
+    }
+
+    /// The light emits nothing along local directions more than `half_angle` off its −Z axis
+    /// (`lux_shaping::Shaping::emission_half_angle`). The solid-angle technique then samples,
+    /// on the line of the tube it chose, only the stretch that can reach the receiver within
+    /// θe: a point q of the line at height v = q.z − p.z above the receiver p and at lateral
+    /// offset δ = q.y − p.y reaches it when (q.x − p.x)² ≤ (v·tan θe)² − δ² (none when v ≤ 0).
+    /// Half-angles of π/2 or more (or NaN) change nothing; the area techniques are not clipped.
+    pub fn with_emission_cone(mut self, half_angle: f64) -> Self {
+        if (0.0..core::f64::consts::FRAC_PI_2).contains(&half_angle) {
+            self.tan_cut = half_angle.tan();
+            self.cut = half_angle;
+        } else {
+            self.tan_cut = f64::INFINITY;
+            self.cut = core::f64::consts::FRAC_PI_2;
+        }
+        self
+    }
+
+    /// The range `[β0, β1]` of cross-section angles sampled (β measured from `toward`, the unit
+    /// 2D direction from the reference point to the axis): `[−β_max, β_max]`, narrowed with an
+    /// emission cone to the 2D directions within θe of local +Z (a line reaches the receiver
+    /// inside the cone only if its cross-section offset does: |Δy| ≤ tan θe·Δz).
+    #[inline]
+    fn beta_range(&self, toward: DVec2, beta_max: f64) -> Option<(f64, f64)> {
+        if self.tan_cut == f64::INFINITY {
+            return Some((-beta_max, beta_max));
+        }
+        let bz = toward.x.atan2(toward.y);
+        let (b0, b1) = (
+            (bz - self.cut).max(-beta_max),
+            (bz + self.cut).min(beta_max),
+        );
+        (b0 < b1).then_some((b0, b1))
+    }
+
+    /// The axial extent `[xa, xb]` sampled on the line through the cross-section point
+    /// `q2 = (y, z)` from the local point `pl`: the whole length without an emission cone;
+    /// `None` when the line cannot reach `pl` inside it.
+    #[inline]
+    fn stretch(&self, pl: DVec3, q2: DVec2) -> Option<(f64, f64)> {
+        let half = 0.5 * self.length;
+        if self.tan_cut == f64::INFINITY {
+            return Some((-half, half));
+        }
+        let v = q2.y - pl.z;
+        if not_positive(v) {
+            return None;
+        }
+        let (reach, off) = (v * self.tan_cut, q2.x - pl.y);
+        let w2 = reach * reach - off * off;
+        if not_positive(w2) {
+            return None;
+        }
+        let w = w2.sqrt();
+        let (xa, xb) = ((pl.x - w).max(-half), (pl.x + w).min(half));
+        (xa < xb).then_some((xa, xb))
     }
 
     /// Distance from the reference point (local) to the first hit of the lateral surface along
@@ -124,7 +187,6 @@ impl CylinderLight {
         if rho.is_nan() || rho <= rad {
             return None;
         }
-        let half = 0.5 * self.length;
         let psi0 = p2.y.atan2(p2.x);
         let area_point = |psi: f64, x: f64| {
             let (s, c) = psi.sin_cos();
@@ -150,20 +212,31 @@ impl CylinderLight {
             }
             CylinderTechnique::SolidAngle => {
                 let beta_max = (rad / rho).min(1.0).asin();
-                let (sb, cb) = ((2.0 * u[1] - 1.0) * beta_max).sin_cos();
                 let toward = -p2 / rho;
+                let (b0, b1) = self.beta_range(toward, beta_max)?;
+                let (sb, cb) = if self.tan_cut == f64::INFINITY {
+                    ((2.0 * u[1] - 1.0) * beta_max).sin_cos()
+                } else {
+                    (b0 + u[1] * (b1 - b0)).sin_cos()
+                };
                 let e = DVec2::new(toward.x * cb - toward.y * sb, toward.x * sb + toward.y * cb);
                 // Near intersection of the 2D ray with the circle: s = ρ cos β − √(r² − ρ² sin² β).
                 let s = (rho * cb - (rad * rad - rho * rho * sb * sb).max(0.0).sqrt()).max(0.0);
-                let ta = ((-half - pl.x) / s).atan();
-                let tb = ((half - pl.x) / s).atan();
+                let q2 = p2 + s * e;
+                let (xa, xb) = self.stretch(pl, q2)?;
+                let ta = ((xa - pl.x) / s).atan();
+                let tb = ((xb - pl.x) / s).atan();
                 let theta = ta + u[0] * (tb - ta);
                 let (st, ct) = theta.sin_cos();
-                let x = (pl.x + s * st / ct).clamp(-half, half);
-                let q2 = p2 + s * e;
+                let x = (pl.x + s * st / ct).clamp(xa, xb);
                 let q = DVec3::new(x, q2.x, q2.y);
                 let n = DVec3::new(0.0, q2.x, q2.y) / rad;
-                (q, n, 1.0 / (2.0 * beta_max * (tb - ta) * ct))
+                let width = if self.tan_cut == f64::INFINITY {
+                    2.0 * beta_max
+                } else {
+                    b1 - b0
+                };
+                (q, n, 1.0 / (width * (tb - ta) * ct))
             }
         };
         finish_sample(&self.xf, r.p, pl, q, n, pdf)
@@ -200,13 +273,32 @@ impl CylinderLight {
                 t * t / (cos * 2.0 * g * rad * self.length)
             }
             CylinderTechnique::SolidAngle => {
-                let half = 0.5 * self.length;
                 let beta_max = (rad / rho).min(1.0).asin();
                 let ct = DVec2::new(wl.y, wl.z).length();
                 let s = t * ct;
-                let ta = ((-half - pl.x) / s).atan();
-                let tb = ((half - pl.x) / s).atan();
-                1.0 / (2.0 * beta_max * (tb - ta) * ct)
+                let Some((xa, xb)) = self.stretch(pl, DVec2::new(q.y, q.z)) else {
+                    return 0.0;
+                };
+                if q.x < xa || q.x > xb {
+                    return 0.0;
+                }
+                let ta = ((xa - pl.x) / s).atan();
+                let tb = ((xb - pl.x) / s).atan();
+                let width = if self.tan_cut == f64::INFINITY {
+                    2.0 * beta_max
+                } else {
+                    let toward = -p2 / rho;
+                    let Some((b0, b1)) = self.beta_range(toward, beta_max) else {
+                        return 0.0;
+                    };
+                    let e = DVec2::new(wl.y, wl.z) / ct;
+                    let beta = (toward.x * e.y - toward.y * e.x).atan2(toward.dot(e));
+                    if beta < b0 || beta > b1 {
+                        return 0.0;
+                    }
+                    b1 - b0
+                };
+                1.0 / (width * (tb - ta) * ct)
             }
         };
         if pdf.is_finite() { pdf * jac } else { 0.0 }

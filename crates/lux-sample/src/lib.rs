@@ -28,6 +28,7 @@ mod dome;
 mod error;
 mod light;
 mod mesh;
+pub mod projected;
 mod rect;
 mod rng;
 mod sample;

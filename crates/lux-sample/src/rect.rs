@@ -32,6 +32,8 @@ pub struct RectLight {
     technique: RectTechnique,
     /// The world normal, `xf.normal(−Z)` (fixed for a planar light).
     normal: DVec3,
+    /// tan θe of the emission cone ([`Self::with_emission_cone`]); ∞ without one.
+    tan_cut: f64,
 }
 
 impl RectLight {
@@ -49,7 +51,44 @@ impl RectLight {
             xf,
             technique,
             normal: xf.normal(DVec3::NEG_Z),
+            tan_cut: f64::INFINITY,
         })
+    }
+
+    /// The light emits nothing along local directions more than `half_angle` off its −Z axis
+    /// (ShapingAPI's cone, or an IES profile's reach: `lux_shaping::Shaping::emission_half_angle`).
+    /// The solid-angle techniques then sample only the part of the rect that can reach the
+    /// receiver: the points seen from a receiver at height h below the light's plane within
+    /// θe of the axis form a disk of radius h·tan θe around its foot, whose bounding square
+    /// clipped to the rect is sampled instead of the rect (what Blender Cycles does for an area
+    /// light's spread). Half-angles of π/2 or more (or NaN) change nothing; the area technique
+    /// (hdEmbree's) is not clipped.
+    pub fn with_emission_cone(mut self, half_angle: f64) -> Self {
+        self.tan_cut = if (0.0..core::f64::consts::FRAC_PI_2).contains(&half_angle) {
+            half_angle.tan()
+        } else {
+            f64::INFINITY
+        };
+        self
+    }
+
+    /// The sampled window `[x0, y0, x1, y1]` of the rect seen from the local point `pl`
+    /// (`pl.z < 0`): the whole rect without an emission cone; `None` when the cone's disk
+    /// misses the rect.
+    #[inline]
+    fn window(&self, pl: DVec3) -> Option<[f64; 4]> {
+        let (a, b) = (0.5 * self.width, 0.5 * self.height);
+        if self.tan_cut == f64::INFINITY {
+            return Some([-a, -b, a, b]);
+        }
+        let r = -pl.z * self.tan_cut;
+        let w = [
+            (pl.x - r).max(-a),
+            (pl.y - r).max(-b),
+            (pl.x + r).min(a),
+            (pl.y + r).min(b),
+        ];
+        (w[0] < w[2] && w[1] < w[3]).then_some(w)
     }
 
     /// The sampling technique.
@@ -145,6 +184,29 @@ impl RectLight {
         };
         let (q, pdf) = match technique {
             RectTechnique::Area => area_sample(u),
+            _ if self.tan_cut < f64::INFINITY => {
+                let w = self.window(pl)?;
+                let sr = SphericalRectangle::window(pl, w);
+                let s = sr.solid_angle();
+                if s.is_nan() || s < MIN_SOLID_ANGLE {
+                    // uniform over the window's area
+                    let q = DVec3::new(
+                        w[0] + u[0] * (w[2] - w[0]),
+                        w[1] + u[1] * (w[3] - w[1]),
+                        0.0,
+                    );
+                    let d2 = (q - pl).length_squared();
+                    let cos = -pl.z / d2.sqrt();
+                    (q, d2 / (cos * (w[2] - w[0]) * (w[3] - w[1])))
+                } else if let Some(cw) =
+                    self.cosine_weights(&sr, self.xf.inv_normal(r.n), technique)
+                {
+                    let uv = sample_bilinear(u, cw);
+                    (sr.sample(uv), bilinear_pdf(uv, cw) / s)
+                } else {
+                    (sr.sample(u), 1.0 / s)
+                }
+            }
             _ => {
                 let sr = self.spherical(pl);
                 let s = sr.solid_angle();
@@ -195,6 +257,25 @@ impl RectLight {
         let area_pdf = t * t / (wl.z * self.width * self.height);
         let pdf = match technique {
             RectTechnique::Area => area_pdf,
+            _ if self.tan_cut < f64::INFINITY => {
+                let Some(w) = self.window(pl) else {
+                    return 0.0;
+                };
+                if q.x < w[0] || q.x > w[2] || q.y < w[1] || q.y > w[3] {
+                    return 0.0;
+                }
+                let sr = SphericalRectangle::window(pl, w);
+                let s = sr.solid_angle();
+                if s.is_nan() || s < MIN_SOLID_ANGLE {
+                    t * t / (wl.z * (w[2] - w[0]) * (w[3] - w[1]))
+                } else if let Some(cw) =
+                    self.cosine_weights(&sr, self.xf.inv_normal(r.n), technique)
+                {
+                    bilinear_pdf(sr.invert(q), cw) / s
+                } else {
+                    1.0 / s
+                }
+            }
             _ => {
                 let sr = self.spherical(pl);
                 let s = sr.solid_angle();

@@ -4,7 +4,7 @@
 
 use crate::error::{SampleError, positive};
 use crate::transform::{LightTransform, finish_sample, finish_sample_dir, local_direction};
-use crate::warp::sample_uniform_sphere;
+use crate::warp::{sample_concentric_disk, sample_uniform_sphere};
 use crate::{LightSample, Reference, Strategy};
 use core::f64::consts::{PI, TAU};
 use glam::DVec3;
@@ -20,6 +20,16 @@ pub enum SphereTechnique {
     /// distant spheres keep full precision.
     #[default]
     Cone,
+    /// Cosine-weighted over the cap (Peters & Dachsbacher 2019, "Sampling projected spherical
+    /// caps in real time"): seen from a receiver with normal n, a cap wholly above its
+    /// horizon projects orthographically onto the tangent plane as an ellipse — centre
+    /// (cos α sin β, 0), semi-axes sin α cos β and sin α, β the angle between n and the
+    /// cap's axis — of area π sin²α cos β, the projected solid angle. A point uniform in it,
+    /// lifted to the hemisphere, has density cos θ/(π sin²α cos β): the cosine-weighted
+    /// irradiance estimator of a uniform sphere is then exact where it is unoccluded. Caps
+    /// cut by the horizon, receivers without a normal and non-uniformly scaled spheres use
+    /// `Cone`.
+    ProjectedCap,
 }
 
 /// A sphere light prepared for sampling (geometry in `f64`).
@@ -116,6 +126,42 @@ fn sample_cone(p: DVec3, d2: f64, rad: f64, inv_tau_r2: f64, u: [f64; 2]) -> Con
     }
 }
 
+/// The ellipse of [`SphereTechnique::ProjectedCap`] seen from the receiver normal `n` for the
+/// sphere of radius `rad` whose centre is at `v` from the receiver: its frame (t, b, n), centre
+/// abscissa, semi-axes and area; `None` unless the cap lies wholly above the horizon.
+#[inline]
+fn projected_cap(v: DVec3, d2: f64, rad: f64, n: DVec3) -> Option<(Frame, f64, f64, f64, f64)> {
+    let d = d2.sqrt();
+    let a = v / d;
+    let sin2 = rad * rad / d2;
+    let sin_a = sin2.sqrt();
+    let cos_a = (1.0 - sin2).max(0.0).sqrt();
+    let cos_b = n.dot(a);
+    if !(cos_b > sin_a && sin2 < 1.0) {
+        return None;
+    }
+    let tv = a - cos_b * n;
+    let sin_b = tv.length();
+    let frame = if sin_b > 1e-12 {
+        let t = tv / sin_b;
+        Frame {
+            t,
+            b: n.cross(t),
+            n,
+        }
+    } else {
+        Frame::from_normal(n)
+    };
+    let sin_b = sin_b.min(1.0);
+    Some((
+        frame,
+        cos_a * sin_b,
+        sin_a * cos_b,
+        sin_a,
+        PI * sin2 * cos_b,
+    ))
+}
+
 /// Nearest intersection parameter t ≥ 0 of the ray p + t·w (unit w) with the sphere |x| = r, as
 /// (t_near, t_far); `None` if missed.
 #[inline]
@@ -203,6 +249,41 @@ impl SphereLight {
         u: [f64; 2],
         technique: SphereTechnique,
     ) -> Option<LightSample> {
+        if technique == SphereTechnique::ProjectedCap
+            && let Some(ws) = &self.world
+            && r.n != DVec3::ZERO
+        {
+            let p = r.p - ws.centre;
+            let d2 = p.length_squared();
+            if d2 > ws.radius * ws.radius
+                && let Some((f, cx, ax, ay, area)) = projected_cap(-p, d2, ws.radius, r.n)
+            {
+                let e = sample_concentric_disk(u);
+                let (x, y) = (cx + ax * e.x, ay * e.y);
+                let z = (1.0 - x * x - y * y).max(0.0).sqrt();
+                let w = f.to_world(DVec3::new(x, y, z)).normalize();
+                // The nearest hit; on the silhouette (numerically just outside) the tangent point.
+                let t = hit(p, w, ws.radius).map_or(-p.dot(w), |(t0, _)| t0);
+                let q = p + t * w;
+                let pdf = z / area;
+                if !(t > 0.0 && pdf > 0.0 && pdf.is_finite()) {
+                    return None;
+                }
+                return Some(LightSample {
+                    point: ws.centre + q,
+                    normal: q * ws.inv_radius,
+                    wi: w,
+                    distance: t,
+                    pdf,
+                    delta: false,
+                });
+            }
+        }
+        let technique = if technique == SphereTechnique::ProjectedCap {
+            SphereTechnique::Cone
+        } else {
+            technique
+        };
         if technique == SphereTechnique::Cone
             && let Some(ws) = &self.world
         {
@@ -251,6 +332,21 @@ impl SphereLight {
 
     #[inline]
     fn pdf_by(&self, r: &Reference, wi: DVec3, technique: SphereTechnique) -> f64 {
+        if technique == SphereTechnique::ProjectedCap
+            && let Some(ws) = &self.world
+            && r.n != DVec3::ZERO
+        {
+            let p = r.p - ws.centre;
+            let d2 = p.length_squared();
+            if d2 > ws.radius * ws.radius
+                && let Some((_, _, _, _, area)) = projected_cap(-p, d2, ws.radius, r.n)
+            {
+                return match hit(p, wi, ws.radius) {
+                    Some((t0, _)) if t0 >= 0.0 => r.n.dot(wi).max(0.0) / area,
+                    _ => 0.0,
+                };
+            }
+        }
         let pl = self.xf.inv_point(r.p);
         let Some((wl, jac)) = local_direction(&self.xf, wi) else {
             return 0.0;

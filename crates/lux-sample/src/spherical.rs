@@ -119,6 +119,19 @@ impl SphericalRectangle {
         Self::from_local(o, DVec3::X, DVec3::Y, z, c, z0)
     }
 
+    /// The axis-aligned rectangle \[x0, x1\] × \[y0, y1\] in the plane z = 0 seen from `o`:
+    /// [`Self::centred`] for a window of a RectLight (x0 < x1, y0 < y1).
+    #[inline]
+    pub fn window(o: DVec3, [x0, y0, x1, y1]: [f64; 4]) -> Self {
+        let (z, z0) = if o.z < 0.0 {
+            (DVec3::NEG_Z, o.z)
+        } else {
+            (DVec3::Z, -o.z)
+        };
+        let c = [x0 - o.x, y0 - o.y, x1 - o.x, y1 - o.y];
+        Self::from_local(o, DVec3::X, DVec3::Y, z, c, z0)
+    }
+
     /// The set-up from the rectangle's coordinates `[x0, y0, x1, y1]` and z0 ≤ 0 in the frame
     /// (x̂, ŷ, ẑ) centred at `o`.
     #[inline(always)]

@@ -264,6 +264,69 @@ fn sphere_all_techniques() {
     }
 }
 
+/// The cosine-weighted projected-cap technique from receivers with a normal: wholly above the
+/// horizon (the ellipse), cut by it and without a normal (the cone fallback), near and far,
+/// for a sphere in world space and under a uniform scale and rotation.
+#[test]
+fn sphere_projected_cap() {
+    for (rad, m) in [
+        (0.5, DMat4::IDENTITY),
+        (
+            0.4,
+            DMat4::from_scale_rotation_translation(
+                DVec3::splat(1.7),
+                glam::DQuat::from_euler(glam::EulerRot::XYZ, 0.4, -1.1, 2.3),
+                DVec3::new(0.3, -0.2, 0.5),
+            ),
+        ),
+    ] {
+        let light =
+            Light::Sphere(SphereLight::new(rad, xf(m), SphereTechnique::ProjectedCap).unwrap());
+        let s = 1.7f64.max(1.0) * rad;
+        for (name, pl, n) in [
+            ("above, facing", DVec3::new(0.0, 0.0, -3.0 * rad), DVec3::Z),
+            (
+                "above, tilted",
+                DVec3::new(0.5, 0.2, -2.5) * rad,
+                DVec3::new(0.4, -0.2, 1.0),
+            ),
+            (
+                "near",
+                DVec3::new(0.0, 0.0, -1.1 * rad),
+                DVec3::new(0.1, 0.0, 1.0),
+            ),
+            (
+                "cut by the horizon",
+                DVec3::new(2.0, 0.0, -0.3) * rad,
+                DVec3::Z,
+            ),
+            ("no normal", DVec3::new(0.3, 0.1, -2.0) * rad, DVec3::ZERO),
+        ] {
+            let p = xf(m).point(pl);
+            let nw = if n == DVec3::ZERO {
+                n
+            } else {
+                xf(m).vector(n).normalize()
+            };
+            let r = if n == DVec3::ZERO {
+                Reference::point(p)
+            } else {
+                Reference::surface(p, nw)
+            };
+            let cap = Cap::around(r.p, xf(m).point(DVec3::ZERO), 2.5 * s, 40, 80);
+            let e = pick(true, &cap, &r, &light, &sphere_surface(rad, xf(m), r.p));
+            check_light(
+                &format!("sphere projected cap {name} {m:?}"),
+                &light,
+                &r,
+                cap,
+                N / 4,
+                &e,
+            );
+        }
+    }
+}
+
 /// A tiny, very distant sphere (small-angle regime, α ≈ 1e-4 rad) is still sampled correctly.
 #[test]
 fn sphere_small_angle() {
