@@ -57,6 +57,7 @@ fn light_sample_vs_shadow_ray(c: &mut Criterion) {
     let set = LightSet::new(
         &scene,
         LightOptions {
+            cone_clipping: true,
             profile: Profile::HdEmbree,
             selection: LightSelection::All,
             strict: false,

@@ -52,6 +52,7 @@ fn main() -> ExitCode {
                     profile: None,
                     sampling: cli::render::SamplingArg::Lux,
                     light_selection: cli::render::SelectionArg::Auto,
+                    light_samples: 1,
                     threads: None,
                     seed: 0,
                     output: PathBuf::from("lux-demo.exr"),

@@ -27,6 +27,7 @@ fn lights(scene: &Scene) -> LightSet {
     LightSet::new(
         scene,
         LightOptions {
+            cone_clipping: true,
             profile: Profile::Spec,
             selection: LightSelection::All,
             strict: false,
@@ -419,6 +420,7 @@ fn spectral_reflectance_sets_the_albedo() {
 #[test]
 fn bad_spectra_are_warnings_naming_the_prim_and_errors_when_strict() {
     let options = |strict| LightOptions {
+        cone_clipping: true,
         profile: Profile::Spec,
         selection: LightSelection::All,
         strict,

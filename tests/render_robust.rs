@@ -140,6 +140,7 @@ fn textured_rect(profile: Profile) -> lux::render::light::Light {
     let set = LightSet::new(
         &s,
         LightOptions {
+            cone_clipping: true,
             profile,
             selection: LightSelection::All,
             strict: false,

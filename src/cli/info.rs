@@ -75,6 +75,7 @@ pub fn report_json(
         .iter()
         .map(|&p| {
             let opts = LightOptions {
+                cone_clipping: true,
                 profile: p,
                 selection: LightSelection::All,
                 strict: false,

@@ -73,6 +73,10 @@ pub struct RenderArgs {
     /// Light selection strategy.
     #[arg(long, value_enum, default_value_t = SelectionArg::Auto)]
     pub light_selection: SelectionArg,
+    /// Light samples per light (or per light choice) at each shading point, 1 to 64: more
+    /// shadow rays per camera ray, for penumbrae.
+    #[arg(long, default_value_t = 1)]
+    pub light_samples: u32,
     /// Worker threads (default: all cores). The image does not depend on it.
     #[arg(long)]
     pub threads: Option<usize>,
@@ -184,6 +188,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     options.camera = Some(camera.path.clone());
     options.strict = args.strict;
     options.seed = args.seed;
+    options.light_samples = args.light_samples;
     options.sampling = match args.sampling {
         SamplingArg::Lux => SamplingMode::Lux,
         SamplingArg::Reference => SamplingMode::Reference,

@@ -38,6 +38,7 @@ impl<'s> Renderer<'s> {
                 profile: options.profile.profile,
                 selection: options.selection,
                 strict: options.strict,
+                cone_clipping: options.cone_clipping,
             },
         )?;
         let materials = Materials::with_policy(scene, options.strict)?;
@@ -105,7 +106,11 @@ impl<'s> Renderer<'s> {
             lights: &self.lights,
             materials: &self.materials,
         };
-        Integrator::Direct(DirectIntegrator::new(world, self.options.sampling))
+        Integrator::Direct(DirectIntegrator::new(
+            world,
+            self.options.sampling,
+            self.options.light_samples,
+        ))
     }
 
     /// Renders the image. `progress` is called (from worker threads) with the number of

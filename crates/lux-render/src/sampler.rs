@@ -120,7 +120,9 @@ fn permute(mut i: u32, n: u32, p: u32) -> u32 {
             break;
         }
     }
-    i.wrapping_add(p) % n
+    let j = i.wrapping_add(p);
+    // (a power of two, the usual sample count: a mask, not a division)
+    if n.is_power_of_two() { j & w } else { j % n }
 }
 
 /// Unit fraction of a 32-bit integer, in \[0, 1).
@@ -147,6 +149,19 @@ impl SampleStream {
             key,
             sample,
             spp: spp.max(1),
+        }
+    }
+
+    /// Sub-sample `j` of `k` of this sample: the stream of sample `sample·k + j` among
+    /// `spp·k`, so that the `k` sub-samples of every sample of the pixel together take the
+    /// first `spp·k` points of each dimension's net (`k` light samples per camera sample stay
+    /// stratified over the pixel). `k = 1` is this stream.
+    #[inline]
+    pub fn split(&self, j: u32, k: u32) -> SampleStream {
+        SampleStream {
+            key: self.key,
+            sample: self.sample * k + j,
+            spp: self.spp * k,
         }
     }
 

@@ -19,6 +19,9 @@ pub const MAX_RESOLUTION: u32 = 65_536;
 /// Largest sample count per pixel accepted.
 pub const MAX_SPP: u32 = 1 << 20;
 
+/// Largest number of light samples per shading point ([`RenderOptions::light_samples`]).
+pub const MAX_LIGHT_SAMPLES: u32 = 64;
+
 /// Which sampling techniques the renderer uses.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum SamplingMode {
@@ -49,6 +52,12 @@ pub struct RenderOptions {
     pub sampling: SamplingMode,
     /// Light selection strategy.
     pub selection: LightSelection,
+    /// Light samples per light (or per light choice) at each shading point (1 to
+    /// [`MAX_LIGHT_SAMPLES`]), stratified over the pixel with the camera samples.
+    pub light_samples: u32,
+    /// Sample shaped rect and cylinder lights only where their emission cone reaches the
+    /// receiver (default); `false` for A/B measurements ([`crate::light::LightOptions`]).
+    pub cone_clipping: bool,
     /// Seed of every random number.
     pub seed: u64,
     /// An IES profile or texture that does not resolve or cannot be read is an error instead
@@ -67,6 +76,8 @@ impl RenderOptions {
             profile,
             sampling: SamplingMode::Lux,
             selection: LightSelection::Auto,
+            light_samples: 1,
+            cone_clipping: true,
             seed: 0,
             strict: false,
         }
@@ -88,6 +99,12 @@ pub struct Resolved {
 /// resolution, pixel aspect ratio and data window (product, then settings), and the crop.
 /// Invalid sample counts, resolutions, crops and cameras are errors naming the value.
 pub fn resolve(scene: &Scene, options: &RenderOptions) -> Result<Resolved, RenderError> {
+    if options.light_samples == 0 || options.light_samples > MAX_LIGHT_SAMPLES {
+        return Err(RenderError::Settings(format!(
+            "light samples {}: expected 1 to {MAX_LIGHT_SAMPLES}",
+            options.light_samples
+        )));
+    }
     if options.spp == 0 || options.spp > MAX_SPP {
         return Err(RenderError::Settings(format!(
             "samples per pixel {}: expected 1 to {MAX_SPP}",

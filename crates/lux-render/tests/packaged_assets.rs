@@ -63,6 +63,7 @@ fn packaged_assets_render_like_loose_files() {
     w.finish().unwrap();
 
     let opts = LightOptions {
+        cone_clipping: true,
         profile: Profile::Spec,
         selection: LightSelection::All,
         strict: false,

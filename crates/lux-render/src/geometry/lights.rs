@@ -310,6 +310,7 @@ mod tests {
                 .push(lux_usd::Light::with_defaults(format!("/L{i}"), shape, m));
         }
         let options = LightOptions {
+            cone_clipping: true,
             profile: Profile::Spec,
             selection: LightSelection::All,
             strict: false,

@@ -262,16 +262,46 @@ impl Geometry {
         tmin: f64,
         tmax: f64,
     ) -> Option<Hit> {
+        self.intersect_with(scene, origin, dir, tmin, tmax, true)
+    }
+
+    /// [`Geometry::intersect`] without back-face culling: the closest triangle from either
+    /// side, as a shadow ray sees it. The direct integrator's BSDF rays use it, so that a
+    /// light they reach is one a shadow ray would reach too (else a single-sided occluder seen
+    /// from behind would shadow light samples but not BSDF samples, and MIS would be biased).
+    pub fn intersect_any_side(
+        &self,
+        scene: &Scene,
+        origin: DVec3,
+        dir: DVec3,
+        tmin: f64,
+        tmax: f64,
+    ) -> Option<Hit> {
+        self.intersect_with(scene, origin, dir, tmin, tmax, false)
+    }
+
+    fn intersect_with(
+        &self,
+        scene: &Scene,
+        origin: DVec3,
+        dir: DVec3,
+        tmin: f64,
+        tmax: f64,
+        cull: bool,
+    ) -> Option<Hit> {
         let ray = Self::ray(origin, dir, tmin, tmax)?;
         if let Some(inst) = &self.instances {
-            return self.intersect_instanced(inst, scene, ray, origin, dir);
+            return self.intersect_instanced(inst, scene, ray, origin, dir, cull);
         }
         // Without instances, the world BVH alone (the code path of a scene without instancing).
         let world = self.world.as_ref()?;
         let mut hit = RayHit::none();
-        world
-            .closest(ray, &mut hit)
-            .then(|| Self::world_hit(world, scene, hit, origin, dir))
+        let found = if cull {
+            world.closest(ray, &mut hit)
+        } else {
+            world.nearest(ray, &mut hit)
+        };
+        found.then(|| Self::world_hit(world, scene, hit, origin, dir))
     }
 
     /// [`Geometry::intersect`] with instances: the world BVH, then the instances up to the
@@ -284,14 +314,21 @@ impl Geometry {
         ray: Ray,
         origin: DVec3,
         dir: DVec3,
+        cull: bool,
     ) -> Option<Hit> {
         let mut hit = RayHit::none();
-        let world = self.world.as_ref().filter(|w| w.closest(ray, &mut hit));
+        let world = self.world.as_ref().filter(|w| {
+            if cull {
+                w.closest(ray, &mut hit)
+            } else {
+                w.nearest(ray, &mut hit)
+            }
+        });
         let mut r = ray;
         if world.is_some() {
             r.tmax = hit.t;
         }
-        match inst.closest(origin, dir, r, true) {
+        match inst.closest(origin, dir, r, cull) {
             Some(h) => Some(inst.hit(scene, h, origin, dir)),
             None => world.map(|w| Self::world_hit(w, scene, hit, origin, dir)),
         }

@@ -37,11 +37,14 @@ pub struct DirectIntegrator<'a> {
     mis: bool,
     /// One light per shading point by the light set's selector (off: every light).
     select: bool,
+    /// Light samples per light (or per light choice) at each shading point.
+    light_samples: u32,
 }
 
 impl<'a> DirectIntegrator<'a> {
-    /// The estimator of `mode` over `world`.
-    pub fn new(world: World<'a>, mode: SamplingMode) -> DirectIntegrator<'a> {
+    /// The estimator of `mode` over `world`, with `light_samples` (≥ 1) light samples per
+    /// light or light choice.
+    pub fn new(world: World<'a>, mode: SamplingMode, light_samples: u32) -> DirectIntegrator<'a> {
         let lux = mode == SamplingMode::Lux;
         DirectIntegrator {
             world,
@@ -52,6 +55,7 @@ impl<'a> DirectIntegrator<'a> {
             },
             mis: lux,
             select: lux,
+            light_samples: light_samples.max(1),
         }
     }
 
@@ -112,19 +116,31 @@ impl<'a> DirectIntegrator<'a> {
             None
         };
         let mut out = DVec3::ZERO;
-        // Light sampling.
-        let mut sample_light = |li: usize, pmf: f64, u: [f64; 2], c: &mut Counters| {
+        // Light sampling alone (every light sampled, lux sampling, a Lambertian BSDF) for the
+        // rect, disk and sphere lights of uniform radiance: their samplers follow the
+        // cosine-weighted solid angle (the sphere's projected cap exactly, the rect's bilinear
+        // cosine warp closely), so a BSDF sample would only add noise. Bit i of `light_only`
+        // marks light i estimated this way.
+        let lambertian = self.mis && selector.is_none() && sp.bsdf.lambertian().is_some();
+        let mut light_only: u64 = 0;
+        // k light samples per light (or light choice), each weighted 1/k: the light
+        // technique's density is k·pdf in the MIS weights.
+        let k = self.light_samples;
+        let kf = k as f64;
+        // Light sampling: the contribution of light `li` chosen with probability `pmf`
+        // (times k), with MIS against BSDF sampling unless `alone`.
+        let sample_light = |li: usize, pmf: f64, u: [f64; 2], alone: bool, c: &mut Counters| {
             let l = &lights[li];
             let Some(ls) = l.sample_li(&r, u, self.strategy) else {
-                return;
+                return DVec3::ZERO;
             };
             c.light_samples += 1;
             let cos = sp.ns.dot(ls.wi);
             if cos <= 0.0 || sp.ng.dot(ls.wi) <= 0.0 || ls.pdf.is_nan() || ls.pdf <= 0.0 {
-                return;
+                return DVec3::ZERO;
             }
             if ls.l == DVec3::ZERO {
-                return;
+                return DVec3::ZERO;
             }
             let tmax = if ls.dist.is_finite() {
                 ls.dist - offset_scale(ls.point)
@@ -132,48 +148,59 @@ impl<'a> DirectIntegrator<'a> {
                 f64::INFINITY
             };
             if tmax <= 0.0 {
-                return;
+                return DVec3::ZERO;
             }
             let base = l.base();
             let Some(vis) = visibility(w.geometry, base, origin, ls.wi, tmax, c) else {
-                return;
+                return DVec3::ZERO;
             };
             let pdf = pmf * ls.pdf;
-            let weight = if ls.delta || !self.mis || !base.plain_shadows() {
+            let weight = if alone || ls.delta || !self.mis || !base.plain_shadows() {
                 1.0
             } else {
                 power_heuristic(pdf, sp.bsdf.pdf(ls.wi))
             };
             let contrib = sp.bsdf.f(ls.wi) * ls.l * vis * (base.diffuse * cos * weight / pdf);
             if contrib.is_finite() {
-                out += contrib;
+                contrib
+            } else {
+                DVec3::ZERO
             }
         };
         match selector {
             None => {
-                for li in 0..n {
-                    let u = st.get2(Dim::Light {
-                        bounce: 0,
-                        index: li as u32,
-                    });
-                    sample_light(li, 1.0, u, c);
+                for (li, light) in lights.iter().enumerate() {
+                    let alone = lambertian && li < 64 && light.uniform_area();
+                    if alone {
+                        light_only |= 1 << li;
+                    }
+                    for j in 0..k {
+                        let u = st.split(j, k).get2(Dim::Light {
+                            bounce: 0,
+                            index: li as u32,
+                        });
+                        out += sample_light(li, kf, u, alone, c);
+                    }
                 }
             }
             Some(sel) => {
-                if let Some((li, pmf)) = sel.sample(&r, st.get1(Dim::LightChoice { bounce: 0 }))
-                    && pmf > 0.0
-                {
-                    sample_light(
-                        li,
-                        pmf,
-                        st.get2(Dim::Light {
+                for j in 0..k {
+                    let sj = st.split(j, k);
+                    if let Some((li, pmf)) = sel.sample(&r, sj.get1(Dim::LightChoice { bounce: 0 }))
+                        && pmf > 0.0
+                    {
+                        let u = sj.get2(Dim::Light {
                             bounce: 0,
                             index: 0,
-                        }),
-                        c,
-                    );
+                        });
+                        out += sample_light(li, pmf * kf, u, false, c);
+                    }
                 }
             }
+        }
+        // Every light estimated by light sampling alone: no BSDF ray.
+        if n < 64 && light_only == (1u64 << n) - 1 {
+            return out;
         }
         if !self.mis {
             return out;
@@ -186,11 +213,12 @@ impl<'a> DirectIntegrator<'a> {
         if sp.ng.dot(wi) <= 0.0 {
             return out;
         }
-        let pmf = |li: usize| selector.map_or(1.0, |s| s.pmf(&r, li));
+        let pmf = |li: usize| kf * selector.map_or(1.0, |s| s.pmf(&r, li));
         c.rays += 1;
+        // Either side blocks, as for shadow rays.
         let hit = w
             .geometry
-            .intersect(w.scene, origin, wi, 0.0, f64::INFINITY);
+            .intersect_any_side(w.scene, origin, wi, 0.0, f64::INFINITY);
         let t_geo = hit.map_or(f64::INFINITY, |h| h.t);
         let mut add = |l: &Light, le: DVec3, pdf_l: f64| {
             let base = l.base();
@@ -204,7 +232,7 @@ impl<'a> DirectIntegrator<'a> {
         };
         w.geometry
             .lights_crossed(lights, origin, wi, 0.0, t_geo, |li, h| {
-                if h.front {
+                if h.front && (li >= 64 || light_only & (1 << li) == 0) {
                     let l = &lights[li];
                     add(l, l.le(h.local, -wi, Seen::Lit), pmf(li) * l.pdf_li(&r, wi));
                 }

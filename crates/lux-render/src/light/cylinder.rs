@@ -18,14 +18,26 @@ pub struct CylinderLight {
 impl CylinderLight {
     /// A cylinder of `radius` and `length` sampled by solid angle (lux) or by area (hdEmbree);
     /// `Err` names what lux-sample refused.
-    pub(super) fn new(base: LightBase, radius: f64, length: f64) -> Result<CylinderLight, String> {
+    pub(super) fn new(
+        base: LightBase,
+        radius: f64,
+        length: f64,
+        cone_clipping: bool,
+    ) -> Result<CylinderLight, String> {
+        let cut = if cone_clipping {
+            base.shaping.emission_half_angle()
+        } else {
+            std::f64::consts::PI
+        };
         let sampler = lux_sample::CylinderLight::new(
             radius,
             length,
             base.xf,
             lux_sample::CylinderTechnique::SolidAngle,
         )
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| e.to_string())?
+        // only the stretch of each line inside the shaping's emission cone
+        .with_emission_cone(cut);
         Ok(CylinderLight {
             base,
             radius,
@@ -65,6 +77,12 @@ impl CylinderLight {
     #[inline]
     pub fn le_escape(&self, _wi: DVec3) -> DVec3 {
         DVec3::ZERO
+    }
+
+    /// See [`super::Light::uniform_area`]: not one of its kinds.
+    #[inline]
+    pub fn uniform_area(&self) -> bool {
+        false
     }
 
     /// See [`super::Light::intersect`]: the first root of `y² + z² = r²` within the length.

@@ -60,6 +60,12 @@ impl DiskLight {
         DVec3::ZERO
     }
 
+    /// See [`super::Light::uniform_area`].
+    #[inline]
+    pub fn uniform_area(&self) -> bool {
+        self.base.shaping.is_identity()
+    }
+
     /// See [`super::Light::intersect`]: the plane z = 0 within the radius.
     #[inline]
     pub fn intersect(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<LightHit> {

@@ -59,6 +59,12 @@ impl DistantLight {
         self.emitted(-wi)
     }
 
+    /// See [`super::Light::uniform_area`]: not one of its kinds.
+    #[inline]
+    pub fn uniform_area(&self) -> bool {
+        false
+    }
+
     /// At infinity: no surface point emits.
     #[inline]
     pub fn le(&self, _local: DVec3, _emit: DVec3, _seen: Seen) -> DVec3 {

@@ -89,10 +89,15 @@ impl<'s> Loader<'s> {
         let tex = texture.as_ref().map(|t| t.tex.clone());
         let base = LightBase::new(&l.path, xf, shaping, l.shadow.clone());
         let mut light = match &l.shape {
-            LightShape::Rect { width, height } => {
-                RectLight::new(base, *width, *height, texture, profile == Profile::HdEmbree)
-                    .map(Light::Rect)
-            }
+            LightShape::Rect { width, height } => RectLight::new(
+                base,
+                *width,
+                *height,
+                texture,
+                profile == Profile::HdEmbree,
+                self.options.cone_clipping,
+            )
+            .map(Light::Rect),
             LightShape::Disk { radius } => DiskLight::new(base, *radius).map(Light::Disk),
             LightShape::Sphere { radius } => {
                 SphereLight::new(base, *radius)
@@ -115,7 +120,8 @@ impl<'s> Loader<'s> {
                     })
             }
             LightShape::Cylinder { radius, length } => {
-                CylinderLight::new(base, *radius, *length).map(Light::Cylinder)
+                CylinderLight::new(base, *radius, *length, self.options.cone_clipping)
+                    .map(Light::Cylinder)
             }
             LightShape::Distant { angle_deg } => {
                 DistantLight::new(base, *angle_deg).map(Light::Distant)

@@ -80,6 +80,12 @@ impl MeshLight {
         DVec3::ZERO
     }
 
+    /// See [`super::Light::uniform_area`]: not one of its kinds.
+    #[inline]
+    pub fn uniform_area(&self) -> bool {
+        false
+    }
+
     /// No analytic surface: found by rays only through the scene's triangle BVH, as the mesh it emits from.
     #[inline]
     pub fn intersect(&self, _o: DVec3, _d: DVec3, _tmin: f64, _tmax: f64) -> Option<LightHit> {

@@ -328,6 +328,16 @@ impl Light {
         dispatch!(self, l => l.le(local, emit, seen))
     }
 
+    /// A rect, disk or sphere light of uniform radiance (no ShapingAPI, no texture): one whose
+    /// lux-sample technique follows the cosine-weighted solid angle it subtends, so that the
+    /// direct integrator estimates it by light sampling alone (its unshadowed irradiance, the
+    /// projected solid angle of [`lux_sample::projected`] times its radiance, is what those
+    /// samples average to).
+    #[inline]
+    pub fn uniform_area(&self) -> bool {
+        dispatch!(self, l => l.uniform_area())
+    }
+
     /// Radiance arriving along the world direction `wi` (receiver → light) from a light at
     /// infinity (the dome's texture, a distant light's cone); zero for finite lights.
     #[inline]

@@ -21,7 +21,8 @@ pub struct RectLight {
 }
 
 impl RectLight {
-    /// A `width × height` rect (both > 0) sampled by spherical rectangle (lux) or by area
+    /// A `width × height` rect (both > 0) sampled by spherical rectangle with the bilinear cosine
+    /// warp (lux; only inside the shaping's emission cone) or by area
     /// (hdEmbree); `Err` names what lux-sample refused.
     pub(super) fn new(
         base: LightBase,
@@ -29,14 +30,22 @@ impl RectLight {
         height: f64,
         texture: Option<LightTexture>,
         mirror_u: bool,
+        cone_clipping: bool,
     ) -> Result<RectLight, String> {
+        let cut = if cone_clipping {
+            base.shaping.emission_half_angle()
+        } else {
+            std::f64::consts::PI
+        };
         let sampler = lux_sample::RectLight::new(
             width,
             height,
             base.xf,
-            lux_sample::RectTechnique::SphericalRectangle,
+            lux_sample::RectTechnique::SphericalRectangleCosine,
         )
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| e.to_string())?
+        // only the part of the rect inside the shaping's emission cone
+        .with_emission_cone(cut);
         Ok(RectLight {
             base,
             half: [0.5 * width, 0.5 * height],
@@ -90,6 +99,12 @@ impl RectLight {
     #[inline]
     pub fn le_escape(&self, _wi: DVec3) -> DVec3 {
         DVec3::ZERO
+    }
+
+    /// See [`super::Light::uniform_area`].
+    #[inline]
+    pub fn uniform_area(&self) -> bool {
+        self.texture.is_none() && self.base.shaping.is_identity()
     }
 
     /// See [`super::Light::intersect`]: the plane z = 0 within the half extents.

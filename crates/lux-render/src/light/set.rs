@@ -38,6 +38,10 @@ pub struct LightOptions {
     /// (`true`) or a warning, the light emitting without it (`false`, usd-core's and Hydra's
     /// behaviour).
     pub strict: bool,
+    /// Sample shaped rect and cylinder lights only where their emission cone reaches the
+    /// receiver (`with_emission_cone` of lux-sample); `false` samples the whole light, for
+    /// A/B measurements of the clipping. Images agree in expectation either way.
+    pub cone_clipping: bool,
 }
 
 /// Every light of a scene, prepared, with the selection strategy.

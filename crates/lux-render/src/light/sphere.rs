@@ -15,12 +15,16 @@ pub struct SphereLight {
 }
 
 impl SphereLight {
-    /// A sphere of `radius` sampled by its cone of directions (lux) or by area (hdEmbree);
+    /// A sphere of `radius` sampled by its cosine-weighted projected cap (lux; its cone of
+    /// directions where the horizon cuts it) or by area (hdEmbree);
     /// `Err` names what lux-sample refused (a radius of 0 included).
     pub(super) fn new(base: LightBase, radius: f64) -> Result<SphereLight, String> {
-        let sampler =
-            lux_sample::SphereLight::new(radius, base.xf, lux_sample::SphereTechnique::Cone)
-                .map_err(|e| e.to_string())?;
+        let sampler = lux_sample::SphereLight::new(
+            radius,
+            base.xf,
+            lux_sample::SphereTechnique::ProjectedCap,
+        )
+        .map_err(|e| e.to_string())?;
         Ok(SphereLight {
             base,
             radius,
@@ -59,6 +63,12 @@ impl SphereLight {
     #[inline]
     pub fn le_escape(&self, _wi: DVec3) -> DVec3 {
         DVec3::ZERO
+    }
+
+    /// See [`super::Light::uniform_area`].
+    #[inline]
+    pub fn uniform_area(&self) -> bool {
+        self.base.shaping.is_identity()
     }
 
     /// See [`super::Light::intersect`]: the nearer root of `|o + t·d|² = r²` in range.

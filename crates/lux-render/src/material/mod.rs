@@ -60,6 +60,16 @@ impl Bsdf {
         }
     }
 
+    /// `ρ/π` when `f` is that constant over the upper hemisphere (a Lambertian BSDF), so that
+    /// the reflected radiance of an irradiance `E` is `E·ρ/π`: what lets the direct integrator
+    /// estimate cosine-following light samples alone ([`crate::light::Light::uniform_area`]).
+    #[inline]
+    pub fn lambertian(&self) -> Option<DVec3> {
+        match self {
+            Bsdf::Diffuse(b) => Some(b.albedo * std::f64::consts::FRAC_1_PI),
+        }
+    }
+
     /// `f(wi)` for the unit world direction `wi` (towards the light), the viewer given.
     #[inline]
     pub fn f(&self, wi: DVec3) -> DVec3 {
