@@ -53,6 +53,7 @@ fn main() -> ExitCode {
                     sampling: cli::render::SamplingArg::Lux,
                     light_selection: cli::render::SelectionArg::Auto,
                     light_samples: 1,
+                    penumbra_samples: 1,
                     threads: None,
                     seed: 0,
                     output: PathBuf::from("lux-demo.exr"),

@@ -17,6 +17,13 @@ use std::time::Instant;
 /// Tile side in pixels.
 pub const TILE: u32 = 16;
 
+/// Light samples per light of a pixel's penumbra pilot, one camera sample
+/// ([`Film::penumbra_samples`]).
+const PILOT_LIGHT_SAMPLES: u32 = 4;
+
+/// Samples per pixel from which the penumbra pilot runs (below, its cost would outweigh it).
+const PILOT_MIN_SPP: u32 = 8;
+
 /// Counters of a finished render.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RenderStats {
@@ -48,6 +55,8 @@ pub struct Counters {
     pub light_samples: u64,
     /// Non-finite camera samples.
     pub non_finite: u64,
+    /// Shadow rays that found an occluder (what the penumbra pass looks at).
+    pub blocked: u64,
 }
 
 /// The image being rendered: its size, the pixels to render, samples and seed.
@@ -67,6 +76,9 @@ pub struct Film {
     /// The camera's linear exposure scale applied to every sample (UsdGeomCamera
     /// `ComputeLinearExposureScale`; ×1 is exact).
     pub exposure_scale: f64,
+    /// Light samples per light in penumbrae ([`crate::settings::RenderOptions::penumbra_samples`];
+    /// 1: no penumbra pass).
+    pub penumbra_samples: u32,
 }
 
 impl Film {
@@ -158,9 +170,33 @@ impl Film {
     ) -> DVec4 {
         let spp = self.spp;
         let index = y as u64 * self.width as u64 + x as u64;
+        // Penumbrae: before the pixel's samples (at least PILOT_MIN_SPP), a pilot camera
+        // sample with PILOT_LIGHT_SAMPLES light samples per light, drawn from points of its
+        // own and not part of the estimate, looks at the pixel's shadow rays; if some were
+        // blocked, every sample of the pixel takes `penumbra_samples` light samples per light.
+        // The choice depends on the pilot's random numbers only, so each sample stays an
+        // unbiased estimate, and the pixel's light points stay one stratified set.
+        let mut factor = 1;
+        if self.penumbra_samples > 1 && spp >= PILOT_MIN_SPP {
+            let (shadow0, blocked0) = (c.shadow, c.blocked);
+            let st = SampleStream::new(self.seed ^ 0x1319_8A2E_0370_7344, index, 0, 1).light_pass(
+                0,
+                1,
+                PILOT_LIGHT_SAMPLES,
+            );
+            let j = st.get2(Dim::Camera);
+            let (o, d, tmin, tmax) = camera.ray(x as f64 + j[0], y as f64 + j[1]);
+            integrator.li(&CameraRay { o, d, tmin, tmax }, &st, c);
+            if c.blocked > blocked0 && c.shadow > shadow0 {
+                factor = self.penumbra_samples;
+            }
+        }
         let mut sum = DVec4::ZERO;
         for s in 0..spp {
-            let st = SampleStream::new(self.seed, index, s, spp);
+            let mut st = SampleStream::new(self.seed, index, s, spp);
+            if factor > 1 {
+                st = st.light_pass(s, spp, factor);
+            }
             let j = st.get2(Dim::Camera);
             let (o, d, tmin, tmax) = camera.ray(x as f64 + j[0], y as f64 + j[1]);
             let (rgb, a) = integrator.li(&CameraRay { o, d, tmin, tmax }, &st, c);

@@ -50,6 +50,7 @@ impl<'s> Renderer<'s> {
             spp: options.spp,
             seed: options.seed,
             exposure_scale: resolved.exposure_scale,
+            penumbra_samples: options.penumbra_samples,
         };
         Ok(Renderer {
             scene,

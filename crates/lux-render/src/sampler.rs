@@ -137,6 +137,14 @@ pub struct SampleStream {
     key: u64,
     sample: u32,
     spp: u32,
+    /// The key, sample index and count of the light dimensions ([`Dim::LightChoice`],
+    /// [`Dim::Light`]): the camera sample's own unless [`SampleStream::light_pass`] gave them
+    /// a pass of their own.
+    light_key: u64,
+    light_sample: u32,
+    light_spp: u32,
+    /// Light samples per light this camera sample takes (a factor on the integrator's).
+    light_factor: u32,
 }
 
 impl SampleStream {
@@ -145,11 +153,37 @@ impl SampleStream {
     pub fn new(seed: u64, pixel: u64, sample: u32, spp: u32) -> SampleStream {
         let key =
             mix64(mix64(seed ^ 0x6A09_E667_F3BC_C909) ^ pixel.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+        let spp = spp.max(1);
         SampleStream {
             key,
             sample,
-            spp: spp.max(1),
+            spp,
+            light_key: key,
+            light_sample: sample,
+            light_spp: spp,
+            light_factor: 1,
         }
+    }
+
+    /// This camera sample with light dimensions of their own: sample `sample` of `spp` of a
+    /// second, independently scrambled set of light points, taking `factor` light samples per
+    /// light. The film's penumbra pass uses it so that its light points are independent of
+    /// the pilot samples that chose `factor`.
+    #[inline]
+    pub fn light_pass(&self, sample: u32, spp: u32, factor: u32) -> SampleStream {
+        SampleStream {
+            light_key: mix64(self.key ^ 0x243F_6A88_85A3_08D3),
+            light_sample: sample,
+            light_spp: spp.max(1),
+            light_factor: factor.max(1),
+            ..*self
+        }
+    }
+
+    /// Light samples per light this camera sample takes, as a factor on the integrator's.
+    #[inline]
+    pub fn light_factor(&self) -> u32 {
+        self.light_factor
     }
 
     /// Sub-sample `j` of `k` of this sample: the stream of sample `sample·k + j` among
@@ -159,16 +193,16 @@ impl SampleStream {
     #[inline]
     pub fn split(&self, j: u32, k: u32) -> SampleStream {
         SampleStream {
-            key: self.key,
-            sample: self.sample * k + j,
-            spp: self.spp * k,
+            light_sample: self.light_sample * k + j,
+            light_spp: self.light_spp * k,
+            ..*self
         }
     }
 
-    /// The permutation seed and the two scrambling seeds of dimension (pair) `dim`.
+    /// The permutation seed and the two scrambling seeds of dimension (pair) `dim` under `key`.
     #[inline(always)]
-    fn hashes(&self, dim: u32) -> (u32, u32, u32) {
-        let h = mix64(self.key ^ (dim as u64 + 1).wrapping_mul(0xD6E8_FEB8_6659_FD93));
+    fn hashes(key: u64, dim: u32) -> (u32, u32, u32) {
+        let h = mix64(key ^ (dim as u64 + 1).wrapping_mul(0xD6E8_FEB8_6659_FD93));
         let (lo, hi) = (h as u32, (h >> 32) as u32);
         (lo, hi, hash32(lo ^ hi.rotate_left(16) ^ 0x5BD1_E995))
     }
@@ -177,30 +211,50 @@ impl SampleStream {
     /// coordinates uniform in \[0, 1), stratified across the pixel's samples.
     #[inline]
     pub fn u2(&self, dim: u32) -> [f64; 2] {
-        let (p, s0, s1) = self.hashes(dim);
-        let i = permute(self.sample, self.spp, p);
-        [unit(owen(sobol0(i), s0)), unit(owen(sobol1(i), s1))]
+        point2(self.key, self.sample, self.spp, dim)
     }
 
     /// The 2D point of the named dimension `dim`.
     #[inline]
     pub fn get2(&self, dim: Dim) -> [f64; 2] {
-        self.u2(dim.id())
+        if dim.is_light() {
+            point2(self.light_key, self.light_sample, self.light_spp, dim.id())
+        } else {
+            self.u2(dim.id())
+        }
     }
 
     /// The 1D number of the named dimension `dim`.
     #[inline]
     pub fn get1(&self, dim: Dim) -> f64 {
-        self.u(dim.id())
+        if dim.is_light() {
+            point1(self.light_key, self.light_sample, self.light_spp, dim.id())
+        } else {
+            self.u(dim.id())
+        }
     }
 
     /// A 1D number of dimension `dim`, uniform in \[0, 1), stratified across the samples.
     #[inline]
     pub fn u(&self, dim: u32) -> f64 {
-        let (p, s0, _) = self.hashes(dim ^ 0x8000_0000);
-        let i = permute(self.sample, self.spp, p);
-        unit(owen(sobol0(i), s0))
+        point1(self.key, self.sample, self.spp, dim)
     }
+}
+
+/// Point `sample` of `spp` of the 2D dimension `dim` under `key`.
+#[inline(always)]
+fn point2(key: u64, sample: u32, spp: u32, dim: u32) -> [f64; 2] {
+    let (p, s0, s1) = SampleStream::hashes(key, dim);
+    let i = permute(sample, spp, p);
+    [unit(owen(sobol0(i), s0)), unit(owen(sobol1(i), s1))]
+}
+
+/// Point `sample` of `spp` of the 1D dimension `dim` under `key`.
+#[inline(always)]
+fn point1(key: u64, sample: u32, spp: u32, dim: u32) -> f64 {
+    let (p, s0, _) = SampleStream::hashes(key, dim ^ 0x8000_0000);
+    let i = permute(sample, spp, p);
+    unit(owen(sobol0(i), s0))
 }
 
 /// The named dimensions of a camera sample (see the module doc). Bounce 0 is the first
@@ -241,6 +295,13 @@ impl Dim {
     /// Largest bounce with its own names (7 bits above the 2²⁴ names of a bounce; the top bit
     /// of a name separates 1D from 2D streams).
     pub const MAX_BOUNCE: u32 = 127;
+
+    /// The light dimensions (light choice and light samples), which a penumbra pass draws
+    /// from points of their own ([`SampleStream::light_pass`]).
+    #[inline]
+    pub const fn is_light(self) -> bool {
+        matches!(self, Dim::LightChoice { .. } | Dim::Light { .. })
+    }
 
     /// The stream name of the dimension. Light indices wrap modulo 2²² (a scene with more
     /// lights samples one light per point, [`Dim::Light`] index 0).

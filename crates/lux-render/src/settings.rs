@@ -55,6 +55,10 @@ pub struct RenderOptions {
     /// Light samples per light (or per light choice) at each shading point (1 to
     /// [`MAX_LIGHT_SAMPLES`]), stratified over the pixel with the camera samples.
     pub light_samples: u32,
+    /// Light samples per light in penumbrae (1 to [`MAX_LIGHT_SAMPLES`]; 1 turns the pass
+    /// off): after a pilot of a quarter of a pixel's samples, a pixel whose shadow rays were
+    /// partly blocked takes this many light samples per light in its other samples.
+    pub penumbra_samples: u32,
     /// Sample shaped rect and cylinder lights only where their emission cone reaches the
     /// receiver (default); `false` for A/B measurements ([`crate::light::LightOptions`]).
     pub cone_clipping: bool,
@@ -77,6 +81,7 @@ impl RenderOptions {
             sampling: SamplingMode::Lux,
             selection: LightSelection::Auto,
             light_samples: 1,
+            penumbra_samples: 1,
             cone_clipping: true,
             seed: 0,
             strict: false,
@@ -103,6 +108,12 @@ pub fn resolve(scene: &Scene, options: &RenderOptions) -> Result<Resolved, Rende
         return Err(RenderError::Settings(format!(
             "light samples {}: expected 1 to {MAX_LIGHT_SAMPLES}",
             options.light_samples
+        )));
+    }
+    if options.penumbra_samples == 0 || options.penumbra_samples > MAX_LIGHT_SAMPLES {
+        return Err(RenderError::Settings(format!(
+            "penumbra samples {}: expected 1 to {MAX_LIGHT_SAMPLES}",
+            options.penumbra_samples
         )));
     }
     if options.spp == 0 || options.spp > MAX_SPP {

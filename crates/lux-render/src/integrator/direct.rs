@@ -125,7 +125,7 @@ impl<'a> DirectIntegrator<'a> {
         let mut light_only: u64 = 0;
         // k light samples per light (or light choice), each weighted 1/k: the light
         // technique's density is k·pdf in the MIS weights.
-        let k = self.light_samples;
+        let k = self.light_samples * st.light_factor();
         let kf = k as f64;
         // Light sampling: the contribution of light `li` chosen with probability `pmf`
         // (times k), with MIS against BSDF sampling unless `alone`.

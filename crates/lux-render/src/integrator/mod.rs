@@ -91,11 +91,14 @@ pub fn visibility(
     c.rays += 1;
     c.shadow += 1;
     if l.plain_shadows() {
-        return (!geometry.occluded(origin, dir, 0.0, tmax)).then_some(DVec3::ONE);
+        let blocked = geometry.occluded(origin, dir, 0.0, tmax);
+        c.blocked += blocked as u64;
+        return (!blocked).then_some(DVec3::ONE);
     }
     let Some(t) = geometry.first_occluder(origin, dir, 0.0, tmax) else {
         return Some(DVec3::ONE);
     };
+    c.blocked += 1;
     let sh = &l.shadow;
     let s = lux_math::shadow_strength(t, sh.distance, sh.falloff, sh.falloff_gamma);
     let m = lux_math::shadowed(s, sh.color);
