@@ -84,24 +84,19 @@ fn unoccluded_spheres_are_exact_at_a_few_samples() {
     );
 }
 
-#[test]
-fn occluded_lights_converge_to_the_exact_shadowed_irradiance() {
-    // A rect light partly hidden from the probed point by a small opaque square between them
-    // (beside the camera's view of the point):
-    // light sampling alone and MIS both converge to the exact value.
-    let rect = {
-        let mut l = Light::with_defaults(
-            "/Rect",
-            LightShape::Rect {
-                width: 1.0,
-                height: 0.6,
-            },
-            aimed(DVec3::new(0.2, 1.5, 0.0), DVec3::new(-0.1, -1.0, 0.05)),
-        );
-        l.params.intensity = 4.0;
-        l
-    };
-    let mut s = probe_scene(vec![rect], 0.0, 0.0);
+/// A 1 × 0.6 rect light above and beside the probed point, partly hidden from it by a small
+/// opaque square between them (beside the camera's view of the point).
+fn occluded_rect() -> Scene {
+    let mut l = Light::with_defaults(
+        "/Rect",
+        LightShape::Rect {
+            width: 1.0,
+            height: 0.6,
+        },
+        aimed(DVec3::new(0.2, 1.5, 0.0), DVec3::new(-0.1, -1.0, 0.05)),
+    );
+    l.params.intensity = 4.0;
+    let mut s = probe_scene(vec![l], 0.0, 0.0);
     s.meshes.push(Mesh::new(
         "/Blocker",
         vec![
@@ -112,6 +107,15 @@ fn occluded_lights_converge_to_the_exact_shadowed_irradiance() {
         ],
         vec![[0, 1, 2], [0, 2, 3]],
     ));
+    s
+}
+
+#[test]
+fn occluded_lights_converge_to_the_exact_shadowed_irradiance() {
+    // A rect light partly hidden from the probed point by a small opaque square between them
+    // (beside the camera's view of the point):
+    // light sampling alone and MIS both converge to the exact value.
+    let s = occluded_rect();
     let spp = 1 << 16;
     let alone = read(&s, spp, LightSelection::All, 1);
     let mis = read(&s, spp, LightSelection::Power, 2);
@@ -169,31 +173,11 @@ fn occluded_lights_converge_to_the_exact_shadowed_irradiance() {
 
 #[test]
 fn penumbra_pass_is_unbiased_and_quieter() {
-    // The occluded rect of the test above, probed in its penumbra: 64-spp estimates over 40
+    // The occluded rect, probed in its penumbra: 64-spp estimates over 40
     // seeds, without and with the penumbra pass (8 light samples where the pilot saw a
     // blocked shadow ray). Both means agree with the exact value within their noise; the
     // pass lowers the spread.
-    let m = aimed(DVec3::new(0.2, 1.5, 0.0), DVec3::new(-0.1, -1.0, 0.05));
-    let mut l = Light::with_defaults(
-        "/Rect",
-        LightShape::Rect {
-            width: 1.0,
-            height: 0.6,
-        },
-        m,
-    );
-    l.params.intensity = 4.0;
-    let mut s = probe_scene(vec![l], 0.0, 0.0);
-    s.meshes.push(Mesh::new(
-        "/Blocker",
-        vec![
-            DVec3::new(0.05, 0.7, -0.3),
-            DVec3::new(0.05, 0.7, 0.3),
-            DVec3::new(0.6, 0.7, 0.3),
-            DVec3::new(0.6, 0.7, -0.3),
-        ],
-        vec![[0, 1, 2], [0, 2, 3]],
-    ));
+    let s = occluded_rect();
     let exact = read(&s, 1 << 16, LightSelection::All, 1);
     let stats = |pen: u32| {
         let v: Vec<f64> = (0..40u64)

@@ -320,14 +320,7 @@ mod tests {
         // A sphere straddling the horizon: Snyder's closed form (1996) for the clipped cap.
         let (c, rad) = (DVec3::new(0.5, 0.2, 0.3), 0.45);
         let got = sphere(p, n, c, rad).unwrap();
-        let d = c - p;
-        let sin2 = rad * rad / d.length_squared();
-        let cos_t = n.dot(d.normalize());
-        let sin_t = (1.0 - cos_t * cos_t).sqrt();
-        let x = (1.0 / sin2 - 1.0).sqrt();
-        let y = -x * cos_t / sin_t;
-        let st_y = sin_t * (1.0 - y * y).sqrt();
-        let want = (cos_t * y.acos() - x * st_y) * sin2 + (st_y / x).atan();
+        let want = snyder(p, n, c, rad);
         assert!((got - want).abs() < 1e-12 * want, "sphere {got} vs {want}");
     }
 

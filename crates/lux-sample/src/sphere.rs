@@ -126,11 +126,14 @@ fn sample_cone(p: DVec3, d2: f64, rad: f64, inv_tau_r2: f64, u: [f64; 2]) -> Con
     }
 }
 
+/// The projected cap's frame (t, b, n), centre abscissa, semi-axes and area.
+type CapEllipse = (Frame, f64, f64, f64, f64);
+
 /// The ellipse of [`SphereTechnique::ProjectedCap`] seen from the receiver normal `n` for the
 /// sphere of radius `rad` whose centre is at `v` from the receiver: its frame (t, b, n), centre
 /// abscissa, semi-axes and area; `None` unless the cap lies wholly above the horizon.
 #[inline]
-fn projected_cap(v: DVec3, d2: f64, rad: f64, n: DVec3) -> Option<(Frame, f64, f64, f64, f64)> {
+fn projected_cap(v: DVec3, d2: f64, rad: f64, n: DVec3) -> Option<CapEllipse> {
     let d = d2.sqrt();
     let a = v / d;
     let sin2 = rad * rad / d2;
@@ -242,6 +245,22 @@ impl SphereLight {
         }
     }
 
+    /// The world sphere, the receiver relative to its centre and the projected-cap ellipse
+    /// ([`SphereTechnique::ProjectedCap`]) when that technique applies from `r`.
+    #[inline]
+    fn projected_cap_from(&self, r: &Reference) -> Option<(&WorldSphere, DVec3, CapEllipse)> {
+        let ws = self.world.as_ref()?;
+        if r.n == DVec3::ZERO {
+            return None;
+        }
+        let p = r.p - ws.centre;
+        let d2 = p.length_squared();
+        if d2.is_nan() || d2 <= ws.radius * ws.radius {
+            return None;
+        }
+        Some((ws, p, projected_cap(-p, d2, ws.radius, r.n)?))
+    }
+
     #[inline]
     fn sample_by(
         &self,
@@ -250,34 +269,27 @@ impl SphereLight {
         technique: SphereTechnique,
     ) -> Option<LightSample> {
         if technique == SphereTechnique::ProjectedCap
-            && let Some(ws) = &self.world
-            && r.n != DVec3::ZERO
+            && let Some((ws, p, (f, cx, ax, ay, area))) = self.projected_cap_from(r)
         {
-            let p = r.p - ws.centre;
-            let d2 = p.length_squared();
-            if d2 > ws.radius * ws.radius
-                && let Some((f, cx, ax, ay, area)) = projected_cap(-p, d2, ws.radius, r.n)
-            {
-                let e = sample_concentric_disk(u);
-                let (x, y) = (cx + ax * e.x, ay * e.y);
-                let z = (1.0 - x * x - y * y).max(0.0).sqrt();
-                let w = f.to_world(DVec3::new(x, y, z)).normalize();
-                // The nearest hit; on the silhouette (numerically just outside) the tangent point.
-                let t = hit(p, w, ws.radius).map_or(-p.dot(w), |(t0, _)| t0);
-                let q = p + t * w;
-                let pdf = z / area;
-                if !(t > 0.0 && pdf > 0.0 && pdf.is_finite()) {
-                    return None;
-                }
-                return Some(LightSample {
-                    point: ws.centre + q,
-                    normal: q * ws.inv_radius,
-                    wi: w,
-                    distance: t,
-                    pdf,
-                    delta: false,
-                });
+            let e = sample_concentric_disk(u);
+            let (x, y) = (cx + ax * e.x, ay * e.y);
+            let z = (1.0 - x * x - y * y).max(0.0).sqrt();
+            let w = f.to_world(DVec3::new(x, y, z)).normalize();
+            // The nearest hit; on the silhouette (numerically just outside) the tangent point.
+            let t = hit(p, w, ws.radius).map_or(-p.dot(w), |(t0, _)| t0);
+            let q = p + t * w;
+            let pdf = z / area;
+            if !(t > 0.0 && pdf > 0.0 && pdf.is_finite()) {
+                return None;
             }
+            return Some(LightSample {
+                point: ws.centre + q,
+                normal: q * ws.inv_radius,
+                wi: w,
+                distance: t,
+                pdf,
+                delta: false,
+            });
         }
         let technique = if technique == SphereTechnique::ProjectedCap {
             SphereTechnique::Cone
@@ -333,19 +345,12 @@ impl SphereLight {
     #[inline]
     fn pdf_by(&self, r: &Reference, wi: DVec3, technique: SphereTechnique) -> f64 {
         if technique == SphereTechnique::ProjectedCap
-            && let Some(ws) = &self.world
-            && r.n != DVec3::ZERO
+            && let Some((ws, p, (_, _, _, _, area))) = self.projected_cap_from(r)
         {
-            let p = r.p - ws.centre;
-            let d2 = p.length_squared();
-            if d2 > ws.radius * ws.radius
-                && let Some((_, _, _, _, area)) = projected_cap(-p, d2, ws.radius, r.n)
-            {
-                return match hit(p, wi, ws.radius) {
-                    Some((t0, _)) if t0 >= 0.0 => r.n.dot(wi).max(0.0) / area,
-                    _ => 0.0,
-                };
-            }
+            return match hit(p, wi, ws.radius) {
+                Some((t0, _)) if t0 >= 0.0 => r.n.dot(wi).max(0.0) / area,
+                _ => 0.0,
+            };
         }
         let pl = self.xf.inv_point(r.p);
         let Some((wl, jac)) = local_direction(&self.xf, wi) else {
