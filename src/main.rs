@@ -52,6 +52,8 @@ fn main() -> ExitCode {
                     profile: None,
                     sampling: cli::render::SamplingArg::Lux,
                     light_selection: cli::render::SelectionArg::Auto,
+                    integrator: cli::render::IntegratorArg::Direct,
+                    max_depth: 8,
                     light_samples: 1,
                     penumbra_samples: 1,
                     threads: None,

@@ -21,6 +21,15 @@ pub enum SamplingArg {
     Reference,
 }
 
+/// `--integrator`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum IntegratorArg {
+    /// Direct lighting (what the reference renderer computes).
+    Direct,
+    /// Path tracing: direct lighting at every vertex of a BSDF-sampled path.
+    Path,
+}
+
 /// `--light-selection`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum SelectionArg {
@@ -70,6 +79,12 @@ pub struct RenderArgs {
     /// Sampling techniques.
     #[arg(long, value_enum, default_value_t = SamplingArg::Lux)]
     pub sampling: SamplingArg,
+    /// Light transport (default: direct; the reference renderer is direct only).
+    #[arg(long, value_enum, default_value_t = IntegratorArg::Direct)]
+    pub integrator: IntegratorArg,
+    /// Most surface vertices a path lights, 1 to 128 (`--integrator path`).
+    #[arg(long, default_value_t = 8)]
+    pub max_depth: u32,
     /// Light selection strategy.
     #[arg(long, value_enum, default_value_t = SelectionArg::Auto)]
     pub light_selection: SelectionArg,
@@ -193,6 +208,11 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     options.strict = args.strict;
     options.seed = args.seed;
     options.light_samples = args.light_samples;
+    options.integrator = match args.integrator {
+        IntegratorArg::Direct => lux::render::settings::IntegratorKind::Direct,
+        IntegratorArg::Path => lux::render::settings::IntegratorKind::Path,
+    };
+    options.max_depth = args.max_depth;
     options.penumbra_samples = args.penumbra_samples;
     options.sampling = match args.sampling {
         SamplingArg::Lux => SamplingMode::Lux,

@@ -6,10 +6,10 @@ use crate::camera::Camera;
 use crate::film::{Counters, Film};
 use crate::geometry::Geometry;
 use crate::image_io::ImageRgba;
-use crate::integrator::{DirectIntegrator, Integrator, World};
+use crate::integrator::{DirectIntegrator, Integrator, PathIntegrator, World};
 use crate::light::{LightOptions, LightSet};
 use crate::material::Materials;
-use crate::settings::resolve;
+use crate::settings::{IntegratorKind, SamplingMode, resolve};
 use glam::DVec4;
 use lux_math::Profile;
 use lux_usd::Scene;
@@ -107,11 +107,15 @@ impl<'s> Renderer<'s> {
             lights: &self.lights,
             materials: &self.materials,
         };
-        Integrator::Direct(DirectIntegrator::new(
-            world,
-            self.options.sampling,
-            self.options.light_samples,
-        ))
+        let direct =
+            DirectIntegrator::new(world, self.options.sampling, self.options.light_samples);
+        // Path tracing builds on lux sampling's MIS; the reference estimator is direct only.
+        match self.options.integrator {
+            IntegratorKind::Path if self.options.sampling == SamplingMode::Lux => {
+                Integrator::Path(PathIntegrator::new(direct, self.options.max_depth))
+            }
+            _ => Integrator::Direct(direct),
+        }
     }
 
     /// Renders the image. `progress` is called (from worker threads) with the number of

@@ -19,6 +19,19 @@ pub const MAX_RESOLUTION: u32 = 65_536;
 /// Largest sample count per pixel accepted.
 pub const MAX_SPP: u32 = 1 << 20;
 
+/// Largest path depth ([`RenderOptions::max_depth`]; the sample dimensions name 128 bounces).
+pub const MAX_DEPTH: u32 = 128;
+
+/// The light transport of a render.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum IntegratorKind {
+    /// Direct lighting (what the reference renderer computes).
+    #[default]
+    Direct,
+    /// Path tracing: direct lighting at every vertex of a BSDF-sampled path.
+    Path,
+}
+
 /// Largest number of light samples per shading point ([`RenderOptions::light_samples`]).
 pub const MAX_LIGHT_SAMPLES: u32 = 64;
 
@@ -52,6 +65,10 @@ pub struct RenderOptions {
     pub sampling: SamplingMode,
     /// Light selection strategy.
     pub selection: LightSelection,
+    /// Light transport: direct lighting or path tracing.
+    pub integrator: IntegratorKind,
+    /// Most surface vertices a path lights (1 to [`MAX_DEPTH`]; `path` only).
+    pub max_depth: u32,
     /// Light samples per light (or per light choice) at each shading point (1 to
     /// [`MAX_LIGHT_SAMPLES`]), stratified over the pixel with the camera samples.
     pub light_samples: u32,
@@ -80,6 +97,8 @@ impl RenderOptions {
             profile,
             sampling: SamplingMode::Lux,
             selection: LightSelection::Auto,
+            integrator: IntegratorKind::Direct,
+            max_depth: 8,
             light_samples: 1,
             penumbra_samples: 1,
             cone_clipping: true,
@@ -108,6 +127,12 @@ pub fn resolve(scene: &Scene, options: &RenderOptions) -> Result<Resolved, Rende
         return Err(RenderError::Settings(format!(
             "light samples {}: expected 1 to {MAX_LIGHT_SAMPLES}",
             options.light_samples
+        )));
+    }
+    if options.max_depth == 0 || options.max_depth > MAX_DEPTH {
+        return Err(RenderError::Settings(format!(
+            "max depth {}: expected 1 to {MAX_DEPTH}",
+            options.max_depth
         )));
     }
     if options.penumbra_samples == 0 || options.penumbra_samples > MAX_LIGHT_SAMPLES {

@@ -27,10 +27,18 @@ use crate::settings::SamplingMode;
 use glam::DVec3;
 use lux_sample::{Reference, Strategy};
 
+/// What a camera ray meets first ([`DirectIntegrator::camera_vertex`]).
+pub(super) enum CameraVertex {
+    /// The path ends: radiance and alpha.
+    Done(DVec3, f64),
+    /// A surface, with the glow it shows (a mesh light's).
+    Surface(SurfacePoint, DVec3),
+}
+
 /// Direct lighting with light sampling and (lux sampling) MIS against BSDF sampling.
 #[derive(Clone, Copy)]
 pub struct DirectIntegrator<'a> {
-    world: World<'a>,
+    pub(super) world: World<'a>,
     /// The light-sampling strategy.
     strategy: Strategy,
     /// BSDF sampling and MIS (off for the reference estimator).
@@ -63,6 +71,16 @@ impl<'a> DirectIntegrator<'a> {
     /// background of camera-visible lights at infinity where the ray escapes (opaque where a
     /// dome is shown), or the lit surface with a mesh light's own glow.
     pub fn li(&self, ray: &CameraRay, st: &SampleStream, c: &mut Counters) -> (DVec3, f64) {
+        match self.camera_vertex(ray, c) {
+            CameraVertex::Done(rgb, alpha) => (rgb, alpha),
+            CameraVertex::Surface(sp, glow) => (glow + self.direct(&sp, st, 0, c), 1.0),
+        }
+    }
+
+    /// What a camera ray meets first: a camera-visible light or the background (its
+    /// radiance and alpha, the end of the path), or a surface with the glow it shows if it
+    /// carries a mesh light.
+    pub(super) fn camera_vertex(&self, ray: &CameraRay, c: &mut Counters) -> CameraVertex {
         let w = &self.world;
         let lights = &w.lights.lights;
         c.rays += 1;
@@ -81,27 +99,34 @@ impl<'a> DirectIntegrator<'a> {
             } else {
                 DVec3::ZERO
             };
-            return (rgb, 1.0);
+            return CameraVertex::Done(rgb, 1.0);
         }
         let Some(hit) = hit else {
             let background = &w.lights.background;
             let bg: DVec3 = background.iter().map(|&i| lights[i].le_escape(ray.d)).sum();
             let alpha = if background.is_empty() { 0.0 } else { 1.0 };
-            return (bg, alpha);
+            return CameraVertex::Done(bg, alpha);
         };
         let sp = w.materials.at(w.scene, &hit, ray.d);
-        let mut rgb = DVec3::ZERO;
+        let mut glow = DVec3::ZERO;
         // A mesh light's own glow, seen directly.
         if let Some(li) = w.lights.mesh_light.get(hit.mesh).copied().flatten() {
             let l = &lights[li];
-            rgb += l.le(l.base().to_local(sp.p), -ray.d, Seen::Camera);
+            glow += l.le(l.base().to_local(sp.p), -ray.d, Seen::Camera);
         }
-        rgb += self.direct(&sp, st, c);
-        (rgb, 1.0)
+        CameraVertex::Surface(sp, glow)
     }
 
-    /// Direct illumination at a surface point.
-    fn direct(&self, sp: &SurfacePoint, st: &SampleStream, c: &mut Counters) -> DVec3 {
+    /// Direct illumination at a surface point, the random numbers of path vertex `bounce`
+    /// (0 for the surface a camera ray meets): light sampling, and the emission found along
+    /// the BSDF sample `Dim::Bsdf { bounce }` (with MIS), which a path continues along.
+    pub(super) fn direct(
+        &self,
+        sp: &SurfacePoint,
+        st: &SampleStream,
+        bounce: u32,
+        c: &mut Counters,
+    ) -> DVec3 {
         let w = &self.world;
         let lights = &w.lights.lights;
         let n = lights.len();
@@ -176,7 +201,7 @@ impl<'a> DirectIntegrator<'a> {
                     }
                     for j in 0..k {
                         let u = st.split(j, k).get2(Dim::Light {
-                            bounce: 0,
+                            bounce,
                             index: li as u32,
                         });
                         out += sample_light(li, kf, u, alone, c);
@@ -186,13 +211,10 @@ impl<'a> DirectIntegrator<'a> {
             Some(sel) => {
                 for j in 0..k {
                     let sj = st.split(j, k);
-                    if let Some((li, pmf)) = sel.sample(&r, sj.get1(Dim::LightChoice { bounce: 0 }))
+                    if let Some((li, pmf)) = sel.sample(&r, sj.get1(Dim::LightChoice { bounce }))
                         && pmf > 0.0
                     {
-                        let u = sj.get2(Dim::Light {
-                            bounce: 0,
-                            index: 0,
-                        });
+                        let u = sj.get2(Dim::Light { bounce, index: 0 });
                         out += sample_light(li, pmf * kf, u, false, c);
                     }
                 }
@@ -206,7 +228,7 @@ impl<'a> DirectIntegrator<'a> {
             return out;
         }
         // BSDF sampling.
-        let Some(bs) = sp.bsdf.sample(st.get2(Dim::Bsdf { bounce: 0 })) else {
+        let Some(bs) = sp.bsdf.sample(st.get2(Dim::Bsdf { bounce })) else {
             return out;
         };
         let wi = bs.wi;

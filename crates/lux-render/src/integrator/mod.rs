@@ -1,13 +1,16 @@
 //! Integrators: what a camera ray brings back, `(radiance, alpha)`, from the prepared scene
 //! ([`World`]). The closed set is [`Integrator`]; `direct.rs` is the direct-lighting estimator
-//! (the reference renderer's light transport with lux's sampling).
+//! (the reference renderer's light transport with lux's sampling), `path.rs` the path tracer
+//! built on it.
 //!
 //! Shared here: the shadow-ray transmission of `ShadowAPI` ([`visibility`]) and the power
 //! heuristic of multiple importance sampling.
 
 mod direct;
+mod path;
 
 pub use direct::DirectIntegrator;
+pub use path::{PathIntegrator, ROULETTE_DEPTH};
 
 use crate::film::Counters;
 use crate::geometry::Geometry;
@@ -49,6 +52,8 @@ pub struct CameraRay {
 pub enum Integrator<'a> {
     /// Direct lighting (light sampling, MIS with BSDF sampling).
     Direct(DirectIntegrator<'a>),
+    /// Path tracing over the direct estimate at every vertex.
+    Path(PathIntegrator<'a>),
 }
 
 impl Integrator<'_> {
@@ -58,6 +63,7 @@ impl Integrator<'_> {
     pub fn li(&self, ray: &CameraRay, st: &SampleStream, c: &mut Counters) -> (DVec3, f64) {
         match self {
             Integrator::Direct(i) => i.li(ray, st, c),
+            Integrator::Path(i) => i.li(ray, st, c),
         }
     }
 }
