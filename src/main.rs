@@ -52,7 +52,7 @@ fn main() -> ExitCode {
                     profile: None,
                     sampling: cli::render::SamplingArg::Lux,
                     light_selection: cli::render::SelectionArg::Auto,
-                    integrator: cli::render::IntegratorArg::Direct,
+                    integrator: None,
                     max_depth: 8,
                     light_samples: 1,
                     penumbra_samples: 1,

@@ -14,6 +14,7 @@ use glam::{DMat4, DVec3};
 use lux::math::{LightShape, Profile};
 use lux::render::light::LightSelection;
 use lux::render::render::Renderer;
+use lux::render::settings::IntegratorKind;
 use lux::usd::{Light, Mesh, Scene};
 use std::f64::consts::PI;
 
@@ -23,8 +24,10 @@ fn aimed(pos: DVec3, dir: DVec3) -> DMat4 {
     DMat4::from_rotation_translation(q, pos)
 }
 
+/// The probed radiance by direct lighting (what these closed forms describe).
 fn read(scene: &Scene, spp: u32, selection: LightSelection, seed: u64) -> f64 {
     let mut o = options(Profile::Spec, spp, [1, 1]);
+    o.integrator = IntegratorKind::Direct;
     o.selection = selection;
     o.seed = seed;
     Renderer::new(scene, o).unwrap().pixel_value(0, 0).x
@@ -183,6 +186,7 @@ fn penumbra_pass_is_unbiased_and_quieter() {
         let v: Vec<f64> = (0..40u64)
             .map(|seed| {
                 let mut o = options(Profile::Spec, 64, [1, 1]);
+                o.integrator = IntegratorKind::Direct;
                 o.penumbra_samples = pen;
                 o.seed = 100 + seed;
                 Renderer::new(&s, o).unwrap().pixel_value(0, 0).x

@@ -13,7 +13,7 @@ use common::{close, probe_camera, probe_scene};
 use glam::{DMat4, DVec3};
 use lux::math::{LightShape, Profile};
 use lux::render::render::{RenderOptions, Renderer};
-use lux::render::settings::SamplingMode;
+use lux::render::settings::{IntegratorKind, SamplingMode};
 use lux::usd::{Light, Mesh, Scene};
 use std::f64::consts::PI;
 
@@ -21,8 +21,12 @@ fn scene(light: Light, x: f64, z: f64) -> Scene {
     probe_scene(vec![light], x, z)
 }
 
+/// Direct lighting, what the closed forms below describe (the `spec` profile's default is
+/// path tracing, which adds the light the occluders reflect).
 fn options(spp: u32) -> RenderOptions {
-    common::options(Profile::Spec, spp, [1, 1])
+    let mut o = common::options(Profile::Spec, spp, [1, 1]);
+    o.integrator = IntegratorKind::Direct;
+    o
 }
 
 /// The radiance read at the probed floor point (grey: returns the mean of R, G, B after

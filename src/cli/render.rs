@@ -79,9 +79,10 @@ pub struct RenderArgs {
     /// Sampling techniques.
     #[arg(long, value_enum, default_value_t = SamplingArg::Lux)]
     pub sampling: SamplingArg,
-    /// Light transport (default: direct; the reference renderer is direct only).
-    #[arg(long, value_enum, default_value_t = IntegratorArg::Direct)]
-    pub integrator: IntegratorArg,
+    /// Light transport (default: path in the spec profile, direct in hdembree, whose reference
+    /// renderer lights surfaces directly).
+    #[arg(long, value_enum)]
+    pub integrator: Option<IntegratorArg>,
     /// Most surface vertices a path lights, 1 to 128 (`--integrator path`).
     #[arg(long, default_value_t = 8)]
     pub max_depth: u32,
@@ -187,9 +188,9 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         &default_config_paths(),
     )
     .map_err(|e| e.to_string())?;
-    eprintln!(
-        "lux: profile {} (from {}), sampling {:?}, {} spp",
-        profile.profile, profile.source, args.sampling, args.spp
+    let announce = format!(
+        "lux: profile {} (from {}), sampling {:?}",
+        profile.profile, profile.source, args.sampling
     );
     let camera = match &args.camera {
         Some(name) => scene.find_camera(name)?,
@@ -208,10 +209,12 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     options.strict = args.strict;
     options.seed = args.seed;
     options.light_samples = args.light_samples;
-    options.integrator = match args.integrator {
-        IntegratorArg::Direct => lux::render::settings::IntegratorKind::Direct,
-        IntegratorArg::Path => lux::render::settings::IntegratorKind::Path,
-    };
+    if let Some(i) = args.integrator {
+        options.integrator = match i {
+            IntegratorArg::Direct => lux::render::settings::IntegratorKind::Direct,
+            IntegratorArg::Path => lux::render::settings::IntegratorKind::Path,
+        };
+    }
     options.max_depth = args.max_depth;
     options.penumbra_samples = args.penumbra_samples;
     options.sampling = match args.sampling {
@@ -224,6 +227,14 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         SelectionArg::Power => LightSelection::Power,
         SelectionArg::Bvh => LightSelection::Bvh,
     };
+    // (the reference estimator is direct lighting only)
+    let transport = match (options.integrator, options.sampling) {
+        (lux::render::settings::IntegratorKind::Path, SamplingMode::Lux) => {
+            format!("path tracing (depth {})", options.max_depth)
+        }
+        _ => "direct lighting".to_owned(),
+    };
+    eprintln!("{announce}, {transport}, {} spp", args.spp);
     let renderer = Renderer::new(&scene, options).map_err(|e| e.to_string())?;
     for w in &scene.warnings {
         eprintln!("lux: warning: {w}");

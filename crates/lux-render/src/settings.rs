@@ -23,13 +23,23 @@ pub const MAX_SPP: u32 = 1 << 20;
 pub const MAX_DEPTH: u32 = 128;
 
 /// The light transport of a render.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum IntegratorKind {
     /// Direct lighting (what the reference renderer computes).
-    #[default]
     Direct,
     /// Path tracing: direct lighting at every vertex of a BSDF-sampled path.
     Path,
+}
+
+impl IntegratorKind {
+    /// The default of a conformance profile: path tracing in `Spec`, direct lighting in
+    /// `HdEmbree` (the reference renderer lights surfaces directly).
+    pub fn default_for(profile: lux_math::Profile) -> IntegratorKind {
+        match profile {
+            lux_math::Profile::HdEmbree => IntegratorKind::Direct,
+            _ => IntegratorKind::Path,
+        }
+    }
 }
 
 /// Largest number of light samples per shading point ([`RenderOptions::light_samples`]).
@@ -87,8 +97,10 @@ pub struct RenderOptions {
 }
 
 impl RenderOptions {
-    /// 16 spp, the scene's resolution and camera, the `spec` profile, lux sampling, seed 0.
+    /// 16 spp, the scene's resolution and camera, the profile's integrator (path in `spec`,
+    /// direct in `hdembree`, depth 8), lux sampling, seed 0.
     pub fn new(profile: ResolvedProfile) -> RenderOptions {
+        let integrator = IntegratorKind::default_for(profile.profile);
         RenderOptions {
             spp: 16,
             resolution: None,
@@ -97,7 +109,7 @@ impl RenderOptions {
             profile,
             sampling: SamplingMode::Lux,
             selection: LightSelection::Auto,
-            integrator: IntegratorKind::Direct,
+            integrator,
             max_depth: 8,
             light_samples: 1,
             penumbra_samples: 1,

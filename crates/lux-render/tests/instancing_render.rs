@@ -79,6 +79,9 @@ fn render(s: &Scene, threads: usize) -> Vec<[f32; 4]> {
     });
     o.spp = 8;
     o.resolution = Some([80, 60]);
+    // Direct lighting: every secondary ray is a shadow or BSDF ray from a first hit, whose
+    // exactness the comparison below is about.
+    o.integrator = lux_render::settings::IntegratorKind::Direct;
     let r = Renderer::new(s, o).expect("scene prepares");
     assert!(r.lights().warnings.is_empty(), "{:?}", r.lights().warnings);
     let pool = rayon::ThreadPoolBuilder::new()
