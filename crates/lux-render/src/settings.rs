@@ -135,29 +135,21 @@ pub struct Resolved {
 /// resolution, pixel aspect ratio and data window (product, then settings), and the crop.
 /// Invalid sample counts, resolutions, crops and cameras are errors naming the value.
 pub fn resolve(scene: &Scene, options: &RenderOptions) -> Result<Resolved, RenderError> {
-    if options.light_samples == 0 || options.light_samples > MAX_LIGHT_SAMPLES {
-        return Err(RenderError::Settings(format!(
-            "light samples {}: expected 1 to {MAX_LIGHT_SAMPLES}",
-            options.light_samples
-        )));
-    }
-    if options.max_depth == 0 || options.max_depth > MAX_DEPTH {
-        return Err(RenderError::Settings(format!(
-            "max depth {}: expected 1 to {MAX_DEPTH}",
-            options.max_depth
-        )));
-    }
-    if options.penumbra_samples == 0 || options.penumbra_samples > MAX_LIGHT_SAMPLES {
-        return Err(RenderError::Settings(format!(
-            "penumbra samples {}: expected 1 to {MAX_LIGHT_SAMPLES}",
-            options.penumbra_samples
-        )));
-    }
-    if options.spp == 0 || options.spp > MAX_SPP {
-        return Err(RenderError::Settings(format!(
-            "samples per pixel {}: expected 1 to {MAX_SPP}",
-            options.spp
-        )));
+    for (what, v, max) in [
+        ("samples per pixel", options.spp, MAX_SPP),
+        ("light samples", options.light_samples, MAX_LIGHT_SAMPLES),
+        (
+            "penumbra samples",
+            options.penumbra_samples,
+            MAX_LIGHT_SAMPLES,
+        ),
+        ("max depth", options.max_depth, MAX_DEPTH),
+    ] {
+        if v == 0 || v > max {
+            return Err(RenderError::Settings(format!(
+                "{what} {v}: expected 1 to {max}"
+            )));
+        }
     }
     let camera = match &options.camera {
         Some(p) => scene.cameras.iter().find(|c| &c.path == p).ok_or_else(|| {
