@@ -139,6 +139,9 @@ pub struct Material {
     /// LTESpectralAPI inputs of the surface shader (`wavelength:reflectance`,
     /// `wavelength:ior`, scalar `ior`); a `wavelength:reflectance` replaces `diffuseColor`.
     pub spectral: SurfaceSpectral,
+    /// UsdPreviewSurface `inputs:emissiveColor` (radiance, nits; default black) when authored
+    /// as a value (through interface inputs); a texture-driven emission is a warning and 0.
+    pub emissive: DVec3,
 }
 
 /// Follows the connection of `attr` on `prim` through NodeGraph/Material interface inputs;
@@ -199,6 +202,7 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
         other_inputs: Vec::new(),
         uses_opacity: false,
         spectral: SurfaceSpectral::default(),
+        emissive: DVec3::ZERO,
     };
     let (shader_path, _) = follow(r, path, "outputs:surface")?;
     if shader_path == path {
@@ -224,7 +228,7 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
         .map_err(|e| r.usd_error(&shader, e))?
     {
         let n = name.as_str();
-        if n.starts_with("inputs:") && n != "inputs:diffuseColor" {
+        if n.starts_with("inputs:") && n != "inputs:diffuseColor" && n != "inputs:emissiveColor" {
             out.other_inputs.push(n.to_owned());
         }
     }
@@ -232,6 +236,24 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
     let opacity = r.f64(&shader, "inputs:opacity")?.unwrap_or(1.0);
     let threshold = r.f64(&shader, "inputs:opacityThreshold")?.unwrap_or(0.0);
     out.uses_opacity = opacity_connected || opacity < 1.0 || threshold > 0.0;
+    let (emit_prim, emit_attr) = follow(r, &shader_path, "inputs:emissiveColor")?;
+    if emit_attr.starts_with("outputs:") {
+        r.warn(
+            &mat,
+            WarningKind::Unsupported,
+            format!("emissiveColor from {emit_prim} (a texture) is not supported yet; no emission"),
+        );
+    } else if let Some(e) = r.vec3(&r.stage.prim(emit_prim.as_str()), &emit_attr)? {
+        if e.is_finite() && e.min_element() >= 0.0 {
+            out.emissive = e;
+        } else {
+            r.warn(
+                &mat,
+                WarningKind::InvalidValue,
+                format!("emissiveColor {e} is not a finite non-negative colour; no emission"),
+            );
+        }
+    }
     let (src_prim, src_attr) = follow(r, &shader_path, "inputs:diffuseColor")?;
     let src = r.stage.prim(src_prim.as_str());
     if let Some(output) = src_attr.strip_prefix("outputs:") {

@@ -176,6 +176,33 @@ impl<'s> Loader<'s> {
         Ok(light)
     }
 
+    /// The light of the world mesh `mi` whose material emits `emissive` (UsdPreviewSurface
+    /// `emissiveColor`, radiance): emissive geometry is light, sampled and found by rays as a
+    /// `MeshLightAPI` mesh is, of radiance `emissive` from each side the mesh shows (one side
+    /// for a single-sided mesh), unshaped and with the default shadows.
+    pub(super) fn emissive_mesh(&self, mi: usize, emissive: DVec3) -> Result<Light, String> {
+        let m = &self.scene.meshes[mi];
+        let base = LightBase::new(
+            &m.path,
+            LightTransform::IDENTITY,
+            Shaping::identity(),
+            lux_usd::ShadowInputs::default(),
+        );
+        let mut light = MeshLight::new(base, mi, m).map(Light::Mesh)?;
+        let area: f64 = m
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|k| m.positions[k as usize]);
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .sum();
+        light.base_mut().radiance = emissive;
+        let power = light.power(area);
+        light.base_mut().power = if power.is_finite() { power } else { 0.0 };
+        Ok(light)
+    }
+
     /// An asset of light `l` that cannot be used: an error when strict, else a warning.
     fn asset_problem(
         &mut self,

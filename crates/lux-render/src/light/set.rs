@@ -96,6 +96,32 @@ impl LightSet {
                 lights.push(rl);
             }
         }
+        // Emissive geometry (UsdPreviewSurface emissiveColor) is light too.
+        for (mi, m) in scene.meshes.iter().enumerate() {
+            let Some(e) = m.material.map(|k| scene.materials[k].emissive) else {
+                continue;
+            };
+            if mesh_light[mi].is_some() || e.max_element() <= 0.0 {
+                continue;
+            }
+            if m.prototype.is_some() {
+                loader.warnings.push(format!(
+                    "{}: emissive geometry inside an instanced prototype does not light the scene yet",
+                    m.path
+                ));
+                continue;
+            }
+            match loader.emissive_mesh(mi, e) {
+                Ok(l) => {
+                    mesh_light[mi] = Some(lights.len());
+                    lights.push(l);
+                }
+                Err(msg) => loader.warnings.push(format!(
+                    "{}: emissive geometry: {msg}; it does not light the scene",
+                    m.path
+                )),
+            }
+        }
         let mut warnings = loader.warnings;
         let selector = build_selector(&lights, options.selection, &mut warnings);
         let infinite = (0..lights.len())
