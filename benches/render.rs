@@ -12,7 +12,7 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
 use lux::math::Profile;
 use lux::render::conformance::{ProfileSource, ResolvedProfile};
-use lux::render::geometry::{Geometry, offset_scale};
+use lux::render::geometry::{Geometry, offset_scale, shadow_tmax};
 use lux::render::light::{LightOptions, LightSelection, LightSet};
 use lux::render::render::{RenderOptions, Renderer};
 use lux::render::settings::SamplingMode;
@@ -95,7 +95,7 @@ fn light_sample_vs_shadow_ray(c: &mut Criterion) {
             let (r, _, s) = &cases[i & 4095];
             i += 1;
             let o = r.p + DVec3::Y * offset_scale(r.p);
-            geometry.occluded(black_box(o), s.wi, 0.0, s.dist - offset_scale(s.point))
+            geometry.occluded(black_box(o), s.wi, 0.0, shadow_tmax(s.dist, s.point))
         })
     });
     g.finish();

@@ -93,8 +93,8 @@ pub struct RenderArgs {
     /// shadow rays per camera ray, for penumbrae.
     #[arg(long, default_value_t = 1)]
     pub light_samples: u32,
-    /// Light samples per light in penumbrae, 1 to 64 (1: off): after a pilot of a quarter of
-    /// a pixel's samples, a pixel whose shadow rays were partly blocked takes this many.
+    /// Light samples per light in shadowed pixels, 1 to 64 (1: off): from 8 spp, a pixel whose
+    /// pilot sample (not part of the estimate) found a blocked shadow ray takes this many.
     #[arg(long, default_value_t = 1)]
     pub penumbra_samples: u32,
     /// Worker threads (default: all cores). The image does not depend on it.

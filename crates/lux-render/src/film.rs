@@ -178,7 +178,7 @@ impl Film {
         // unbiased estimate, and the pixel's light points stay one stratified set.
         let mut factor = 1;
         if self.penumbra_samples > 1 && spp >= PILOT_MIN_SPP {
-            let (shadow0, blocked0) = (c.shadow, c.blocked);
+            let blocked0 = c.blocked;
             let st = SampleStream::new(self.seed ^ 0x1319_8A2E_0370_7344, index, 0, 1).light_pass(
                 0,
                 1,
@@ -187,7 +187,7 @@ impl Film {
             let j = st.get2(Dim::Camera);
             let (o, d, tmin, tmax) = camera.ray(x as f64 + j[0], y as f64 + j[1]);
             integrator.li(&CameraRay { o, d, tmin, tmax }, &st, c);
-            if c.blocked > blocked0 && c.shadow > shadow0 {
+            if c.blocked > blocked0 {
                 factor = self.penumbra_samples;
             }
         }

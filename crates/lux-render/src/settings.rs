@@ -82,9 +82,10 @@ pub struct RenderOptions {
     /// Light samples per light (or per light choice) at each shading point (1 to
     /// [`MAX_LIGHT_SAMPLES`]), stratified over the pixel with the camera samples.
     pub light_samples: u32,
-    /// Light samples per light in penumbrae (1 to [`MAX_LIGHT_SAMPLES`]; 1 turns the pass
-    /// off): after a pilot of a quarter of a pixel's samples, a pixel whose shadow rays were
-    /// partly blocked takes this many light samples per light in its other samples.
+    /// Light samples per light in shadowed pixels (1 to [`MAX_LIGHT_SAMPLES`]; 1 turns the pass
+    /// off): from 8 spp, a pilot camera sample per pixel (not part of the estimate) traces
+    /// shadow rays, and a pixel where one was blocked takes this many light samples per light
+    /// in all its samples (film.rs).
     pub penumbra_samples: u32,
     /// Sample shaped rect and cylinder lights only where their emission cone reaches the
     /// receiver (default); `false` for A/B measurements ([`crate::light::LightOptions`]).

@@ -59,12 +59,15 @@ impl CylinderLight {
         self.technique
     }
 
-    /// The light emits nothing along local directions more than `half_angle` off its −Z axis
-    /// (`lux_shaping::Shaping::emission_half_angle`). The solid-angle technique then samples,
-    /// on the line of the tube it chose, only the stretch that can reach the receiver within
-    /// θe: a point q of the line at height v = q.z − p.z above the receiver p and at lateral
-    /// offset δ = q.y − p.y reaches it when (q.x − p.x)² ≤ (v·tan θe)² − δ² (none when v ≤ 0).
-    /// Half-angles of π/2 or more (or NaN) change nothing; the area techniques are not clipped.
+    /// The light emits nothing along local directions more than `half_angle` = θe off its −Z
+    /// axis (`inputs:shaping:cone:angle` or the IES reach:
+    /// `lux_shaping::Shaping::emission_half_angle`). The solid-angle technique then samples
+    /// only the cross-section angles β whose 2D direction lies within θe of local +Z (a line
+    /// reaches the receiver inside the cone only if |Δy| ≤ tan θe·Δz), and on the chosen line
+    /// only the stretch that can reach the receiver p: a point q at height v = q.z − p.z and
+    /// lateral offset δ = q.y − p.y reaches it when (q.x − p.x)² ≤ (v·tan θe)² − δ² (none when
+    /// v ≤ 0). Half-angles of π/2 or more (or NaN) change nothing; the area techniques are not
+    /// clipped.
     pub fn with_emission_cone(mut self, half_angle: f64) -> Self {
         if (0.0..core::f64::consts::FRAC_PI_2).contains(&half_angle) {
             self.tan_cut = half_angle.tan();

@@ -56,7 +56,8 @@ impl RectLight {
     }
 
     /// The light emits nothing along local directions more than `half_angle` off its −Z axis
-    /// (ShapingAPI's cone, or an IES profile's reach: `lux_shaping::Shaping::emission_half_angle`).
+    /// (ShapingAPI `inputs:shaping:cone:angle`, or the reach of `inputs:shaping:ies:file` after
+    /// `ies:angleScale`: `lux_shaping::Shaping::emission_half_angle`).
     /// The solid-angle techniques then sample only the part of the rect that can reach the
     /// receiver: the points seen from a receiver at height h below the light's plane within
     /// θe of the axis form a disk of radius h·tan θe around its foot, whose bounding square

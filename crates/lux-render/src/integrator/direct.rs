@@ -19,18 +19,13 @@
 
 use super::{CameraRay, World, power_heuristic, visibility};
 use crate::film::Counters;
-use crate::geometry::offset_scale;
+use crate::geometry::shadow_tmax;
 use crate::light::{Light, Seen};
 use crate::material::SurfacePoint;
 use crate::sampler::{Dim, SampleStream};
 use crate::settings::SamplingMode;
 use glam::DVec3;
 use lux_sample::{Reference, Strategy};
-
-/// The fraction of a shadow ray's length kept clear before a mesh light's sampled point
-/// (measured: the f32 traversal returns the emitting triangle up to 2.6e-5 of the distance
-/// before its exact hit).
-const MESH_LIGHT_CLEARANCE: f64 = 1e-4;
 
 /// What a camera ray meets first ([`DirectIntegrator::camera_vertex`]).
 pub(super) enum CameraVertex {
@@ -151,7 +146,7 @@ impl<'a> DirectIntegrator<'a> {
         // cosine-weighted solid angle (the sphere's projected cap exactly, the rect's bilinear
         // cosine warp closely), so a BSDF sample would only add noise. Bit i of `light_only`
         // marks light i estimated this way.
-        let lambertian = self.mis && selector.is_none() && sp.bsdf.lambertian().is_some();
+        let lambertian = self.mis && selector.is_none() && sp.bsdf.is_lambertian();
         let mut light_only: u64 = 0;
         // k light samples per light (or light choice), each weighted 1/k: the light
         // technique's density is k·pdf in the MIS weights.
@@ -173,14 +168,7 @@ impl<'a> DirectIntegrator<'a> {
                 return DVec3::ZERO;
             }
             let tmax = if ls.dist.is_finite() {
-                // A mesh light is geometry too: its own triangles must not shadow it, and the
-                // f32 traversal places them up to a few 1e-5 of the distance early.
-                let own = if matches!(l, Light::Mesh(_)) {
-                    MESH_LIGHT_CLEARANCE * ls.dist
-                } else {
-                    0.0
-                };
-                ls.dist - own - offset_scale(ls.point)
+                shadow_tmax(ls.dist, ls.point)
             } else {
                 f64::INFINITY
             };

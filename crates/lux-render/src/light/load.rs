@@ -189,14 +189,12 @@ impl<'s> Loader<'s> {
             lux_usd::ShadowInputs::default(),
         );
         let mut light = MeshLight::new(base, mi, m).map(Light::Mesh)?;
-        let area: f64 = m
+        let triangles: Vec<[DVec3; 3]> = m
             .triangles
             .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|k| m.positions[k as usize]);
-                0.5 * (b - a).cross(c - a).length()
-            })
-            .sum();
+            .map(|t| t.map(|k| m.positions[k as usize]))
+            .collect();
+        let area = lux_math::mesh_area(&glam::DMat4::IDENTITY, &triangles);
         light.base_mut().radiance = emissive;
         let power = light.power(area);
         light.base_mut().power = if power.is_finite() { power } else { 0.0 };

@@ -60,13 +60,13 @@ impl Bsdf {
         }
     }
 
-    /// `ρ/π` when `f` is that constant over the upper hemisphere (a Lambertian BSDF), so that
-    /// the reflected radiance of an irradiance `E` is `E·ρ/π`: what lets the direct integrator
-    /// estimate cosine-following light samples alone ([`crate::light::Light::uniform_area`]).
+    /// Whether `f` is a constant `ρ/π` over the upper hemisphere (a Lambertian BSDF), so that
+    /// light samples that follow the cosine-weighted solid angle are best estimated alone
+    /// (the direct integrator's [`crate::light::Light::uniform_area`] lights).
     #[inline]
-    pub fn lambertian(&self) -> Option<DVec3> {
+    pub fn is_lambertian(&self) -> bool {
         match self {
-            Bsdf::Diffuse(b) => Some(b.albedo * std::f64::consts::FRAC_1_PI),
+            Bsdf::Diffuse(_) => true,
         }
     }
 
