@@ -21,6 +21,11 @@ pub const TILE: u32 = 16;
 /// ([`Film::penumbra_samples`]).
 const PILOT_LIGHT_SAMPLES: u32 = 4;
 
+/// Keys of the penumbra pilot's points and of the samples of a pixel it sent to the penumbra
+/// pass ([`SampleStream::pass`]).
+const PILOT_SALT: u64 = 0x1319_8A2E_0370_7344;
+const PENUMBRA_SALT: u64 = 0x243F_6A88_85A3_08D3;
+
 /// Samples per pixel from which the penumbra pilot runs (below, its cost would outweigh it).
 const PILOT_MIN_SPP: u32 = 8;
 
@@ -173,17 +178,16 @@ impl Film {
         // Penumbrae: before the pixel's samples (at least PILOT_MIN_SPP), a pilot camera
         // sample with PILOT_LIGHT_SAMPLES light samples per light, drawn from points of its
         // own and not part of the estimate, looks at the pixel's shadow rays; if some were
-        // blocked, every sample of the pixel takes `penumbra_samples` light samples per light.
-        // The choice depends on the pilot's random numbers only, so each sample stays an
-        // unbiased estimate, and the pixel's light points stay one stratified set.
+        // blocked, every sample of the pixel takes `penumbra_samples` light samples per light,
+        // its points drawn from another scramble of the pixel's sets (independent of the
+        // pilot's). The choice depends on the pilot's random numbers only, so each sample
+        // stays an unbiased estimate, and the pixel's points stay one stratified set per
+        // dimension.
         let mut factor = 1;
         if self.penumbra_samples > 1 && spp >= PILOT_MIN_SPP {
             let blocked0 = c.blocked;
-            let st = SampleStream::new(self.seed ^ 0x1319_8A2E_0370_7344, index, 0, 1).light_pass(
-                0,
-                1,
-                PILOT_LIGHT_SAMPLES,
-            );
+            let st =
+                SampleStream::new(self.seed, index, 0, 1).pass(PILOT_SALT, PILOT_LIGHT_SAMPLES);
             let j = st.get2(Dim::Camera);
             let (o, d, tmin, tmax) = camera.ray(x as f64 + j[0], y as f64 + j[1]);
             integrator.li(&CameraRay { o, d, tmin, tmax }, &st, c);
@@ -195,7 +199,7 @@ impl Film {
         for s in 0..spp {
             let mut st = SampleStream::new(self.seed, index, s, spp);
             if factor > 1 {
-                st = st.light_pass(s, spp, factor);
+                st = st.pass(PENUMBRA_SALT, factor);
             }
             let j = st.get2(Dim::Camera);
             let (o, d, tmin, tmax) = camera.ray(x as f64 + j[0], y as f64 + j[1]);

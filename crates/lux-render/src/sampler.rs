@@ -137,12 +137,6 @@ pub struct SampleStream {
     key: u64,
     sample: u32,
     spp: u32,
-    /// The key, sample index and count of the light dimensions ([`Dim::LightChoice`],
-    /// [`Dim::Light`]): the camera sample's own unless [`SampleStream::light_pass`] gave them
-    /// a pass of their own.
-    light_key: u64,
-    light_sample: u32,
-    light_spp: u32,
     /// Light samples per light this camera sample takes (a factor on the integrator's).
     light_factor: u32,
 }
@@ -158,23 +152,18 @@ impl SampleStream {
             key,
             sample,
             spp,
-            light_key: key,
-            light_sample: sample,
-            light_spp: spp,
             light_factor: 1,
         }
     }
 
-    /// This camera sample with light dimensions of their own: sample `sample` of `spp` of a
-    /// second, independently scrambled set of light points, taking `factor` light samples per
-    /// light. The film's penumbra pass uses it so that its light points are independent of
-    /// the pilot samples that chose `factor`.
+    /// This sample in a second, independently scrambled set of the pixel's points (same
+    /// sample index and count), taking `factor` light samples per light. The film's
+    /// penumbra pass draws a pixel's pilot and, when the pilot chose `factor > 1`, its samples
+    /// from such sets, so that the samples' points are independent of the pilot's.
     #[inline]
-    pub fn light_pass(&self, sample: u32, spp: u32, factor: u32) -> SampleStream {
+    pub fn pass(&self, salt: u64, factor: u32) -> SampleStream {
         SampleStream {
-            light_key: mix64(self.key ^ 0x243F_6A88_85A3_08D3),
-            light_sample: sample,
-            light_spp: spp.max(1),
+            key: mix64(self.key ^ salt),
             light_factor: factor.max(1),
             ..*self
         }
@@ -193,8 +182,8 @@ impl SampleStream {
     #[inline]
     pub fn split(&self, j: u32, k: u32) -> SampleStream {
         SampleStream {
-            light_sample: self.light_sample * k + j,
-            light_spp: self.light_spp * k,
+            sample: self.sample * k + j,
+            spp: self.spp * k,
             ..*self
         }
     }
@@ -217,21 +206,13 @@ impl SampleStream {
     /// The 2D point of the named dimension `dim`.
     #[inline]
     pub fn get2(&self, dim: Dim) -> [f64; 2] {
-        if dim.is_light() {
-            point2(self.light_key, self.light_sample, self.light_spp, dim.id())
-        } else {
-            self.u2(dim.id())
-        }
+        self.u2(dim.id())
     }
 
     /// The 1D number of the named dimension `dim`.
     #[inline]
     pub fn get1(&self, dim: Dim) -> f64 {
-        if dim.is_light() {
-            point1(self.light_key, self.light_sample, self.light_spp, dim.id())
-        } else {
-            self.u(dim.id())
-        }
+        self.u(dim.id())
     }
 
     /// A 1D number of dimension `dim`, uniform in \[0, 1), stratified across the samples.
@@ -295,13 +276,6 @@ impl Dim {
     /// Largest bounce with its own names (7 bits above the 2²⁴ names of a bounce; the top bit
     /// of a name separates 1D from 2D streams).
     pub const MAX_BOUNCE: u32 = 127;
-
-    /// The light dimensions (light choice and light samples), which a penumbra pass draws
-    /// from points of their own ([`SampleStream::light_pass`]).
-    #[inline]
-    pub const fn is_light(self) -> bool {
-        matches!(self, Dim::LightChoice { .. } | Dim::Light { .. })
-    }
 
     /// The stream name of the dimension. Light indices wrap modulo 2²² (a scene with more
     /// lights samples one light per point, [`Dim::Light`] index 0).

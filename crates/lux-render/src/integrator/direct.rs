@@ -80,6 +80,7 @@ impl<'a> DirectIntegrator<'a> {
     /// What a camera ray meets first: a camera-visible light or the background (its
     /// radiance and alpha, the end of the path), or a surface with the glow it shows if it
     /// carries a mesh light.
+    #[inline(always)]
     pub(super) fn camera_vertex(&self, ray: &CameraRay, c: &mut Counters) -> CameraVertex {
         let w = &self.world;
         let lights = &w.lights.lights;
@@ -120,6 +121,7 @@ impl<'a> DirectIntegrator<'a> {
     /// Direct illumination at a surface point, the random numbers of path vertex `bounce`
     /// (0 for the surface a camera ray meets): light sampling, and the emission found along
     /// the BSDF sample `Dim::Bsdf { bounce }` (with MIS), which a path continues along.
+    #[inline(always)]
     pub(super) fn direct(
         &self,
         sp: &SurfacePoint,
