@@ -54,6 +54,7 @@ fn main() -> ExitCode {
                     light_selection: cli::render::SelectionArg::Auto,
                     integrator: None,
                     max_depth: 8,
+                    surfaces: None,
                     light_samples: 1,
                     penumbra_samples: 1,
                     threads: None,

@@ -9,7 +9,7 @@ use glam::DVec3;
 use lux::math::Profile;
 use lux::render::render::Renderer;
 use lux::render::settings::IntegratorKind;
-use lux::usd::{Diffuse, Material, Mesh, Scene};
+use lux::usd::{Input, Material, Mesh, Scene};
 use std::f64::consts::PI;
 
 /// The probe's floor beside a 1 × 0.6 double-sided quad at height 1.2–1.4, tilted, emitting
@@ -26,12 +26,9 @@ fn scene(emissive: DVec3) -> (Scene, Vec<DVec3>) {
     quad.double_sided = true;
     quad.material = Some(s.materials.len());
     s.materials.push(Material {
-        path: "/Looks/Glow".to_owned(),
-        diffuse: Diffuse::Color(DVec3::ZERO),
-        other_inputs: Vec::new(),
-        uses_opacity: false,
-        spectral: Default::default(),
+        diffuse: Input::Value(DVec3::ZERO),
         emissive,
+        ..Material::new("/Looks/Glow")
     });
     s.meshes.push(quad);
     (s, corners)

@@ -30,6 +30,15 @@ pub enum IntegratorArg {
     Path,
 }
 
+/// `--surfaces`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SurfacesArg {
+    /// The full UsdPreviewSurface (GGX specular, metallic, clearcoat, opacity, normal maps).
+    Preview,
+    /// Lambertian diffuseColor only, opaque (what the reference renderer shades).
+    Lambert,
+}
+
 /// `--light-selection`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum SelectionArg {
@@ -86,6 +95,9 @@ pub struct RenderArgs {
     /// Most surface vertices a path lights, 1 to 128 (`--integrator path`).
     #[arg(long, default_value_t = 8)]
     pub max_depth: u32,
+    /// How surfaces scatter (default: preview in the spec profile, lambert in hdembree).
+    #[arg(long, value_enum)]
+    pub surfaces: Option<SurfacesArg>,
     /// Light selection strategy.
     #[arg(long, value_enum, default_value_t = SelectionArg::Auto)]
     pub light_selection: SelectionArg,
@@ -216,6 +228,12 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         };
     }
     options.max_depth = args.max_depth;
+    if let Some(m) = args.surfaces {
+        options.surfaces = match m {
+            SurfacesArg::Preview => lux::render::settings::SurfaceModel::Preview,
+            SurfacesArg::Lambert => lux::render::settings::SurfaceModel::Lambert,
+        };
+    }
     options.penumbra_samples = args.penumbra_samples;
     options.sampling = match args.sampling {
         SamplingArg::Lux => SamplingMode::Lux,

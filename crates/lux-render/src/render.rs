@@ -41,7 +41,7 @@ impl<'s> Renderer<'s> {
                 cone_clipping: options.cone_clipping,
             },
         )?;
-        let materials = Materials::with_policy(scene, options.strict)?;
+        let materials = Materials::with_policy(scene, options.strict, options.surfaces)?;
         let geometry = Geometry::with_lights(scene, &lights.lights);
         let film = Film {
             width: resolved.camera.width,
@@ -106,6 +106,7 @@ impl<'s> Renderer<'s> {
             geometry: &self.geometry,
             lights: &self.lights,
             materials: &self.materials,
+            transparent: self.materials.any_transparent(),
         };
         let direct =
             DirectIntegrator::new(world, self.options.sampling, self.options.light_samples);

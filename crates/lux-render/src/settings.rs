@@ -42,6 +42,27 @@ impl IntegratorKind {
     }
 }
 
+/// How surfaces scatter light.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SurfaceModel {
+    /// The full UsdPreviewSurface: diffuse, GGX specular (specular or metallic workflow),
+    /// clearcoat, ior, opacity and cut-outs, normal maps.
+    Preview,
+    /// Lambertian `diffuseColor` only, opaque (what the reference renderer shades).
+    Lambert,
+}
+
+impl SurfaceModel {
+    /// The default of a conformance profile: UsdPreviewSurface in `Spec`, Lambertian in
+    /// `HdEmbree`.
+    pub fn default_for(profile: lux_math::Profile) -> SurfaceModel {
+        match profile {
+            lux_math::Profile::HdEmbree => SurfaceModel::Lambert,
+            _ => SurfaceModel::Preview,
+        }
+    }
+}
+
 /// Largest number of light samples per shading point ([`RenderOptions::light_samples`]).
 pub const MAX_LIGHT_SAMPLES: u32 = 64;
 
@@ -79,6 +100,8 @@ pub struct RenderOptions {
     pub integrator: IntegratorKind,
     /// Most surface vertices a path lights (1 to [`MAX_DEPTH`]; `path` only).
     pub max_depth: u32,
+    /// How surfaces scatter: the UsdPreviewSurface or Lambertian `diffuseColor`.
+    pub surfaces: SurfaceModel,
     /// Light samples per light (or per light choice) at each shading point (1 to
     /// [`MAX_LIGHT_SAMPLES`]), stratified over the pixel with the camera samples.
     pub light_samples: u32,
@@ -99,9 +122,11 @@ pub struct RenderOptions {
 
 impl RenderOptions {
     /// 16 spp, the scene's resolution and camera, the profile's integrator (path in `spec`,
-    /// direct in `hdembree`, depth 8), lux sampling, seed 0.
+    /// direct in `hdembree`, depth 8) and surfaces (UsdPreviewSurface in `spec`, Lambertian in
+    /// `hdembree`), lux sampling, seed 0.
     pub fn new(profile: ResolvedProfile) -> RenderOptions {
         let integrator = IntegratorKind::default_for(profile.profile);
+        let surfaces = SurfaceModel::default_for(profile.profile);
         RenderOptions {
             spp: 16,
             resolution: None,
@@ -112,6 +137,7 @@ impl RenderOptions {
             selection: LightSelection::Auto,
             integrator,
             max_depth: 8,
+            surfaces,
             light_samples: 1,
             penumbra_samples: 1,
             cone_clipping: true,

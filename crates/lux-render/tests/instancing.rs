@@ -8,6 +8,7 @@ use glam::{DAffine3, DMat3, DMat4, DQuat, DVec3};
 use instanced::*;
 use lux_render::geometry::{Geometry, offset_scale};
 use lux_render::material::Materials;
+use lux_render::settings::SurfaceModel;
 use lux_sample::SplitMix64;
 use lux_usd::{Instance, Mesh, Prototype, Scene};
 
@@ -17,7 +18,8 @@ fn instanced_queries_equal_flattened_queries() {
     let (f, origin) = flatten(&s);
     let gi = Geometry::new(&s);
     let gf = Geometry::new(&f);
-    let (si, sf) = (Materials::new(&s).unwrap(), Materials::new(&f).unwrap());
+    let lambert = |s: &Scene| Materials::with_policy(s, false, SurfaceModel::Lambert).unwrap();
+    let (si, sf) = (lambert(&s), lambert(&f));
     // Storage: world triangles plus each prototype once; drawn: every instance's.
     let world_tris = 2 + 2;
     let proto_tris = [2 + 4, 1];

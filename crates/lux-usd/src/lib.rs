@@ -46,7 +46,7 @@ pub use light::{
     DomeTextureFormat, Light, MaterialSyncMode, PoleAxis, ShadowInputs, ShapingInputs,
 };
 pub use load::{LoadOptions, MEMORY_LAYER, Time, load_stage, load_stage_with, load_usda_str};
-pub use material::{Diffuse, Material, SourceColorSpace, TextureInput, Wrap};
+pub use material::{Diffuse, Input, Material, SourceColorSpace, TextureInput, Transform2d, Wrap};
 pub use mesh::{Gprim, Instance, Mesh, Prototype};
 pub use reader::AssetRef;
 pub use spectral::{PhysicalLight, SurfaceSpectral};

@@ -1,9 +1,10 @@
-//! `material:binding` → `UsdPreviewSurface.inputs:diffuseColor`, as a value or a `UsdUVTexture`.
+//! `material:binding` → the UsdPreviewSurface inputs, each a value or a `UsdUVTexture` (read
+//! through a `UsdPrimvarReader_float2` and an optional `UsdTransform2d`).
 
 use crate::error::{LoadError, WarningKind};
 use crate::reader::{AssetRef, Reader, is_prim_path, is_property_name};
 use crate::spectral::{SurfaceSpectral, read_surface_spectral};
-use glam::{DVec3, DVec4};
+use glam::{DVec2, DVec3, DVec4};
 use openusd::usd::Prim;
 
 /// The UsdPreviewSurface default `diffuseColor`.
@@ -11,7 +12,7 @@ pub const DEFAULT_DIFFUSE: DVec3 = DVec3::splat(0.18);
 /// Longest chain of connections followed before giving up (cycles, deep node graphs).
 const MAX_CONNECTION_DEPTH: usize = 16;
 
-/// A `UsdUVTexture` feeding `diffuseColor`.
+/// A `UsdUVTexture` feeding a UsdPreviewSurface input.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TextureInput {
     /// The texture shader's prim path.
@@ -20,6 +21,8 @@ pub struct TextureInput {
     pub file: Option<AssetRef>,
     /// The primvar read by the `UsdPrimvarReader_float2` on `inputs:st` (default `"st"`).
     pub st_primvar: String,
+    /// A `UsdTransform2d` between the primvar reader and `inputs:st`.
+    pub transform: Option<Transform2d>,
     /// `inputs:scale` (default (1, 1, 1, 1)).
     pub scale: DVec4,
     /// `inputs:bias` (default 0).
@@ -114,27 +117,104 @@ impl SourceColorSpace {
     }
 }
 
-/// Where a material's diffuse colour comes from.
+/// A UsdPreviewSurface input: an authored (or default) value, or a `UsdUVTexture` output.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Diffuse {
-    /// A constant colour.
-    Color(DVec3),
-    /// A texture lookup.
+pub enum Input<T> {
+    /// A constant.
+    Value(T),
+    /// A texture lookup (the texture's connected output: `rgb` for colours, `r`/`g`/`b`/`a`
+    /// for floats).
     Texture(Box<TextureInput>),
 }
 
-/// A bound material, reduced to what the reference renderer shades with.
+impl<T: Copy> Input<T> {
+    /// The constant, if the input is one.
+    pub fn value(&self) -> Option<T> {
+        match self {
+            Input::Value(v) => Some(*v),
+            Input::Texture(_) => None,
+        }
+    }
+
+    /// The texture, if the input is one.
+    pub fn texture(&self) -> Option<&TextureInput> {
+        match self {
+            Input::Value(_) => None,
+            Input::Texture(t) => Some(t),
+        }
+    }
+}
+
+/// Where a material's diffuse colour comes from (`inputs:diffuseColor`).
+pub type Diffuse = Input<DVec3>;
+
+/// `UsdTransform2d` between a `UsdPrimvarReader_float2` and a texture's `inputs:st`:
+/// `result = R(rotation) · (in ∘ scale) + translation`, rotation counter-clockwise in degrees.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Transform2d {
+    /// `inputs:rotation` (degrees, default 0).
+    pub rotation: f64,
+    /// `inputs:scale` (default (1, 1)).
+    pub scale: DVec2,
+    /// `inputs:translation` (default (0, 0)).
+    pub translation: DVec2,
+}
+
+impl Default for Transform2d {
+    fn default() -> Transform2d {
+        Transform2d {
+            rotation: 0.0,
+            scale: DVec2::ONE,
+            translation: DVec2::ZERO,
+        }
+    }
+}
+
+impl Transform2d {
+    /// `R(rotation) · (st ∘ scale) + translation`.
+    pub fn apply(&self, st: DVec2) -> DVec2 {
+        let s = st * self.scale;
+        let (sin, cos) = self.rotation.to_radians().sin_cos();
+        DVec2::new(cos * s.x - sin * s.y, sin * s.x + cos * s.y) + self.translation
+    }
+}
+
+/// A bound material: its UsdPreviewSurface inputs (schema defaults where unauthored).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     /// The Material prim path.
     pub path: String,
-    /// The UsdPreviewSurface diffuse colour (default 0.18 grey; also when the surface shader is
-    /// not a UsdPreviewSurface, with a warning).
-    pub diffuse: Diffuse,
-    /// Other authored UsdPreviewSurface inputs (recorded by name, not used).
+    /// Whether the surface shader is a UsdPreviewSurface (else every input is its default, with
+    /// a warning, and renderers draw the default grey Lambertian).
+    pub preview: bool,
+    /// `inputs:diffuseColor` (default 0.18 grey).
+    pub diffuse: Input<DVec3>,
+    /// `inputs:useSpecularWorkflow` (default 0: the metallic workflow).
+    pub use_specular_workflow: bool,
+    /// `inputs:specularColor` (default black; used by the specular workflow).
+    pub specular: Input<DVec3>,
+    /// `inputs:metallic` (default 0; used by the metallic workflow).
+    pub metallic: Input<f64>,
+    /// `inputs:roughness` (default 0.5).
+    pub roughness: Input<f64>,
+    /// `inputs:clearcoat` (default 0).
+    pub clearcoat: Input<f64>,
+    /// `inputs:clearcoatRoughness` (default 0.01).
+    pub clearcoat_roughness: Input<f64>,
+    /// `inputs:ior` (default 1.5): the specular lobe's Fresnel in the metallic workflow.
+    pub ior: Input<f64>,
+    /// `inputs:opacity` (default 1).
+    pub opacity: Input<f64>,
+    /// `inputs:opacityThreshold` (default 0: opacity is partial presence; above 0 a cut-out
+    /// mask, opacity < threshold fully transparent, else opaque).
+    pub opacity_threshold: f64,
+    /// `inputs:normal`: a tangent-space normal map (a texture; a constant is the unperturbed
+    /// normal and ignored).
+    pub normal: Option<Box<TextureInput>>,
+    /// Authored inputs lux does not use (`displacement`, `occlusion`, unknown names).
     pub other_inputs: Vec<String>,
     /// Whether the surface asks for transparency or cut-outs (UsdPreviewSurface `opacity`
-    /// below 1 or connected, or `opacityThreshold` above 0), which lux draws opaque.
+    /// below 1 or connected, or `opacityThreshold` above 0).
     pub uses_opacity: bool,
     /// LTESpectralAPI inputs of the surface shader (`wavelength:reflectance`,
     /// `wavelength:ior`, scalar `ior`); a `wavelength:reflectance` replaces `diffuseColor`.
@@ -142,6 +222,55 @@ pub struct Material {
     /// UsdPreviewSurface `inputs:emissiveColor` (radiance, nits; default black) when authored
     /// as a value (through interface inputs); a texture-driven emission is a warning and 0.
     pub emissive: DVec3,
+}
+
+impl Material {
+    /// A material with every UsdPreviewSurface default (0.18 grey, roughness 0.5, ior 1.5).
+    pub fn new(path: impl Into<String>) -> Material {
+        Material {
+            path: path.into(),
+            preview: false,
+            diffuse: Input::Value(DEFAULT_DIFFUSE),
+            use_specular_workflow: false,
+            specular: Input::Value(DVec3::ZERO),
+            metallic: Input::Value(0.0),
+            roughness: Input::Value(0.5),
+            clearcoat: Input::Value(0.0),
+            clearcoat_roughness: Input::Value(0.01),
+            ior: Input::Value(1.5),
+            opacity: Input::Value(1.0),
+            opacity_threshold: 0.0,
+            normal: None,
+            other_inputs: Vec::new(),
+            uses_opacity: false,
+            spectral: SurfaceSpectral::default(),
+            emissive: DVec3::ZERO,
+        }
+    }
+
+    /// Every texture the material reads, with the input it feeds.
+    pub fn textures(&self) -> Vec<(&'static str, &TextureInput)> {
+        [
+            ("diffuseColor", self.diffuse.texture()),
+            ("specularColor", self.specular.texture()),
+            ("metallic", self.metallic.texture()),
+            ("roughness", self.roughness.texture()),
+            ("clearcoat", self.clearcoat.texture()),
+            ("clearcoatRoughness", self.clearcoat_roughness.texture()),
+            ("ior", self.ior.texture()),
+            ("opacity", self.opacity.texture()),
+            ("normal", self.normal.as_deref()),
+        ]
+        .into_iter()
+        .filter_map(|(n, t)| t.map(|t| (n, t)))
+        .collect()
+    }
+
+    /// The texture-coordinate primvar the material reads (that of its first texture; lux reads
+    /// one `st` set per mesh).
+    pub fn st_primvar(&self) -> Option<&str> {
+        self.textures().first().map(|(_, t)| t.st_primvar.as_str())
+    }
 }
 
 /// Follows the connection of `attr` on `prim` through NodeGraph/Material interface inputs;
@@ -193,17 +322,26 @@ fn token<T>(
     Ok(v)
 }
 
+/// The inputs lux reads (the rest are listed in [`Material::other_inputs`]).
+const READ_INPUTS: [&str; 12] = [
+    "inputs:diffuseColor",
+    "inputs:emissiveColor",
+    "inputs:useSpecularWorkflow",
+    "inputs:specularColor",
+    "inputs:metallic",
+    "inputs:roughness",
+    "inputs:clearcoat",
+    "inputs:clearcoatRoughness",
+    "inputs:ior",
+    "inputs:opacity",
+    "inputs:opacityThreshold",
+    "inputs:normal",
+];
+
 /// Reads the Material at `path`.
 pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadError> {
     let mat = r.stage.prim(path);
-    let mut out = Material {
-        path: path.to_owned(),
-        diffuse: Diffuse::Color(DEFAULT_DIFFUSE),
-        other_inputs: Vec::new(),
-        uses_opacity: false,
-        spectral: SurfaceSpectral::default(),
-        emissive: DVec3::ZERO,
-    };
+    let mut out = Material::new(path);
     let (shader_path, _) = follow(r, path, "outputs:surface")?;
     if shader_path == path {
         r.warn(
@@ -222,20 +360,17 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
         );
         return Ok(out);
     }
+    out.preview = true;
     out.spectral = read_surface_spectral(r, &shader)?;
     for name in shader
         .property_names()
         .map_err(|e| r.usd_error(&shader, e))?
     {
         let n = name.as_str();
-        if n.starts_with("inputs:") && n != "inputs:diffuseColor" && n != "inputs:emissiveColor" {
+        if n.starts_with("inputs:") && !READ_INPUTS.contains(&n) {
             out.other_inputs.push(n.to_owned());
         }
     }
-    let opacity_connected = !r.connections(&shader, "inputs:opacity")?.is_empty();
-    let opacity = r.f64(&shader, "inputs:opacity")?.unwrap_or(1.0);
-    let threshold = r.f64(&shader, "inputs:opacityThreshold")?.unwrap_or(0.0);
-    out.uses_opacity = opacity_connected || opacity < 1.0 || threshold > 0.0;
     let (emit_prim, emit_attr) = follow(r, &shader_path, "inputs:emissiveColor")?;
     if emit_attr.starts_with("outputs:") {
         r.warn(
@@ -254,57 +389,197 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
             );
         }
     }
-    let (src_prim, src_attr) = follow(r, &shader_path, "inputs:diffuseColor")?;
+    let colour = |v: DVec3| v.is_finite();
+    let unit = |v: f64| v.is_finite() && (0.0..=1.0).contains(&v);
+    out.diffuse = colour_input(
+        r,
+        &mat,
+        &shader_path,
+        "diffuseColor",
+        DEFAULT_DIFFUSE,
+        colour,
+    )?;
+    out.use_specular_workflow =
+        float_input(r, &mat, &shader_path, "useSpecularWorkflow", 0.0, |v| {
+            v == 0.0 || v == 1.0
+        })?
+        .value()
+        .is_some_and(|v| v == 1.0);
+    out.specular = colour_input(r, &mat, &shader_path, "specularColor", DVec3::ZERO, colour)?;
+    out.metallic = float_input(r, &mat, &shader_path, "metallic", 0.0, unit)?;
+    out.roughness = float_input(r, &mat, &shader_path, "roughness", 0.5, unit)?;
+    out.clearcoat = float_input(r, &mat, &shader_path, "clearcoat", 0.0, unit)?;
+    out.clearcoat_roughness = float_input(r, &mat, &shader_path, "clearcoatRoughness", 0.01, unit)?;
+    out.ior = float_input(r, &mat, &shader_path, "ior", 1.5, |v| {
+        v.is_finite() && v >= 1.0
+    })?;
+    out.opacity = float_input(r, &mat, &shader_path, "opacity", 1.0, unit)?;
+    out.opacity_threshold = float_input(r, &mat, &shader_path, "opacityThreshold", 0.0, unit)?
+        .value()
+        .unwrap_or(0.0);
+    out.uses_opacity = out.opacity.value().is_none_or(|o| o < 1.0) || out.opacity_threshold > 0.0;
+    if let Input::Texture(t) =
+        colour_input(r, &mat, &shader_path, "normal", DVec3::Z, |v| v.is_finite())?
+    {
+        out.normal = Some(t);
+    }
+    Ok(out)
+}
+
+/// A colour input (`color3f`/`normal3f`): its value when valid (else the default with a
+/// warning), or the texture it is connected to.
+fn colour_input(
+    r: &mut Reader<'_>,
+    mat: &Prim,
+    shader: &str,
+    name: &str,
+    default: DVec3,
+    valid: impl Fn(DVec3) -> bool,
+) -> Result<Input<DVec3>, LoadError> {
+    input(r, mat, shader, name, default, |r, p, a| r.vec3(p, a), valid)
+}
+
+/// A float input: its value when valid (else the default with a warning), or the texture
+/// (one channel) it is connected to.
+fn float_input(
+    r: &mut Reader<'_>,
+    mat: &Prim,
+    shader: &str,
+    name: &str,
+    default: f64,
+    valid: impl Fn(f64) -> bool,
+) -> Result<Input<f64>, LoadError> {
+    input(r, mat, shader, name, default, |r, p, a| r.f64(p, a), valid)
+}
+
+/// Reads `inputs:<name>` of the surface shader through interface connections: a value of the
+/// right type, or a `UsdUVTexture` output. A value of the wrong type, an invalid value or a
+/// connection to another kind of shader is the default, with a warning naming the material.
+fn input<T: Copy + std::fmt::Debug>(
+    r: &mut Reader<'_>,
+    mat: &Prim,
+    shader: &str,
+    name: &str,
+    default: T,
+    read: impl Fn(&Reader<'_>, &Prim, &str) -> Result<Option<T>, LoadError>,
+    valid: impl Fn(T) -> bool,
+) -> Result<Input<T>, LoadError> {
+    let (src_prim, src_attr) = follow(r, shader, &format!("inputs:{name}"))?;
     let src = r.stage.prim(src_prim.as_str());
     if let Some(output) = src_attr.strip_prefix("outputs:") {
         if shader_id(r, &src)?.as_deref() != Some("UsdUVTexture") {
             r.warn(
-                &mat,
+                mat,
                 WarningKind::Unsupported,
                 format!(
-                    "diffuseColor connected to {src_prim} which is not a UsdUVTexture; default grey"
+                    "{name} connected to {src_prim} which is not a UsdUVTexture; default {default:?}"
                 ),
             );
-            return Ok(out);
+            return Ok(Input::Value(default));
         }
-        let (reader_prim, _) = follow(r, &src_prim, "inputs:st")?;
-        let mut st_primvar = "st".to_owned();
+        return Ok(Input::Texture(Box::new(read_texture(
+            r, &src_prim, output,
+        )?)));
+    }
+    match read(r, &src, &src_attr) {
+        Ok(None) => Ok(Input::Value(default)),
+        Ok(Some(v)) if valid(v) => Ok(Input::Value(v)),
+        Ok(Some(v)) => {
+            r.warn(
+                mat,
+                WarningKind::InvalidValue,
+                format!("inputs:{name} = {v:?} is out of range; using the default {default:?}"),
+            );
+            Ok(Input::Value(default))
+        }
+        Err(e @ LoadError::AttributeType { .. }) => {
+            r.warn(
+                mat,
+                WarningKind::InvalidValue,
+                format!("{e}; using the default {default:?}"),
+            );
+            Ok(Input::Value(default))
+        }
+        Err(e) => Err(e),
+    }
+}
+
+/// The `UsdUVTexture` at `src_prim` read through its `output`, with the primvar (and
+/// `UsdTransform2d`) feeding its `inputs:st`.
+fn read_texture(
+    r: &mut Reader<'_>,
+    src_prim: &str,
+    output: &str,
+) -> Result<TextureInput, LoadError> {
+    let src = r.stage.prim(src_prim);
+    let mut st_primvar = "st".to_owned();
+    let mut transform = None;
+    let (mut reader_prim, _) = follow(r, src_prim, "inputs:st")?;
+    if reader_prim != src_prim {
+        let rp = r.stage.prim(reader_prim.as_str());
+        if shader_id(r, &rp)?.as_deref() == Some("UsdTransform2d") {
+            let t = Transform2d {
+                rotation: finite_or(r.f64(&rp, "inputs:rotation"), 0.0),
+                scale: r
+                    .vec2(&rp, "inputs:scale")
+                    .ok()
+                    .flatten()
+                    .filter(|v| v.is_finite())
+                    .unwrap_or(DVec2::ONE),
+                translation: r
+                    .vec2(&rp, "inputs:translation")
+                    .ok()
+                    .flatten()
+                    .filter(|v| v.is_finite())
+                    .unwrap_or(DVec2::ZERO),
+            };
+            transform = Some(t);
+            let (next, _) = follow(r, &reader_prim, "inputs:in")?;
+            if next == reader_prim {
+                reader_prim = src_prim.to_owned();
+            } else {
+                reader_prim = next;
+            }
+        }
         if reader_prim != src_prim {
-            let rp = r.stage.prim(reader_prim.as_str());
             let (vp, va) = follow(r, &reader_prim, "inputs:varname")?;
             let vprim = r.stage.prim(vp.as_str());
             if let Some(v) = r.text(&vprim, &va)? {
                 st_primvar = v;
             }
-            let _ = rp;
         }
-        let file = r.asset(&src, "inputs:file")?;
-        let fallback = r.vec4(&src, "inputs:fallback")?;
-        if let Some(a) = &file
-            && a.resolved.is_none()
-        {
-            r.warn(
-                &src,
-                WarningKind::UnresolvedAsset,
-                format!("texture @{}@ does not resolve to a file", a.authored),
-            );
-        }
-        out.diffuse = Diffuse::Texture(Box::new(TextureInput {
-            shader: src_prim.clone(),
-            file,
-            st_primvar,
-            scale: r.vec4(&src, "inputs:scale")?.unwrap_or(DVec4::ONE),
-            bias: r.vec4(&src, "inputs:bias")?.unwrap_or(DVec4::ZERO),
-            fallback: fallback.unwrap_or(DVec4::new(0.0, 0.0, 0.0, 1.0)),
-            fallback_authored: fallback.is_some(),
-            wrap_s: token(r, &src, "inputs:wrapS", Wrap::parse)?.unwrap_or_default(),
-            wrap_t: token(r, &src, "inputs:wrapT", Wrap::parse)?.unwrap_or_default(),
-            source_color_space: token(r, &src, "inputs:sourceColorSpace", SourceColorSpace::parse)?
-                .unwrap_or_default(),
-            output: output.to_owned(),
-        }));
-    } else if let Some(c) = r.vec3(&src, &src_attr)? {
-        out.diffuse = Diffuse::Color(if c.is_finite() { c } else { DEFAULT_DIFFUSE });
     }
-    Ok(out)
+    let file = r.asset(&src, "inputs:file")?;
+    let fallback = r.vec4(&src, "inputs:fallback")?;
+    if let Some(a) = &file
+        && a.resolved.is_none()
+    {
+        r.warn(
+            &src,
+            WarningKind::UnresolvedAsset,
+            format!("texture @{}@ does not resolve to a file", a.authored),
+        );
+    }
+    Ok(TextureInput {
+        shader: src_prim.to_owned(),
+        file,
+        st_primvar,
+        transform,
+        scale: r.vec4(&src, "inputs:scale")?.unwrap_or(DVec4::ONE),
+        bias: r.vec4(&src, "inputs:bias")?.unwrap_or(DVec4::ZERO),
+        fallback: fallback.unwrap_or(DVec4::new(0.0, 0.0, 0.0, 1.0)),
+        fallback_authored: fallback.is_some(),
+        wrap_s: token(r, &src, "inputs:wrapS", Wrap::parse)?.unwrap_or_default(),
+        wrap_t: token(r, &src, "inputs:wrapT", Wrap::parse)?.unwrap_or_default(),
+        source_color_space: token(r, &src, "inputs:sourceColorSpace", SourceColorSpace::parse)?
+            .unwrap_or_default(),
+        output: output.to_owned(),
+    })
+}
+
+fn finite_or(v: Result<Option<f64>, LoadError>, default: f64) -> f64 {
+    v.ok()
+        .flatten()
+        .filter(|x| x.is_finite())
+        .unwrap_or(default)
 }

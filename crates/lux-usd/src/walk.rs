@@ -82,8 +82,6 @@ pub struct Walk<'s> {
     pub problems: Vec<ArcProblem>,
     /// Prototypes walked so far, and where they are.
     pub protos: ProtoWalk,
-    /// Materials whose surface uses opacity (drawn opaque), for one warning.
-    opacity_materials: Vec<String>,
     /// Skinned meshes (drawn in their bind pose), for one warning.
     skinned: Vec<String>,
 }
@@ -97,13 +95,12 @@ impl<'s> Walk<'s> {
             material_index: HashMap::new(),
             problems: Vec::new(),
             protos: ProtoWalk::default(),
-            opacity_materials: Vec::new(),
             skinned: Vec::new(),
         }
     }
 
-    /// The scene, the walk's warnings (with one summary each for skipped gprim types, opacity
-    /// and skinning) and the composition problems found.
+    /// The scene, the walk's warnings (with one summary each for skipped gprim types and
+    /// skinning) and the composition problems found.
     pub fn finish(mut self) -> (Scene, Vec<Warning>, Vec<ArcProblem>) {
         self.r.take_type_warnings();
         let skipped = &self.scene.gprims.skipped;
@@ -115,17 +112,6 @@ impl<'s> Walk<'s> {
                 message: format!(
                     "not drawn (lux draws meshes and implicit surfaces): {}",
                     list.join(", ")
-                ),
-            });
-        }
-        if !self.opacity_materials.is_empty() {
-            self.r.warnings.push(Warning {
-                prim: self.opacity_materials[0].clone(),
-                kind: WarningKind::Unsupported,
-                message: format!(
-                    "{} material(s) use opacity or opacityThreshold; cut-outs and transparency \
-                     are drawn opaque",
-                    self.opacity_materials.len()
                 ),
             });
         }
@@ -434,9 +420,8 @@ impl<'s> Walk<'s> {
         };
         // Texture coordinates: the primvar the bound material reads; a prototype's mesh
         // without a binding of its own may get an instance's material, so it keeps `st`.
-        let st = match material.map(|m| &self.scene.materials[m].diffuse) {
-            Some(crate::material::Diffuse::Texture(t)) => Some(t.st_primvar.clone()),
-            Some(_) => None,
+        let st = match material.map(|m| &self.scene.materials[m]) {
+            Some(m) => m.st_primvar().map(str::to_owned),
             None => (here.target != Target::World).then(|| "st".to_owned()),
         };
         let mut uvs = None;
@@ -525,9 +510,6 @@ impl<'s> Walk<'s> {
             return Ok(*i);
         }
         let m = read_material(&mut self.r, path)?;
-        if m.uses_opacity {
-            self.opacity_materials.push(m.path.clone());
-        }
         let i = self.scene.materials.len();
         self.scene.materials.push(m);
         self.material_index.insert(path.to_owned(), i);

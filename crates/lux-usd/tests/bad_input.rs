@@ -375,7 +375,7 @@ fn fuzz_regressions_non_identifier_paths() {
     assert_eq!(s.meshes.len(), 1);
     assert_eq!(
         s.materials[0].diffuse,
-        lux_usd::Diffuse::Color(lux_usd::material::DEFAULT_DIFFUSE)
+        lux_usd::Input::Value(lux_usd::material::DEFAULT_DIFFUSE)
     );
     // prim names that are not identifiers: skipped with their subtree, with a warning
     let names = "#usda 1.0\ndef Xform \"a b\"\n{\n    def Sphere \"c}d\"\n    {\n    }\n}\ndef Sphere \"ok\"\n{\n}\n";

@@ -3,7 +3,7 @@
 //! single-layer package, `usdz::ArchiveWriter` for one that also carries the scene's assets),
 //! and every form loads to the same `Scene` at every frame tested.
 
-use lux_usd::{AssetRef, Diffuse, Scene, WarningKind, load_stage, usda_fix};
+use lux_usd::{AssetRef, Input, Scene, WarningKind, load_stage, usda_fix};
 use std::fs;
 use std::path::{Path, PathBuf};
 
@@ -83,7 +83,7 @@ fn for_each_asset(scene: &mut Scene, f: &mut dyn FnMut(&mut AssetRef)) {
         }
     }
     for m in &mut scene.materials {
-        if let Diffuse::Texture(t) = &mut m.diffuse
+        if let Input::Texture(t) = &mut m.diffuse
             && let Some(a) = &mut t.file
         {
             f(a);

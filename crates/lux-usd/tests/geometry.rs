@@ -2,7 +2,7 @@
 //! visibility / purpose of `imageable.usda`.
 
 use glam::{DVec2, DVec3, DVec4};
-use lux_usd::{Diffuse, Mesh, Projection, Scene, load_stage};
+use lux_usd::{Input, Mesh, Projection, Scene, load_stage};
 use std::path::PathBuf;
 
 fn scenes() -> PathBuf {
@@ -175,7 +175,7 @@ fn materials_value_and_texture() {
     let floor = mesh(&s, "/World/Floor");
     let m = &s.materials[floor.material.unwrap()];
     assert_eq!(m.path, "/World/Looks/Textured");
-    let Diffuse::Texture(t) = &m.diffuse else {
+    let Input::Texture(t) = &m.diffuse else {
         panic!("{:?}", m.diffuse)
     };
     assert_eq!(t.shader, "/World/Looks/Textured/Tex");
@@ -198,9 +198,10 @@ fn materials_value_and_texture() {
     assert_eq!(red.path, "/World/Looks/Red");
     assert_eq!(
         red.diffuse,
-        Diffuse::Color(DVec3::new(0.8f32.into(), 0.1f32.into(), 0.05f32.into()))
+        Input::Value(DVec3::new(0.8f32.into(), 0.1f32.into(), 0.05f32.into()))
     );
-    assert_eq!(red.other_inputs, ["inputs:roughness"]);
+    assert_eq!(red.roughness, Input::Value(0.4f32.into()));
+    assert!(red.other_inputs.is_empty(), "{:?}", red.other_inputs);
     assert_eq!(mesh(&s, "/World/Props/Card").material, ball.material);
     assert_eq!(s.materials.len(), 2, "each material read once");
 }

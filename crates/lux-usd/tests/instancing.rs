@@ -8,7 +8,7 @@
 //! was written: count, sum and sum of squares of the points, and their bounds.
 
 use glam::DVec3;
-use lux_usd::{Diffuse, LoadOptions, Scene, load_stage_with};
+use lux_usd::{Input, LoadOptions, Scene, load_stage_with};
 use std::path::PathBuf;
 
 fn stage() -> PathBuf {
@@ -106,7 +106,7 @@ fn instance_side_binding_and_mirroring() {
         .expect("the native instance outside the instancer");
     let m = &s.materials[c.material.expect("the instance-side binding")];
     assert_eq!(m.path, "/World/Looks/Red");
-    assert!(matches!(m.diffuse, Diffuse::Color(c) if (c.x - 0.8).abs() < 1e-6));
+    assert!(matches!(m.diffuse, Input::Value(c) if (c.x - 0.8).abs() < 1e-6));
     // the triangle itself has no binding: it takes the instance's
     let tri = &s.meshes[s.prototypes[c.prototype].meshes[0]];
     assert_eq!(tri.material, None);

@@ -7,7 +7,7 @@
 
 use glam::{DVec2, DVec3};
 use lux_usd::compat::{self, usda, usdc};
-use lux_usd::{Diffuse, LoadError, Scene, UpAxis, load_stage, locate_usda_error};
+use lux_usd::{Input, LoadError, Scene, UpAxis, load_stage, locate_usda_error};
 use openusd::gf;
 use openusd::sdf::{self, AbstractData, Value};
 use std::fs;
@@ -143,7 +143,7 @@ fn quoted_strings_load_as_asset_paths() {
     assert_eq!(ies.authored, "profile.ies");
     assert_eq!(ies.resolved, Some(dir.join("profile.ies")));
     let mat = s.materials.iter().find(|m| m.path == "/Scene/Mat").unwrap();
-    let Diffuse::Texture(tex) = &mat.diffuse else {
+    let Input::Texture(tex) = &mat.diffuse else {
         panic!("diffuse is a texture: {:?}", mat.diffuse)
     };
     let file = tex.file.clone().unwrap();
@@ -199,7 +199,7 @@ fn config_variability_loads_as_uniform() {
     let red = s.materials.iter().find(|m| m.path == "/World/Red").unwrap();
     assert_eq!(
         red.diffuse,
-        Diffuse::Color(DVec3::new(0.8763, 0.2168, 0.2168).as_vec3().as_dvec3())
+        Input::Value(DVec3::new(0.8763, 0.2168, 0.2168).as_vec3().as_dvec3())
     );
     let quad = s.meshes.iter().find(|m| m.path == "/World/Quad").unwrap();
     assert_eq!(
@@ -693,7 +693,7 @@ fn asset_paths_in_rewritten_files_resolve_like_usd_core() {
     let s = load("asset_strings.usda", 5.0);
     let screen = s.light("/Scene/Screen").unwrap().texture.clone().unwrap();
     let mat = s.materials.iter().find(|m| m.path == "/Scene/Mat").unwrap();
-    let Diffuse::Texture(tex) = &mat.diffuse else {
+    let Input::Texture(tex) = &mat.diffuse else {
         panic!()
     };
     assert_eq!(screen.resolved, tex.file.as_ref().unwrap().resolved);

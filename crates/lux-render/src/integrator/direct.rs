@@ -17,7 +17,7 @@
 //! are estimated by light sampling alone: a BSDF ray stops at the first occluder, which is not
 //! what their shadow says.
 
-use super::{CameraRay, World, power_heuristic, visibility};
+use super::{CameraRay, World, closest, power_heuristic, visibility};
 use crate::film::Counters;
 use crate::geometry::shadow_tmax;
 use crate::light::{Light, Seen};
@@ -85,9 +85,7 @@ impl<'a> DirectIntegrator<'a> {
         let w = &self.world;
         let lights = &w.lights.lights;
         c.rays += 1;
-        let hit = w
-            .geometry
-            .intersect(w.scene, ray.o, ray.d, ray.tmin, ray.tmax);
+        let hit = closest(w, ray.o, ray.d, ray.tmin, ray.tmax, false);
         let t_best = hit.map_or(ray.tmax, |h| h.t);
         if let Some((i, h)) =
             w.geometry
@@ -178,7 +176,7 @@ impl<'a> DirectIntegrator<'a> {
                 return DVec3::ZERO;
             }
             let base = l.base();
-            let Some(vis) = visibility(w.geometry, base, origin, ls.wi, tmax, c) else {
+            let Some(vis) = visibility(w, base, origin, ls.wi, tmax, c) else {
                 return DVec3::ZERO;
             };
             let pdf = pmf * ls.pdf;
@@ -240,9 +238,7 @@ impl<'a> DirectIntegrator<'a> {
         let pmf = |li: usize| kf * selector.map_or(1.0, |s| s.pmf(&r, li));
         c.rays += 1;
         // Either side blocks, as for shadow rays.
-        let hit = w
-            .geometry
-            .intersect_any_side(w.scene, origin, wi, 0.0, f64::INFINITY);
+        let hit = closest(w, origin, wi, 0.0, f64::INFINITY, true);
         let t_geo = hit.map_or(f64::INFINITY, |h| h.t);
         let mut add = |l: &Light, le: DVec3, pdf_l: f64| {
             let base = l.base();

@@ -8,9 +8,11 @@
 
 mod direct;
 mod path;
+mod trace;
 
 pub use direct::DirectIntegrator;
 pub use path::{PathIntegrator, ROULETTE_DEPTH};
+pub use trace::closest;
 
 use crate::film::Counters;
 use crate::geometry::Geometry;
@@ -32,6 +34,8 @@ pub struct World<'a> {
     pub lights: &'a LightSet,
     /// Surfaces' BSDFs.
     pub materials: &'a Materials,
+    /// Whether some surface lets rays through ([`Materials::any_transparent`]).
+    pub transparent: bool,
 }
 
 /// A camera ray: origin, unit direction and the clipping range `(tmin, tmax)`.
@@ -81,10 +85,11 @@ pub fn power_heuristic(a: f64, b: f64) -> f64 {
 /// Transmission of a shadow ray from `origin` along `dir` up to `tmax` towards the light
 /// `l` (`ShadowAPI`): `None` when fully blocked, else the RGB multiplier (1 unoccluded;
 /// `lux_math::shadowed` of the occluder's `shadow_strength` otherwise). Shadows disabled: no
-/// ray is traced.
+/// ray is traced. Through surfaces with UsdPreviewSurface `opacity` the multiplier is
+/// `∏(1 − oᵢ)` (`trace.rs`); a `ShadowAPI` shadow starts at the first surface of opacity > 0.
 #[inline]
 pub fn visibility(
-    geometry: &Geometry,
+    world: &World,
     l: &LightBase,
     origin: DVec3,
     dir: DVec3,
@@ -96,6 +101,21 @@ pub fn visibility(
     }
     c.rays += 1;
     c.shadow += 1;
+    let geometry = world.geometry;
+    if world.transparent {
+        let (tr, first) = trace::transmission(world, origin, dir, tmax);
+        let Some(t) = first else {
+            return Some(DVec3::ONE);
+        };
+        c.blocked += 1;
+        if l.plain_shadows() {
+            return (tr > 0.0).then_some(DVec3::splat(tr));
+        }
+        let sh = &l.shadow;
+        let s = lux_math::shadow_strength(t, sh.distance, sh.falloff, sh.falloff_gamma);
+        let m = lux_math::shadowed(s, sh.color) * tr.max(0.0);
+        return (m != DVec3::ZERO).then_some(m);
+    }
     if l.plain_shadows() {
         let blocked = geometry.occluded(origin, dir, 0.0, tmax);
         c.blocked += blocked as u64;

@@ -12,8 +12,8 @@
 //! roulette ends the path with probability 1 − q, q = min(1, max(β)), and divides β by q; at
 //! most `max_depth` vertices are lit (`max_depth = 1` is the direct integrator, bit for bit).
 
-use super::CameraRay;
 use super::direct::{CameraVertex, DirectIntegrator};
+use super::{CameraRay, closest};
 use crate::film::Counters;
 use crate::sampler::{Dim, SampleStream};
 use glam::DVec3;
@@ -68,10 +68,7 @@ impl<'a> PathIntegrator<'a> {
             }
             c.rays += 1;
             let origin = sp.p + sp.ng * sp.offset;
-            let Some(hit) =
-                w.geometry
-                    .intersect_any_side(w.scene, origin, bs.wi, 0.0, f64::INFINITY)
-            else {
+            let Some(hit) = closest(w, origin, bs.wi, 0.0, f64::INFINITY, true) else {
                 break;
             };
             sp = w.materials.at(w.scene, &hit, bs.wi);

@@ -11,24 +11,71 @@
 //! `normalize(M⁻ᵀ·n)`, then interpolated and renormalised.
 
 mod diffuse;
+mod preview;
 mod texture;
 
 pub use diffuse::DiffuseBsdf;
+pub use preview::{PreviewBsdf, PreviewParams};
 
 use crate::RenderError;
 use crate::geometry::Hit;
 use crate::image_io::Texture;
+use crate::settings::SurfaceModel;
 use glam::{DMat3, DVec2, DVec3};
-use lux_usd::{Diffuse, Scene, SurfaceSpectral};
+use lux_usd::{Input, Scene, SurfaceSpectral};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 use texture::{TextureShader, texture_shader};
 
+/// A prepared UsdPreviewSurface input: a constant (a float input in `x`) or a texture.
 #[derive(Clone, Debug)]
-enum Albedo {
-    Color(DVec3),
+enum Param {
+    Value(DVec3),
     Texture(TextureShader),
+}
+
+impl Param {
+    /// The input at texture coordinates `st`.
+    #[inline]
+    fn eval(&self, st: DVec2) -> DVec3 {
+        match self {
+            Param::Value(v) => *v,
+            Param::Texture(t) => t.eval(st),
+        }
+    }
+
+    /// A float input at `st`.
+    #[inline]
+    fn eval1(&self, st: DVec2) -> f64 {
+        self.eval(st).x
+    }
+}
+
+/// A material's UsdPreviewSurface inputs beyond `diffuseColor`, prepared.
+#[derive(Clone, Debug)]
+struct PreviewInputs {
+    use_specular_workflow: bool,
+    specular: Param,
+    metallic: Param,
+    roughness: Param,
+    clearcoat: Param,
+    clearcoat_roughness: Param,
+    ior: Param,
+    /// Tangent-space normal map (`inputs:normal`).
+    normal: Option<TextureShader>,
+}
+
+/// A material, prepared: its diffuse colour, the rest of the UsdPreviewSurface unless
+/// surfaces are Lambertian, and its opacity.
+#[derive(Clone, Debug)]
+struct Shader {
+    diffuse: Param,
+    preview: Option<Box<PreviewInputs>>,
+    /// `inputs:opacity` (`None`: opaque).
+    opacity: Option<Param>,
+    /// `inputs:opacityThreshold`.
+    threshold: f64,
 }
 
 /// A BSDF sample: the incident direction, its density, and the weight `f·|cos θ|/pdf` it
@@ -49,6 +96,8 @@ pub struct BsdfSample {
 pub enum Bsdf {
     /// Lambertian reflection.
     Diffuse(DiffuseBsdf),
+    /// The UsdPreviewSurface (diffuse, GGX specular, clearcoat).
+    Preview(PreviewBsdf),
 }
 
 impl Bsdf {
@@ -57,6 +106,7 @@ impl Bsdf {
     pub fn is_black(&self) -> bool {
         match self {
             Bsdf::Diffuse(b) => b.albedo == DVec3::ZERO,
+            Bsdf::Preview(b) => b.is_black(),
         }
     }
 
@@ -67,14 +117,17 @@ impl Bsdf {
     pub fn is_lambertian(&self) -> bool {
         match self {
             Bsdf::Diffuse(_) => true,
+            Bsdf::Preview(_) => false,
         }
     }
 
-    /// `f(wi)` for the unit world direction `wi` (towards the light), the viewer given.
+    /// `f(wi)` for the unit world direction `wi` (towards the light), the viewer given when
+    /// the BSDF was made.
     #[inline]
     pub fn f(&self, wi: DVec3) -> DVec3 {
         match self {
             Bsdf::Diffuse(b) => b.f(wi),
+            Bsdf::Preview(b) => b.f(wi),
         }
     }
 
@@ -83,6 +136,7 @@ impl Bsdf {
     pub fn pdf(&self, wi: DVec3) -> f64 {
         match self {
             Bsdf::Diffuse(b) => b.pdf(wi),
+            Bsdf::Preview(b) => b.pdf(wi),
         }
     }
 
@@ -91,6 +145,7 @@ impl Bsdf {
     pub fn sample(&self, u: [f64; 2]) -> Option<BsdfSample> {
         match self {
             Bsdf::Diffuse(b) => b.sample(u),
+            Bsdf::Preview(b) => b.sample(u),
         }
     }
 }
@@ -99,12 +154,18 @@ impl Bsdf {
 pub struct Materials {
     /// Textures that could not be read (each replaced by its fallback).
     pub warnings: Vec<String>,
-    materials: Vec<Albedo>,
+    materials: Vec<Shader>,
     /// Per mesh: the albedo of a `wavelength:reflectance` authored on the gprim.
     mesh_reflectance: Vec<Option<DVec3>>,
     /// Per scene instance: `M⁻ᵀ`, the inverse transpose of its transform's linear part, which
     /// maps prototype-space normals to the world.
     instance_normal: Vec<DMat3>,
+    /// Per scene instance: its transform's linear part (prototype-space tangents to the world).
+    instance_linear: Vec<DMat3>,
+    /// Per mesh: whether its material can be transparent somewhere (opacity < 1 or a cut-out).
+    mesh_transparent: Vec<bool>,
+    /// Per scene instance: whether its material (when its prototype mesh has none) can be.
+    instance_transparent: Vec<bool>,
 }
 
 /// Linear Rec.709 albedo of a `wavelength:reflectance` (lux-spectral, lit by the colour
@@ -145,38 +206,95 @@ pub struct SurfacePoint {
 }
 
 impl Materials {
-    /// Loads the textures of every material (once per file). A texture that does not resolve or
-    /// cannot be read gives its `UsdUVTexture` fallback, with a warning naming it.
+    /// Loads the textures of every material (once per file), UsdPreviewSurface surfaces. A
+    /// texture that does not resolve or cannot be read gives its `UsdUVTexture` fallback, with
+    /// a warning naming it.
     pub fn new(scene: &Scene) -> Result<Materials, RenderError> {
-        Materials::with_policy(scene, false)
+        Materials::with_policy(scene, false, SurfaceModel::Preview)
     }
 
     /// [`Materials::new`], where `strict` makes an unreadable texture an error instead of its
-    /// fallback with a warning.
-    pub fn with_policy(scene: &Scene, strict: bool) -> Result<Materials, RenderError> {
+    /// fallback with a warning, and `surfaces` chooses the UsdPreviewSurface or Lambertian
+    /// `diffuseColor` (opaque).
+    pub fn with_policy(
+        scene: &Scene,
+        strict: bool,
+        surfaces: SurfaceModel,
+    ) -> Result<Materials, RenderError> {
         let unit = scene.unit_for_wavelength;
-        let mut warnings = Vec::new();
-        let mut cache: HashMap<PathBuf, Arc<Texture>> = HashMap::new();
+        let mut ld = InputLoader {
+            cache: HashMap::new(),
+            warnings: Vec::new(),
+            strict,
+        };
         let mut materials = Vec::with_capacity(scene.materials.len());
         for m in &scene.materials {
+            let path = m.path.as_str();
+            let grey = lux_usd::material::DEFAULT_DIFFUSE;
             // LTESpectralAPI: a spectral reflectance on the surface shader replaces diffuseColor
             // (one that lux-spectral refuses is a warning, and diffuseColor is used).
-            match reflectance_albedo(&m.path, &m.spectral, unit) {
-                Ok(Some(c)) => {
-                    materials.push(Albedo::Color(c));
-                    continue;
-                }
-                Ok(None) => {}
+            let diffuse = match reflectance_albedo(path, &m.spectral, unit) {
+                Ok(Some(c)) => Param::Value(c),
+                Ok(None) => ld.colour(path, "diffuseColor", &m.diffuse, grey)?,
                 Err(e) if strict => return Err(e),
-                Err(e) => warnings.push(format!("{e}; diffuseColor is used instead")),
-            }
-            materials.push(match &m.diffuse {
-                Diffuse::Color(c) => Albedo::Color(*c),
-                Diffuse::Texture(t) => {
-                    texture_shader(&m.path, t, &mut cache, strict, &mut warnings)?
+                Err(e) => {
+                    ld.warnings
+                        .push(format!("{e}; diffuseColor is used instead"));
+                    ld.colour(path, "diffuseColor", &m.diffuse, grey)?
                 }
+            };
+            if surfaces == SurfaceModel::Lambert || !m.preview {
+                materials.push(Shader {
+                    diffuse,
+                    preview: None,
+                    opacity: None,
+                    threshold: 0.0,
+                });
+                continue;
+            }
+            let preview = PreviewInputs {
+                use_specular_workflow: m.use_specular_workflow,
+                specular: ld.colour(path, "specularColor", &m.specular, DVec3::ZERO)?,
+                metallic: ld.float(path, "metallic", &m.metallic, 0.0)?,
+                roughness: ld.float(path, "roughness", &m.roughness, 0.5)?,
+                clearcoat: ld.float(path, "clearcoat", &m.clearcoat, 0.0)?,
+                clearcoat_roughness: ld.float(
+                    path,
+                    "clearcoatRoughness",
+                    &m.clearcoat_roughness,
+                    0.01,
+                )?,
+                ior: ld.float(path, "ior", &m.ior, 1.5)?,
+                normal: match &m.normal {
+                    Some(t) => match texture_shader(
+                        path,
+                        "normal",
+                        DVec3::Z,
+                        t,
+                        &mut ld.cache,
+                        strict,
+                        &mut ld.warnings,
+                    )? {
+                        Param::Texture(s) => Some(s),
+                        Param::Value(_) => None,
+                    },
+                    None => None,
+                },
+            };
+            let opacity = ld.float(path, "opacity", &m.opacity, 1.0)?;
+            let opaque = match &opacity {
+                Param::Value(v) if m.opacity_threshold > 0.0 => v.x >= m.opacity_threshold,
+                Param::Value(v) => v.x >= 1.0,
+                Param::Texture(_) => false,
+            };
+            materials.push(Shader {
+                diffuse,
+                preview: Some(Box::new(preview)),
+                opacity: (!opaque).then_some(opacity),
+                threshold: m.opacity_threshold,
             });
         }
+        let mut warnings = ld.warnings;
         let mut mesh_reflectance = Vec::with_capacity(scene.meshes.len());
         for m in &scene.meshes {
             mesh_reflectance.push(match reflectance_albedo(&m.path, &m.spectral, unit) {
@@ -188,17 +306,95 @@ impl Materials {
                 }
             });
         }
-        let instance_normal = scene
+        let transparent = |k: Option<usize>| {
+            k.and_then(|k| materials.get(k))
+                .is_some_and(|s: &Shader| s.opacity.is_some())
+        };
+        let mesh_transparent = scene
+            .meshes
+            .iter()
+            .map(|m| transparent(m.material))
+            .collect();
+        let instance_transparent = scene
             .instances
             .iter()
-            .map(|i| DMat3::from_mat4(i.to_world).inverse().transpose())
+            .map(|i| transparent(i.material))
+            .collect();
+        let instance_linear: Vec<DMat3> = scene
+            .instances
+            .iter()
+            .map(|i| DMat3::from_mat4(i.to_world))
+            .collect();
+        let instance_normal = instance_linear
+            .iter()
+            .map(|m| m.inverse().transpose())
             .collect();
         Ok(Materials {
             warnings,
             materials,
             mesh_reflectance,
             instance_normal,
+            instance_linear,
+            mesh_transparent,
+            instance_transparent,
         })
+    }
+
+    /// Whether some surface can let rays through (UsdPreviewSurface `opacity` below 1 or an
+    /// `opacityThreshold` cut-out), so that rays must test the opacity of what they hit.
+    pub fn any_transparent(&self) -> bool {
+        self.mesh_transparent.iter().any(|&t| t) || self.instance_transparent.iter().any(|&t| t)
+    }
+
+    /// The material of a hit: the mesh's own binding, else its instance's.
+    #[inline]
+    fn material_of(&self, scene: &Scene, hit: &Hit) -> Option<&Shader> {
+        let mesh = &scene.meshes[hit.mesh];
+        mesh.material
+            .or_else(|| hit.instance.and_then(|i| scene.instances[i].material))
+            .and_then(|k| self.materials.get(k))
+    }
+
+    /// Texture coordinates at a hit (0 without a texture-coordinate primvar).
+    #[inline]
+    fn st(scene: &Scene, hit: &Hit) -> DVec2 {
+        match &scene.meshes[hit.mesh].uvs {
+            Some(uv) => {
+                let c = &uv[hit.tri];
+                let (b1, b2) = (hit.bary.x, hit.bary.y);
+                (1.0 - b1 - b2) * c[0] + b1 * c[1] + b2 * c[2]
+            }
+            None => DVec2::ZERO,
+        }
+    }
+
+    /// How much of a ray the surface at `hit` stops: 1 opaque, 0 fully transparent
+    /// (UsdPreviewSurface `opacity`; with `opacityThreshold > 0` a mask: 0 below the threshold,
+    /// else 1).
+    #[inline]
+    pub fn opacity(&self, scene: &Scene, hit: &Hit) -> f64 {
+        let transparent = self.mesh_transparent[hit.mesh]
+            || hit.instance.is_some_and(|i| self.instance_transparent[i]);
+        if !transparent {
+            return 1.0;
+        }
+        let Some(shader) = self.material_of(scene, hit) else {
+            return 1.0;
+        };
+        let Some(opacity) = &shader.opacity else {
+            return 1.0;
+        };
+        let o = opacity.eval1(Self::st(scene, hit));
+        let o = if o.is_finite() {
+            o.clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        if shader.threshold > 0.0 {
+            if o < shader.threshold { 0.0 } else { 1.0 }
+        } else {
+            o
+        }
     }
 
     /// The surface seen by a ray of direction `d` at `hit`.
@@ -223,27 +419,14 @@ impl Materials {
         } else if ns.dot(ng) < 0.0 {
             ns = -ns;
         }
-        let material = mesh
-            .material
-            .or_else(|| hit.instance.and_then(|i| scene.instances[i].material));
-        let albedo = match (
-            self.mesh_reflectance[hit.mesh],
-            material.and_then(|i| self.materials.get(i)),
-        ) {
+        let shader = self.material_of(scene, hit);
+        let st = Self::st(scene, hit);
+        let albedo = match (self.mesh_reflectance[hit.mesh], shader) {
             (Some(c), _) => c,
-            (None, m) => match m {
-                Some(Albedo::Color(c)) => *c,
-                Some(Albedo::Texture(t)) => match &mesh.uvs {
-                    Some(uv) => {
-                        let c = &uv[hit.tri];
-                        t.eval(b0 * c[0] + b1 * c[1] + b2 * c[2])
-                    }
-                    None => t.eval(DVec2::ZERO),
-                },
-                None => match &mesh.colors {
-                    Some(c) => interp3(&c[hit.tri]),
-                    None => DVec3::ONE,
-                },
+            (None, Some(m)) => m.diffuse.eval(st),
+            (None, None) => match &mesh.colors {
+                Some(c) => interp3(&c[hit.tri]),
+                None => DVec3::ONE,
             },
         };
         let albedo = if albedo.is_finite() {
@@ -251,12 +434,139 @@ impl Materials {
         } else {
             DVec3::ZERO
         };
+        let bsdf = match shader.and_then(|m| m.preview.as_deref()) {
+            None => Bsdf::Diffuse(DiffuseBsdf { albedo, ns }),
+            Some(p) => {
+                if let Some(map) = &p.normal {
+                    ns = self.normal_mapped(scene, hit, map, st, ns, ng);
+                }
+                let params = PreviewParams {
+                    diffuse_color: albedo,
+                    use_specular_workflow: p.use_specular_workflow,
+                    specular_color: p.specular.eval(st),
+                    metallic: p.metallic.eval1(st),
+                    roughness: p.roughness.eval1(st),
+                    clearcoat: p.clearcoat.eval1(st),
+                    clearcoat_roughness: p.clearcoat_roughness.eval1(st),
+                    ior: p.ior.eval1(st),
+                };
+                Bsdf::Preview(PreviewBsdf::new(&params, ns, -d))
+            }
+        };
         SurfacePoint {
             p: hit.p,
             ng,
             ns,
             offset: hit.offset,
-            bsdf: Bsdf::Diffuse(DiffuseBsdf { albedo, ns }),
+            bsdf,
+        }
+    }
+
+    /// The shading normal perturbed by a tangent-space normal map (UsdPreviewSurface
+    /// `inputs:normal`, the texture's `scale`/`bias` mapping texels to \[−1, 1\]³): with the
+    /// tangent `T = ∂p/∂s` made orthogonal to `ns`, `B = ±ns × T` (the sign of `∂p/∂t`),
+    /// `n' = normalize(x·T + y·B + z·ns)`, kept on the viewer's side of `ng`. Without
+    /// texture coordinates, or where they are degenerate, `ns` is unchanged.
+    fn normal_mapped(
+        &self,
+        scene: &Scene,
+        hit: &Hit,
+        map: &TextureShader,
+        st: DVec2,
+        ns: DVec3,
+        ng: DVec3,
+    ) -> DVec3 {
+        let mesh = &scene.meshes[hit.mesh];
+        let Some(uv) = &mesh.uvs else {
+            return ns;
+        };
+        let [i0, i1, i2] = mesh.triangles[hit.tri].map(|i| i as usize);
+        let (Some(p0), Some(p1), Some(p2)) = (
+            mesh.positions.get(i0),
+            mesh.positions.get(i1),
+            mesh.positions.get(i2),
+        ) else {
+            return ns;
+        };
+        let c = &uv[hit.tri];
+        let (dp1, dp2) = (*p1 - *p0, *p2 - *p0);
+        let (du1, du2) = (c[1] - c[0], c[2] - c[0]);
+        let det = du1.x * du2.y - du1.y * du2.x;
+        if det == 0.0 || !det.is_finite() {
+            return ns;
+        }
+        let mut dpds = (du2.y * dp1 - du1.y * dp2) / det;
+        let mut dpdt = (du1.x * dp2 - du2.x * dp1) / det;
+        if let Some(i) = hit.instance {
+            let m = self.instance_linear[i];
+            dpds = m * dpds;
+            dpdt = m * dpdt;
+        }
+        let t = (dpds - ns * ns.dot(dpds)).normalize_or_zero();
+        if t == DVec3::ZERO {
+            return ns;
+        }
+        let mut b = ns.cross(t);
+        if b.dot(dpdt) < 0.0 {
+            b = -b;
+        }
+        let n = map.eval(st);
+        let mapped = (n.x * t + n.y * b + n.z * ns).normalize_or_zero();
+        if mapped == DVec3::ZERO || !mapped.is_finite() {
+            return ns;
+        }
+        if mapped.dot(ng) <= 0.0 {
+            // A perturbation past the geometric horizon: back to the interpolated normal.
+            return ns;
+        }
+        mapped
+    }
+}
+
+/// Prepares material inputs, reading each texture file once.
+struct InputLoader {
+    cache: HashMap<PathBuf, Arc<Texture>>,
+    warnings: Vec<String>,
+    strict: bool,
+}
+
+impl InputLoader {
+    /// A colour input of material `path`.
+    fn colour(
+        &mut self,
+        path: &str,
+        name: &str,
+        input: &Input<DVec3>,
+        default: DVec3,
+    ) -> Result<Param, RenderError> {
+        match input {
+            Input::Value(v) => Ok(Param::Value(*v)),
+            Input::Texture(t) => texture_shader(
+                path,
+                name,
+                default,
+                t,
+                &mut self.cache,
+                self.strict,
+                &mut self.warnings,
+            ),
+        }
+    }
+
+    /// A float input of material `path` (kept in `x`).
+    fn float(
+        &mut self,
+        path: &str,
+        name: &str,
+        input: &Input<f64>,
+        default: f64,
+    ) -> Result<Param, RenderError> {
+        match input {
+            Input::Value(v) => Ok(Param::Value(DVec3::splat(*v))),
+            Input::Texture(t) => {
+                let t = Input::Texture(t.clone());
+                self.colour(path, name, &t, DVec3::splat(default))
+            }
         }
     }
 }

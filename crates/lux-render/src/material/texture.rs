@@ -1,11 +1,12 @@
-//! `UsdUVTexture` feeding a UsdPreviewSurface input: the file, `st` lookup with `wrapS`/`wrapT`,
-//! `scale`, `bias`, `fallback`, `sourceColorSpace` and the connected output.
+//! `UsdUVTexture` feeding a UsdPreviewSurface input: the file, `st` lookup (through a
+//! `UsdTransform2d` when authored) with `wrapS`/`wrapT`, `scale`, `bias`, `fallback`,
+//! `sourceColorSpace` and the connected output.
 
-use super::Albedo;
+use super::Param;
 use crate::RenderError;
 use crate::image_io::{Texture, linear_to_srgb};
 use glam::{DVec2, DVec3, DVec4};
-use lux_usd::{SourceColorSpace, TextureInput};
+use lux_usd::{SourceColorSpace, TextureInput, Transform2d};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -55,10 +56,12 @@ impl Wrap {
     }
 }
 
-/// A prepared `UsdUVTexture` feeding `diffuseColor`.
+/// A prepared `UsdUVTexture` feeding a UsdPreviewSurface input.
 #[derive(Clone, Debug)]
 pub(super) struct TextureShader {
     tex: Arc<Texture>,
+    /// A `UsdTransform2d` applied to the texture coordinates first.
+    transform: Option<Transform2d>,
     scale: DVec4,
     bias: DVec4,
     fallback: DVec4,
@@ -72,6 +75,10 @@ pub(super) struct TextureShader {
 impl TextureShader {
     #[inline]
     pub(super) fn eval(&self, st: DVec2) -> DVec3 {
+        let st = match &self.transform {
+            Some(t) => t.apply(st),
+            None => st,
+        };
         let pick = |c: DVec4| -> DVec3 {
             match self.output {
                 4 => c.truncate(),
@@ -96,38 +103,41 @@ impl TextureShader {
     }
 }
 
-/// The albedo of a `UsdUVTexture`. A texture file that does not resolve or cannot be read
-/// (missing, a format lux does not decode such as RenderMan `.tex`, corrupt) is replaced, with
-/// a warning naming the material and the file (an error when `strict`), by the texture's
-/// `inputs:fallback` when authored, else by `diffuseColor`'s own fallback (0.18 grey): the
-/// surface stays visible and lit, where the schema default (0, 0, 0, 1) would paint it black.
+/// The input `input` of a material fed by a `UsdUVTexture`. A texture file that does not
+/// resolve or cannot be read (missing, a format lux does not decode such as RenderMan `.tex`,
+/// corrupt) is replaced, with a warning naming the material and the file (an error when
+/// `strict`), by the texture's `inputs:fallback` when authored, else by the input's own
+/// default `default` (0.18 grey for `diffuseColor`): the surface stays visible and lit, where
+/// the schema default (0, 0, 0, 1) would paint it black.
 pub(super) fn texture_shader(
     material: &str,
+    input: &str,
+    default: DVec3,
     t: &TextureInput,
     cache: &mut HashMap<PathBuf, Arc<Texture>>,
     strict: bool,
     warnings: &mut Vec<String>,
-) -> Result<Albedo, RenderError> {
+) -> Result<Param, RenderError> {
     let Some(file) = &t.file else {
-        return Ok(Albedo::Color(t.fallback.truncate()));
+        return Ok(Param::Value(pick_output(t.fallback, &t.output)));
     };
     let failed = |file: PathBuf, message: String, warnings: &mut Vec<String>| {
         if strict {
             return Err(RenderError::Asset { file, message });
         }
-        let (colour, what) = if t.fallback_authored {
-            (t.fallback.truncate(), "the texture's inputs:fallback")
-        } else {
+        let (value, what) = if t.fallback_authored {
             (
-                lux_usd::material::DEFAULT_DIFFUSE,
-                "diffuseColor's fallback",
+                pick_output(t.fallback, &t.output),
+                "the texture's inputs:fallback".to_owned(),
             )
+        } else {
+            (default, format!("{input}'s default"))
         };
         warnings.push(format!(
-            "{}: {message}; material {material} uses {what} {colour}",
+            "{}: {message}; material {material} uses {what} {value} for {input}",
             file.display(),
         ));
-        Ok(Albedo::Color(colour))
+        Ok(Param::Value(value))
     };
     let Some(path) = &file.resolved else {
         return failed(
@@ -152,8 +162,9 @@ pub(super) fn texture_shader(
         .and_then(|e| e.to_str())
         .unwrap_or("")
         .to_ascii_lowercase();
-    Ok(Albedo::Texture(TextureShader {
+    Ok(Param::Texture(TextureShader {
         tex,
+        transform: t.transform,
         scale: t.scale,
         bias: t.bias,
         fallback: t.fallback,
@@ -162,6 +173,14 @@ pub(super) fn texture_shader(
             && !matches!(ext.as_str(), "exr" | "hdr"),
         output: output_index(&t.output),
     }))
+}
+
+/// The connected output of a texel (or fallback) `c`: `rgb`, or one channel splatted.
+fn pick_output(c: DVec4, output: &str) -> DVec3 {
+    match output_index(output) {
+        4 => c.truncate(),
+        k => DVec3::splat(c[k as usize]),
+    }
 }
 
 fn output_index(name: &str) -> u8 {

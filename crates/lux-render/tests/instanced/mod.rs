@@ -33,13 +33,14 @@ use glam::{DMat3, DMat4, DQuat, DVec2, DVec3};
 use lux_render::geometry::{Hit, offset_scale};
 use lux_render::material::{Bsdf, SurfacePoint};
 use lux_sample::SplitMix64;
-use lux_usd::{Diffuse, Instance, Material, Mesh, Prototype, Scene};
+use lux_usd::{Input, Instance, Material, Mesh, Prototype, Scene};
 use std::sync::OnceLock;
 
 /// The Lambertian albedo at a surface point.
 pub fn albedo(p: &SurfacePoint) -> DVec3 {
     match p.bsdf {
         Bsdf::Diffuse(b) => b.albedo,
+        Bsdf::Preview(_) => panic!("the tests shade with Lambertian materials"),
     }
 }
 
@@ -92,10 +93,10 @@ def Mesh "Uses{name}" (prepend apiSchemas = ["MaterialBindingAPI"])
             let mut m = scene.materials;
             m.sort_by(|a, b| b.path.cmp(&a.path));
             assert_eq!(m.len(), 2);
-            assert_eq!(m[0].diffuse, Diffuse::Color(DVec3::new(0.75, 0.25, 0.1875)));
+            assert_eq!(m[0].diffuse, Input::Value(DVec3::new(0.75, 0.25, 0.1875)));
             assert_eq!(
                 m[1].diffuse,
-                Diffuse::Color(DVec3::new(0.1875, 0.6875, 0.3125))
+                Input::Value(DVec3::new(0.1875, 0.6875, 0.3125))
             );
             m
         })
