@@ -11,9 +11,11 @@
 //! `normalize(M⁻ᵀ·n)`, then interpolated and renormalised.
 
 mod diffuse;
+mod preview;
 mod texture;
 
 pub use diffuse::DiffuseBsdf;
+pub use preview::{PreviewBsdf, PreviewParams};
 
 use crate::RenderError;
 use crate::geometry::Hit;
