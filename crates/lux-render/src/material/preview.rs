@@ -27,9 +27,9 @@
 //!   same `ior` (the specification names the clearcoat among the users of `ior`).
 //! - **Energy and reciprocity.** Every factor is symmetric in (wo, wi), so `f` is reciprocal.
 //!   The one-sided bound `Ê(F0, c) = F0 + (1 − F0)·T(c)` is at least the directional albedo of
-//!   a GGX lobe with Schlick's Fresnel for every `alpha ≤ 1` (exact for a mirror since
-//!   `(1 − c)⁵ ≤ T(c)`; checked numerically for rough lobes by the test
-//!   `schlick_tail_albedo_below_bound`), and the coupled diffuse has directional albedo exactly
+//!   a GGX lobe with Schlick's Fresnel for every `alpha ≤ 1` (it holds for a mirror since
+//!   `(1 − c)⁵ ≤ T(c)`; for rough lobes it is checked numerically by the test
+//!   `schlick_tail_albedo_below_bound`, worst ratio ≈ 0.97 at grazing mirrors), and the coupled diffuse has directional albedo exactly
 //!   `ρ_d·(1 − F0)·(1 − T(cₒ))` (28/23 normalises `∫(1 − T(c))·c dω/π = 23/28`). So the base
 //!   reflects at most `Ê(F0, cₒ) + (1 − F0)(1 − T(cₒ)) = 1` per channel, and with the coat at most
 //!   `clearcoat·Ê_c(cₒ) + a(cₒ)·1 = 1`.
