@@ -27,7 +27,9 @@ use crate::settings::SamplingMode;
 use glam::DVec3;
 use lux_sample::{Reference, Strategy};
 
-/// What a camera ray meets first ([`DirectIntegrator::camera_vertex`]).
+/// What a camera ray meets first ([`DirectIntegrator::camera_vertex`]). A value returned
+/// into the (inlined) caller's frame, never stored: the surface variant stays unboxed.
+#[allow(clippy::large_enum_variant)]
 pub(super) enum CameraVertex {
     /// The path ends: radiance and alpha.
     Done(DVec3, f64),
