@@ -66,3 +66,94 @@ fn the_camera_sees_the_glow() {
     close(v.x, 2.0, 1e-12, "glow, red");
     close(v.z, 0.5, 1e-12, "glow, blue");
 }
+
+/// [`scene`]'s quad with `MeshLightAPI` (intensity 3, white) in `mode`, and a UsdPreviewSurface
+/// emitting (2, 1, 0.5) when `material`.
+fn mesh_light(mode: lux::usd::MaterialSyncMode, material: bool) -> (Scene, f64) {
+    let (mut s, corners) = scene(DVec3::new(2.0, 1.0, 0.5));
+    s.materials[0].preview = true;
+    let q = s.meshes.len() - 1;
+    if !material {
+        s.meshes[q].material = None;
+    }
+    let tris: Vec<[DVec3; 3]> = s.meshes[q]
+        .triangles
+        .iter()
+        .map(|t| t.map(|i| s.meshes[q].positions[i as usize]))
+        .collect();
+    let mut l = lux::usd::Light::with_defaults(
+        "/Glow",
+        lux::math::LightShape::Mesh { triangles: tris },
+        glam::DMat4::IDENTITY,
+    );
+    l.params.intensity = 3.0;
+    l.material_sync_mode = mode;
+    s.meshes[q].light = Some(s.lights.len());
+    s.lights.push(l);
+    let pi = lux::sample::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
+    (s, pi / PI)
+}
+
+#[test]
+fn material_sync_mode_of_a_mesh_light() {
+    use lux::usd::MaterialSyncMode as M;
+    let floor = |s: &Scene| {
+        let mut o = options(Profile::Spec, 4096, [1, 1]);
+        o.integrator = IntegratorKind::Direct;
+        let r = Renderer::new(s, o).unwrap();
+        assert!(
+            r.warnings().next().is_none(),
+            "{:?}",
+            r.warnings().collect::<Vec<_>>()
+        );
+        r.pixel_value(0, 0)
+    };
+    let seen = |mut s: Scene| {
+        s.cameras[0] = common::probe_camera(0.7, 0.1);
+        Renderer::new(&s, options(Profile::Spec, 16, [1, 1]))
+            .unwrap()
+            .pixel_value(0, 0)
+    };
+    // (the floor's light, per unit of the quad's radiance; what the camera sees on the quad)
+    for (mode, material, light, glow) in [
+        // The material's glow tints the light: 3·(2, 1, 0.5); the camera sees the glow.
+        (
+            M::MaterialGlowTintsLight,
+            true,
+            DVec3::new(6.0, 3.0, 1.5),
+            DVec3::new(2.0, 1.0, 0.5),
+        ),
+        // Independent: the light as authored, the camera still sees the material's glow.
+        (
+            M::Independent,
+            true,
+            DVec3::splat(3.0),
+            DVec3::new(2.0, 1.0, 0.5),
+        ),
+        // No material response: the light's radiance is what everything sees.
+        (
+            M::NoMaterialResponse,
+            true,
+            DVec3::splat(3.0),
+            DVec3::splat(3.0),
+        ),
+        // No bound material: a light shaped by geometry, whatever the mode.
+        (
+            M::MaterialGlowTintsLight,
+            false,
+            DVec3::splat(3.0),
+            DVec3::splat(3.0),
+        ),
+    ] {
+        let what = format!("{mode:?}, material {material}");
+        let (s, factor) = mesh_light(mode, material);
+        let v = floor(&s);
+        for k in 0..3 {
+            close(v[k], light[k] * factor, 1e-3, &format!("floor, {what}"));
+        }
+        let g = seen(s);
+        for k in 0..3 {
+            close(g[k], glow[k], 1e-12, &format!("camera, {what}"));
+        }
+    }
+}

@@ -164,3 +164,55 @@ fn normal_map_tilts_the_shading_normal() {
         assert_eq!(m.opacity(&s, &hit), want, "y = {y}");
     }
 }
+
+/// The floor of `common` with a UsdPreviewSurface (a rough dielectric with clearcoat), lit by a
+/// sphere light with the given `inputs:diffuse` and `inputs:specular`.
+fn lobes_scene(diffuse: f64, specular: f64) -> Scene {
+    let mut sph = Light::with_defaults(
+        "/Sphere",
+        LightShape::Sphere { radius: 0.3 },
+        DMat4::from_translation(DVec3::new(0.6, 1.2, -0.3)),
+    );
+    sph.params.intensity = 3.0;
+    sph.diffuse = diffuse;
+    sph.specular = specular;
+    let mut s = probe_scene(vec![sph], 0.0, 0.0);
+    s.materials.push(Material {
+        preview: true,
+        diffuse: Input::Value(DVec3::new(0.6, 0.4, 0.2)),
+        roughness: Input::Value(0.4),
+        clearcoat: Input::Value(0.5),
+        ..Material::new("/Looks/Floor")
+    });
+    s.meshes[0].material = Some(0);
+    s
+}
+
+#[test]
+fn light_diffuse_and_specular_scale_their_lobes() {
+    // LightAPI inputs:diffuse and inputs:specular scale the diffuse and the specular (GGX,
+    // clearcoat) parts of f. The estimate is linear in each, with the same random numbers:
+    // (1, 0) + (0, 1) = (1, 1), and (2, 3) = 2·(1, 0) + 3·(0, 1), to rounding.
+    let read = |kd: f64, ks: f64| {
+        let mut o = options(Profile::Spec, 64, [1, 1]);
+        o.integrator = IntegratorKind::Direct;
+        Renderer::new(&lobes_scene(kd, ks), o)
+            .unwrap()
+            .pixel_value(0, 0)
+            .truncate()
+    };
+    let (d, s, both) = (read(1.0, 0.0), read(0.0, 1.0), read(1.0, 1.0));
+    assert!(d.min_element() > 0.0 && s.min_element() > 0.0, "{d} {s}");
+    // Both parts matter here: the specular part is a few per cent of the total at least.
+    assert!(s.x > 0.02 * both.x, "{s} of {both}");
+    for k in 0..3 {
+        close(d[k] + s[k], both[k], 1e-9, "diffuse + specular");
+        close(
+            2.0 * d[k] + 3.0 * s[k],
+            read(2.0, 3.0)[k],
+            1e-9,
+            "2·diffuse + 3·specular",
+        );
+    }
+    assert_eq!(read(0.0, 0.0), DVec3::ZERO);
+}

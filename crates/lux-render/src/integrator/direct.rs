@@ -20,8 +20,8 @@
 use super::{CameraRay, World, closest, power_heuristic, visibility};
 use crate::film::Counters;
 use crate::geometry::shadow_tmax;
-use crate::light::{Light, Seen};
-use crate::material::SurfacePoint;
+use crate::light::{Light, LightBase, Seen};
+use crate::material::{Bsdf, SurfacePoint};
 use crate::sampler::{Dim, SampleStream};
 use crate::settings::SamplingMode;
 use glam::DVec3;
@@ -35,6 +35,13 @@ pub(super) enum CameraVertex {
     Done(DVec3, f64),
     /// A surface, with the glow it shows (a mesh light's).
     Surface(SurfacePoint, DVec3),
+}
+
+/// Whether a light's `inputs:diffuse` and `inputs:specular` act on `bsdf` as one factor
+/// (`diffuse`): a Lambertian BSDF has no specular part, or the two are equal.
+#[inline]
+fn one_scale(bsdf: &Bsdf, base: &LightBase) -> bool {
+    matches!(bsdf, Bsdf::Diffuse(_)) || base.diffuse == base.specular
 }
 
 /// Direct lighting with light sampling and (lux sampling) MIS against BSDF sampling.
@@ -113,7 +120,11 @@ impl<'a> DirectIntegrator<'a> {
         // A mesh light's own glow, seen directly.
         if let Some(li) = w.lights.mesh_light.get(hit.mesh).copied().flatten() {
             let l = &lights[li];
-            glow += l.le(l.base().to_local(sp.p), -ray.d, Seen::Camera);
+            glow += match l {
+                // materialSyncMode: the material's glow, not the light's radiance.
+                Light::Mesh(m) if m.glow.is_some() => m.glow.unwrap_or_default(),
+                _ => l.le(l.base().to_local(sp.p), -ray.d, Seen::Camera),
+            };
         }
         CameraVertex::Surface(sp, glow)
     }
@@ -187,7 +198,16 @@ impl<'a> DirectIntegrator<'a> {
             } else {
                 power_heuristic(pdf, sp.bsdf.pdf(ls.wi))
             };
-            let contrib = sp.bsdf.f(ls.wi) * ls.l * vis * (base.diffuse * cos * weight / pdf);
+            // The light's inputs:diffuse and inputs:specular scale the two parts of f; one
+            // scale for a Lambertian surface or equal multipliers.
+            let contrib = if one_scale(&sp.bsdf, base) {
+                sp.bsdf.f(ls.wi) * ls.l * vis * (base.diffuse * cos * weight / pdf)
+            } else {
+                sp.bsdf.f_scaled(ls.wi, base.diffuse, base.specular)
+                    * ls.l
+                    * vis
+                    * (cos * weight / pdf)
+            };
             if contrib.is_finite() {
                 contrib
             } else {
@@ -246,7 +266,15 @@ impl<'a> DirectIntegrator<'a> {
             let base = l.base();
             if le != DVec3::ZERO && base.plain_shadows() {
                 let mis = power_heuristic(bs.pdf, pdf_l);
-                let contrib = bs.weight * le * (mis * base.diffuse);
+                let contrib = if one_scale(&sp.bsdf, base) {
+                    bs.weight * le * (mis * base.diffuse)
+                } else {
+                    // The sample's weight f·cos/pdf with each part of f scaled.
+                    let f = sp.bsdf.f(wi);
+                    let scaled = sp.bsdf.f_scaled(wi, base.diffuse, base.specular);
+                    let ratio = DVec3::select(f.cmpgt(DVec3::ZERO), scaled / f, DVec3::ZERO);
+                    bs.weight * le * ratio * mis
+                };
                 if contrib.is_finite() {
                     out += contrib;
                 }

@@ -171,6 +171,11 @@ impl<'s> Loader<'s> {
         } else {
             0.0
         };
+        b.specular = if l.specular.is_finite() {
+            l.specular.max(0.0)
+        } else {
+            0.0
+        };
         let power = light.power(area);
         light.base_mut().power = if power.is_finite() { power } else { 0.0 };
         Ok(light)

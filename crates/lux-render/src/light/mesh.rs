@@ -14,6 +14,11 @@ pub struct MeshLight {
     pub base: LightBase,
     /// Index into `Scene::meshes`.
     pub mesh: usize,
+    /// What camera rays see on the mesh instead of the light's radiance: the bound material's
+    /// UsdPreviewSurface `emissiveColor` under `materialSyncMode` `materialGlowTintsLight` or
+    /// `independent` (geometry-lights proposal: "primary rays see the emissive/glow response as
+    /// dictated by the bound Material"); `None`: the light's own radiance.
+    pub glow: Option<DVec3>,
     /// World box of the mesh's points.
     world_box: (DVec3, DVec3),
     sampler: lux_sample::MeshLight,
@@ -38,6 +43,7 @@ impl MeshLight {
         Ok(MeshLight {
             base,
             mesh,
+            glow: None,
             world_box,
             sampler,
         })

@@ -90,6 +90,9 @@ pub struct LightBase {
     pub camera_visible: bool,
     /// `inputs:diffuse`: multiplier of the light's effect on diffuse surfaces (finite, ≥ 0).
     pub diffuse: f64,
+    /// `inputs:specular`: multiplier of the light's effect on specular lobes (the
+    /// UsdPreviewSurface GGX and clearcoat; finite, ≥ 0).
+    pub specular: f64,
     /// `ShadowAPI` inputs (`enable`, `color`, `distance`, `falloff`, `falloffGamma`).
     pub shadow: ShadowInputs,
     /// Light → world.
@@ -109,6 +112,7 @@ impl LightBase {
             power: 0.0,
             camera_visible: false,
             diffuse: 1.0,
+            specular: 1.0,
             shadow,
             inv_linear: xf.linear().inverse(),
             xf,

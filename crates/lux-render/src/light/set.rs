@@ -89,9 +89,10 @@ impl LightSet {
                     None
                 }
             };
-            if let Some(rl) = prepared {
+            if let Some(mut rl) = prepared {
                 if let Some(m) = mesh {
                     mesh_light[m] = Some(lights.len());
+                    sync_with_material(&mut rl, l, &scene.meshes[m], scene);
                 }
                 lights.push(rl);
             }
@@ -174,5 +175,43 @@ fn build_selector(
             ));
             None
         }
+    }
+}
+
+/// `materialSyncMode` of a `MeshLightAPI` light `rl` on `mesh` (geometry-lights proposal,
+/// "Synchronizing Light with Material"), when the mesh has a bound UsdPreviewSurface:
+/// - `materialGlowTintsLight` (default): the light's radiance is multiplied by the material's
+///   `emissiveColor`, and camera rays see the material's glow;
+/// - `independent`: the light's radiance as authored, camera rays see the material's glow;
+/// - `noMaterialResponse`: the light's radiance everywhere (and no surface response,
+///   `Materials`).
+///
+/// lux's choice for secondary rays: the light's radiance, so that light samples and BSDF rays
+/// that hit the mesh estimate one emission with MIS (the proposal lets them see the glow).
+fn sync_with_material(rl: &mut Light, l: &lux_usd::Light, mesh: &lux_usd::Mesh, scene: &Scene) {
+    let Light::Mesh(ml) = rl else {
+        return;
+    };
+    let Some(m) = mesh.material.map(|k| &scene.materials[k]) else {
+        return;
+    };
+    if !m.preview {
+        return;
+    }
+    match l.material_sync_mode {
+        lux_usd::MaterialSyncMode::MaterialGlowTintsLight => {
+            // Power ∝ luminance(radiance): rescale it with the tinted radiance.
+            let before = lux_math::luminance(ml.base.radiance);
+            ml.base.radiance *= m.emissive;
+            let after = lux_math::luminance(ml.base.radiance);
+            ml.base.power = if before > 0.0 {
+                ml.base.power * (after / before)
+            } else {
+                0.0
+            };
+            ml.glow = Some(m.emissive);
+        }
+        lux_usd::MaterialSyncMode::Independent => ml.glow = Some(m.emissive),
+        lux_usd::MaterialSyncMode::NoMaterialResponse => {}
     }
 }

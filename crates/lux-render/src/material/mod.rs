@@ -131,6 +131,27 @@ impl Bsdf {
         }
     }
 
+    /// `f(wi)` as its diffuse and specular parts (Lambertian: all diffuse), for lights whose
+    /// `inputs:diffuse` / `inputs:specular` multipliers differ.
+    #[inline]
+    pub fn f_lobes(&self, wi: DVec3) -> (DVec3, DVec3) {
+        match self {
+            Bsdf::Diffuse(b) => (b.f(wi), DVec3::ZERO),
+            Bsdf::Preview(b) => b.f_lobes(wi),
+        }
+    }
+
+    /// `f(wi)` with its diffuse part scaled by `kd` and its specular part by `ks` (LightAPI
+    /// `inputs:diffuse`, `inputs:specular`); exactly [`Bsdf::f`] when both are 1.
+    #[inline]
+    pub fn f_scaled(&self, wi: DVec3, kd: f64, ks: f64) -> DVec3 {
+        if kd == 1.0 && ks == 1.0 {
+            return self.f(wi);
+        }
+        let (d, s) = self.f_lobes(wi);
+        d * kd + s * ks
+    }
+
     /// Density with which [`Bsdf::sample`] produces `wi` (per unit solid angle).
     #[inline]
     pub fn pdf(&self, wi: DVec3) -> f64 {
@@ -166,6 +187,9 @@ pub struct Materials {
     mesh_transparent: Vec<bool>,
     /// Per scene instance: whether its material (when its prototype mesh has none) can be.
     instance_transparent: Vec<bool>,
+    /// Per mesh: a `MeshLightAPI` light with no surface response (no bound material, or
+    /// `materialSyncMode = noMaterialResponse`): it reflects nothing.
+    no_response: Vec<bool>,
 }
 
 /// Linear Rec.709 albedo of a `wavelength:reflectance` (lux-spectral, lit by the colour
@@ -329,7 +353,22 @@ impl Materials {
             .iter()
             .map(|m| m.inverse().transpose())
             .collect();
+        // Geometry lights (geometry-lights proposal, "No-Material Behavior" and
+        // `noMaterialResponse`): "no specular, diffuse, or transmissive response".
+        let no_response = scene
+            .meshes
+            .iter()
+            .map(|m| {
+                m.light
+                    .and_then(|li| scene.lights.get(li))
+                    .is_some_and(|l| {
+                        m.material.is_none()
+                            || l.material_sync_mode == lux_usd::MaterialSyncMode::NoMaterialResponse
+                    })
+            })
+            .collect();
         Ok(Materials {
+            no_response,
             warnings,
             materials,
             mesh_reflectance,
@@ -435,6 +474,10 @@ impl Materials {
             DVec3::ZERO
         };
         let bsdf = match shader.and_then(|m| m.preview.as_deref()) {
+            _ if self.no_response[hit.mesh] => Bsdf::Diffuse(DiffuseBsdf {
+                albedo: DVec3::ZERO,
+                ns,
+            }),
             None => Bsdf::Diffuse(DiffuseBsdf { albedo, ns }),
             Some(p) => {
                 if let Some(map) = &p.normal {

@@ -364,9 +364,25 @@ impl PreviewBsdf {
 
     /// `f` for local `wi` above the horizon.
     fn f_local(&self, wi: DVec3) -> DVec3 {
+        let (d, s) = self.f_lobes_local(wi);
+        d + s
+    }
+
+    /// `f(wi)` split into its diffuse and specular (GGX and clearcoat) parts, which sum to
+    /// [`PreviewBsdf::f`]: the light's `inputs:diffuse` and `inputs:specular` scale them.
+    pub fn f_lobes(&self, wi: DVec3) -> (DVec3, DVec3) {
+        match self.local(wi) {
+            Some(wi) => self.f_lobes_local(wi),
+            None => (DVec3::ZERO, DVec3::ZERO),
+        }
+    }
+
+    /// The diffuse and specular parts of `f` for local `wi` above the horizon.
+    fn f_lobes_local(&self, wi: DVec3) -> (DVec3, DVec3) {
         let (wo, c_o, c_i) = (self.wo, self.wo.z, wi.z);
         let t_i = tail(c_i);
-        let mut base = self.diffuse_o * (1.0 - t_i);
+        let diffuse = self.diffuse_o * (1.0 - t_i);
+        let mut base = DVec3::ZERO;
         let h = (wo + wi).normalize_or_zero();
         let mut coat = 0.0;
         if h.z > 0.0 && h.is_finite() {
@@ -387,7 +403,8 @@ impl PreviewBsdf {
             }
         }
         let atten_i = 1.0 - self.coat * (self.f0_c + (1.0 - self.f0_c) * t_i);
-        base * (self.atten_o * atten_i) + DVec3::splat(coat)
+        let atten = self.atten_o * atten_i;
+        (diffuse * atten, base * atten + DVec3::splat(coat))
     }
 
     /// The mixture density for local `wi` above the horizon.
