@@ -157,3 +157,55 @@ fn material_sync_mode_of_a_mesh_light() {
         }
     }
 }
+
+#[test]
+fn textured_emission_is_found_by_bsdf_rays() {
+    // The quad's emissiveColor from a UsdUVTexture (a white PNG scaled by (2, 1, 0.5)): no light
+    // samples it, BSDF rays from the floor find it, and the floor converges to the same closed
+    // form as the constant emission. Cosine-sampled rays hit the quad with probability
+    // p = Π/π, so the relative standard error of N samples is √((1 − p)/(pN)): the bound is
+    // 4 of them.
+    let (mut s, corners) = scene(DVec3::ZERO);
+    s.materials[0].preview = true;
+    let file =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/textures/white.png");
+    s.materials[0].emissive_texture = Some(Box::new(lux::usd::TextureInput {
+        shader: "/Looks/Glow/Tex".to_owned(),
+        file: Some(lux::usd::AssetRef {
+            authored: "white.png".to_owned(),
+            resolved: Some(file),
+        }),
+        st_primvar: "st".to_owned(),
+        transform: None,
+        scale: glam::DVec4::new(2.0, 1.0, 0.5, 1.0),
+        bias: glam::DVec4::ZERO,
+        fallback: glam::DVec4::new(0.0, 0.0, 0.0, 1.0),
+        fallback_authored: false,
+        wrap_s: lux::usd::Wrap::Repeat,
+        wrap_t: lux::usd::Wrap::Repeat,
+        source_color_space: lux::usd::SourceColorSpace::Auto,
+        output: "rgb".to_owned(),
+    }));
+    let pi = lux::sample::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
+    let spp = 1 << 16;
+    let mut o = options(Profile::Spec, spp, [1, 1]);
+    o.integrator = IntegratorKind::Direct;
+    let r = Renderer::new(&s, o).unwrap();
+    assert!(
+        r.lights().lights.is_empty(),
+        "a textured emission is not a light"
+    );
+    let v = r.pixel_value(0, 0);
+    let p = pi / PI;
+    let rel = 4.0 * ((1.0 - p) / (p * spp as f64)).sqrt();
+    for (c, l) in [(v.x, 2.0), (v.y, 1.0), (v.z, 0.5)] {
+        close(c, l * pi / PI, rel, "floor under the textured glow");
+    }
+    // The camera sees the texture's radiance on the quad.
+    s.cameras[0] = common::probe_camera(0.7, 0.1);
+    let g = Renderer::new(&s, options(Profile::Spec, 16, [1, 1]))
+        .unwrap()
+        .pixel_value(0, 0);
+    close(g.x, 2.0, 1e-6, "glow, red");
+    close(g.z, 0.5, 1e-6, "glow, blue");
+}

@@ -107,6 +107,7 @@ impl<'s> Renderer<'s> {
             lights: &self.lights,
             materials: &self.materials,
             transparent: self.materials.any_transparent(),
+            textured_emission: self.materials.any_textured_emission(),
         };
         let direct =
             DirectIntegrator::new(world, self.options.sampling, self.options.light_samples);

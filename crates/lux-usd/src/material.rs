@@ -220,8 +220,10 @@ pub struct Material {
     /// `wavelength:ior`, scalar `ior`); a `wavelength:reflectance` replaces `diffuseColor`.
     pub spectral: SurfaceSpectral,
     /// UsdPreviewSurface `inputs:emissiveColor` (radiance, nits; default black) when authored
-    /// as a value (through interface inputs); a texture-driven emission is a warning and 0.
+    /// as a value (through interface inputs); 0 when it is a texture.
     pub emissive: DVec3,
+    /// `inputs:emissiveColor` from a `UsdUVTexture` (radiance per texel).
+    pub emissive_texture: Option<Box<TextureInput>>,
 }
 
 impl Material {
@@ -245,6 +247,7 @@ impl Material {
             uses_opacity: false,
             spectral: SurfaceSpectral::default(),
             emissive: DVec3::ZERO,
+            emissive_texture: None,
         }
     }
 
@@ -260,6 +263,7 @@ impl Material {
             ("ior", self.ior.texture()),
             ("opacity", self.opacity.texture()),
             ("normal", self.normal.as_deref()),
+            ("emissiveColor", self.emissive_texture.as_deref()),
         ]
         .into_iter()
         .filter_map(|(n, t)| t.map(|t| (n, t)))
@@ -371,23 +375,11 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
             out.other_inputs.push(n.to_owned());
         }
     }
-    let (emit_prim, emit_attr) = follow(r, &shader_path, "inputs:emissiveColor")?;
-    if emit_attr.starts_with("outputs:") {
-        r.warn(
-            &mat,
-            WarningKind::Unsupported,
-            format!("emissiveColor from {emit_prim} (a texture) is not supported yet; no emission"),
-        );
-    } else if let Some(e) = r.vec3(&r.stage.prim(emit_prim.as_str()), &emit_attr)? {
-        if e.is_finite() && e.min_element() >= 0.0 {
-            out.emissive = e;
-        } else {
-            r.warn(
-                &mat,
-                WarningKind::InvalidValue,
-                format!("emissiveColor {e} is not a finite non-negative colour; no emission"),
-            );
-        }
+    match colour_input(r, &mat, &shader_path, "emissiveColor", DVec3::ZERO, |e| {
+        e.is_finite() && e.min_element() >= 0.0
+    })? {
+        Input::Value(e) => out.emissive = e,
+        Input::Texture(t) => out.emissive_texture = Some(t),
     }
     let colour = |v: DVec3| v.is_finite();
     let unit = |v: f64| v.is_finite() && (0.0..=1.0).contains(&v);

@@ -42,7 +42,7 @@ fn values_through_interface_inputs() {
     assert_eq!(m.clearcoat_roughness, Input::Value(0.01));
     assert_eq!(m.opacity, Input::Value(1.0));
     assert_eq!(m.opacity_threshold, 0.0);
-    assert!(m.normal.is_none() && !m.uses_opacity);
+    assert!(m.normal.is_none() && !m.uses_opacity && m.emissive_texture.is_none());
     assert_eq!(m.other_inputs, ["inputs:occlusion"]);
     assert_eq!(m.st_primvar(), None);
 }
@@ -98,7 +98,14 @@ fn textures_channels_transform_and_normal_map() {
             DVec4::new(-1.0, -1.0, -1.0, 0.0)
         )
     );
-    assert_eq!(m.textures().len(), 4);
+    // A texture-driven emission: no constant emission.
+    let e = m.emissive_texture.as_deref().expect("emissive texture");
+    assert_eq!(
+        (e.shader.as_str(), e.output.as_str()),
+        (albedo.shader.as_str(), "rgb")
+    );
+    assert_eq!(m.emissive, DVec3::ZERO);
+    assert_eq!(m.textures().len(), 5);
     assert_eq!(m.st_primvar(), Some("uv"));
     // The mesh read the primvar the material asks for.
     let leaf = s.meshes.iter().find(|m| m.path == "/World/Leaf").unwrap();

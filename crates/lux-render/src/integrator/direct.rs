@@ -117,6 +117,9 @@ impl<'a> DirectIntegrator<'a> {
         };
         let sp = w.materials.at(w.scene, &hit, ray.d);
         let mut glow = DVec3::ZERO;
+        if w.textured_emission {
+            glow += w.materials.emission(w.scene, &hit);
+        }
         // A mesh light's own glow, seen directly.
         if let Some(li) = w.lights.mesh_light.get(hit.mesh).copied().flatten() {
             let l = &lights[li];
@@ -143,7 +146,7 @@ impl<'a> DirectIntegrator<'a> {
         let w = &self.world;
         let lights = &w.lights.lights;
         let n = lights.len();
-        if n == 0 || sp.bsdf.is_black() {
+        if (n == 0 && !w.textured_emission) || sp.bsdf.is_black() {
             return DVec3::ZERO;
         }
         let r = Reference::surface(sp.p, sp.ns);
@@ -242,8 +245,9 @@ impl<'a> DirectIntegrator<'a> {
                 }
             }
         }
-        // Every light estimated by light sampling alone: no BSDF ray.
-        if n < 64 && light_only == (1u64 << n) - 1 {
+        // Every light estimated by light sampling alone: no BSDF ray (unless surfaces glow
+        // from textures, which only BSDF rays find).
+        if n < 64 && light_only == (1u64 << n) - 1 && !w.textured_emission {
             return out;
         }
         if !self.mis {
@@ -261,6 +265,15 @@ impl<'a> DirectIntegrator<'a> {
         c.rays += 1;
         // Either side blocks, as for shadow rays.
         let hit = closest(w, origin, wi, 0.0, f64::INFINITY, true);
+        if w.textured_emission
+            && let Some(h) = &hit
+        {
+            // No light technique samples it: the BSDF sample's full weight.
+            let e = bs.weight * w.materials.emission(w.scene, h);
+            if e.is_finite() {
+                out += e;
+            }
+        }
         let t_geo = hit.map_or(f64::INFINITY, |h| h.t);
         let mut add = |l: &Light, le: DVec3, pdf_l: f64| {
             let base = l.base();

@@ -36,6 +36,9 @@ pub struct World<'a> {
     pub materials: &'a Materials,
     /// Whether some surface lets rays through ([`Materials::any_transparent`]).
     pub transparent: bool,
+    /// Whether some surface glows from a texture ([`Materials::emission`]), which only camera
+    /// and BSDF rays find.
+    pub textured_emission: bool,
 }
 
 /// A camera ray: origin, unit direction and the clipping range `(tmin, tmax)`.

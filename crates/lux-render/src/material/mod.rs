@@ -76,6 +76,8 @@ struct Shader {
     opacity: Option<Param>,
     /// `inputs:opacityThreshold`.
     threshold: f64,
+    /// `inputs:emissiveColor` from a texture (a constant emission is a mesh light instead).
+    emission: Option<TextureShader>,
 }
 
 /// A BSDF sample: the incident direction, its density, and the weight `f·|cos θ|/pdf` it
@@ -267,12 +269,30 @@ impl Materials {
                     ld.colour(path, "diffuseColor", &m.diffuse, grey)?
                 }
             };
+            let emission = match &m.emissive_texture {
+                Some(t) => match texture_shader(
+                    path,
+                    "emissiveColor",
+                    DVec3::ZERO,
+                    t,
+                    &mut ld.cache,
+                    strict,
+                    &mut ld.warnings,
+                )? {
+                    Param::Texture(s) => Some(s),
+                    // An unreadable file: its fallback is a constant, glowing as a texture of
+                    // one texel would.
+                    Param::Value(_) => None,
+                },
+                None => None,
+            };
             if surfaces == SurfaceModel::Lambert || !m.preview {
                 materials.push(Shader {
                     diffuse,
                     preview: None,
                     opacity: None,
                     threshold: 0.0,
+                    emission,
                 });
                 continue;
             }
@@ -316,6 +336,7 @@ impl Materials {
                 preview: Some(Box::new(preview)),
                 opacity: (!opaque).then_some(opacity),
                 threshold: m.opacity_threshold,
+                emission,
             });
         }
         let mut warnings = ld.warnings;
@@ -383,6 +404,34 @@ impl Materials {
     /// `opacityThreshold` cut-out), so that rays must test the opacity of what they hit.
     pub fn any_transparent(&self) -> bool {
         self.mesh_transparent.iter().any(|&t| t) || self.instance_transparent.iter().any(|&t| t)
+    }
+
+    /// Whether some material's `emissiveColor` is a texture ([`Materials::emission`]).
+    pub fn any_textured_emission(&self) -> bool {
+        self.materials.iter().any(|m| m.emission.is_some())
+    }
+
+    /// The radiance a surface emits from a texture-driven UsdPreviewSurface `emissiveColor` at
+    /// `hit` (0 elsewhere, and from the back of a single-sided mesh). Such surfaces are not
+    /// sampled as lights: camera and BSDF rays find their emission (unbiased, without
+    /// next-event estimation); a constant `emissiveColor` makes a mesh light instead.
+    #[inline]
+    pub fn emission(&self, scene: &Scene, hit: &Hit) -> DVec3 {
+        let Some(t) = self
+            .material_of(scene, hit)
+            .and_then(|m| m.emission.as_ref())
+        else {
+            return DVec3::ZERO;
+        };
+        if hit.back && !scene.meshes[hit.mesh].double_sided {
+            return DVec3::ZERO;
+        }
+        let e = t.eval(Self::st(scene, hit));
+        if e.is_finite() {
+            e.max(DVec3::ZERO)
+        } else {
+            DVec3::ZERO
+        }
     }
 
     /// The material of a hit: the mesh's own binding, else its instance's.
