@@ -19,6 +19,7 @@
 
 use super::{CameraRay, World, closest, power_heuristic, visibility};
 use crate::film::Counters;
+use crate::geometry::Hit;
 use crate::geometry::shadow_tmax;
 use crate::light::{Light, LightBase, Seen};
 use crate::material::{Bsdf, SurfacePoint};
@@ -27,14 +28,14 @@ use crate::settings::SamplingMode;
 use glam::DVec3;
 use lux_sample::{Reference, Strategy};
 
-/// What a camera ray meets first ([`DirectIntegrator::camera_vertex`]). A value returned
-/// into the (inlined) caller's frame, never stored: the surface variant stays unboxed.
-#[allow(clippy::large_enum_variant)]
+/// What a camera ray meets first ([`DirectIntegrator::camera_vertex`]).
 pub(super) enum CameraVertex {
     /// The path ends: radiance and alpha.
     Done(DVec3, f64),
-    /// A surface, with the glow it shows (a mesh light's).
-    Surface(SurfacePoint, DVec3),
+    /// A surface hit, with the glow it shows (a mesh light's, a textured emission). The caller
+    /// shades it (`Materials::at`) into its own frame: a `SurfacePoint` is large enough that
+    /// moving it out of an enum costs a `memcpy` per camera ray.
+    Surface(Hit, DVec3),
 }
 
 /// Whether a light's `inputs:diffuse` and `inputs:specular` act on `bsdf` as one factor
@@ -82,7 +83,11 @@ impl<'a> DirectIntegrator<'a> {
     pub fn li(&self, ray: &CameraRay, st: &SampleStream, c: &mut Counters) -> (DVec3, f64) {
         match self.camera_vertex(ray, c) {
             CameraVertex::Done(rgb, alpha) => (rgb, alpha),
-            CameraVertex::Surface(sp, glow) => (glow + self.direct(&sp, st, 0, c), 1.0),
+            CameraVertex::Surface(hit, glow) => {
+                let w = &self.world;
+                let sp = w.materials.at(w.scene, &hit, ray.d);
+                (glow + self.direct(&sp, st, 0, c), 1.0)
+            }
         }
     }
 
@@ -115,7 +120,6 @@ impl<'a> DirectIntegrator<'a> {
             let alpha = if background.is_empty() { 0.0 } else { 1.0 };
             return CameraVertex::Done(bg, alpha);
         };
-        let sp = w.materials.at(w.scene, &hit, ray.d);
         let mut glow = DVec3::ZERO;
         if w.textured_emission {
             glow += w.materials.emission(w.scene, &hit);
@@ -126,10 +130,10 @@ impl<'a> DirectIntegrator<'a> {
             glow += match l {
                 // materialSyncMode: the material's glow, not the light's radiance.
                 Light::Mesh(m) if m.glow.is_some() => m.glow.unwrap_or_default(),
-                _ => l.le(l.base().to_local(sp.p), -ray.d, Seen::Camera),
+                _ => l.le(l.base().to_local(hit.p), -ray.d, Seen::Camera),
             };
         }
-        CameraVertex::Surface(sp, glow)
+        CameraVertex::Surface(hit, glow)
     }
 
     /// Direct illumination at a surface point, the random numbers of path vertex `bounce`

@@ -42,7 +42,10 @@ impl<'a> PathIntegrator<'a> {
     pub fn li(&self, ray: &CameraRay, st: &SampleStream, c: &mut Counters) -> (DVec3, f64) {
         let (mut sp, glow) = match self.direct.camera_vertex(ray, c) {
             CameraVertex::Done(rgb, alpha) => return (rgb, alpha),
-            CameraVertex::Surface(sp, glow) => (sp, glow),
+            CameraVertex::Surface(hit, glow) => {
+                let w = &self.direct.world;
+                (w.materials.at(w.scene, &hit, ray.d), glow)
+            }
         };
         let w = &self.direct.world;
         let mut rgb = glow;
