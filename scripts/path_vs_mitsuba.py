@@ -6,6 +6,7 @@ Run with the peer venv (../shared/tools/race/setup.sh makes it):
   PY=~/.cache/lux-peer/bin/python
   $PY scripts/path_vs_mitsuba.py compare --lux target/release/lux            # depths 1, 2, 8
   $PY scripts/path_vs_mitsuba.py race --lux target/release/lux [--gt GT.exr]  # time to equal RMSE
+  $PY scripts/path_vs_mitsuba.py means --res 64 --spp 8192 --json tests/data/cornell/mitsuba_path_means.json
 
 The scene (default tests/data/cornell/cornell.usda) is read by usd-core and rebuilt in Mitsuba by
 the race peer (../shared/tools/race/peer_mitsuba.py: extract_scene, build_mitsuba_scene), with
@@ -143,6 +144,31 @@ def cmd_compare(a):
             json.dump(dict(scene=a.scene, rows=rows), f, indent=1)
 
 
+def cmd_means(a):
+    """Converged Mitsuba image means per depth at --res (the regression test's reference)."""
+    desc = pm.extract_scene(a.scene, 1.0)
+    desc["resolution"] = (a.res, a.res) if a.res else desc["resolution"]
+    pm.set_variant("scalar_rgb")
+    out = dict(scene=os.path.relpath(a.scene, REPO), resolution=list(desc["resolution"]),
+               spp=a.spp, sampler=a.sampler, variant="scalar_rgb", rfilter="box",
+               command="~/.cache/lux-peer/bin/python scripts/path_vs_mitsuba.py " +
+               " ".join(sys.argv[1:]), depths={})
+    for depth in [int(x) for x in a.depths.split(",")]:
+        sc = pm.build_mitsuba_scene(desc, a.spp, a.seed, 1, 1, sampler=a.sampler,
+                                    integrator=mitsuba_integrator(depth))
+        h1, t1 = pm.render(sc, a.spp // 2, a.seed + 1)
+        h2, t2 = pm.render(sc, a.spp // 2, a.seed + 2)
+        m, se = mean_rgb(0.5 * (h1 + h2)), mean_se(h1, h2)
+        out["depths"][str(depth)] = dict(mitsuba_integrator=mitsuba_integrator(depth),
+                                         mean=m.tolist(), sigma=se.tolist(), seconds=t1 + t2)
+        print(f"depth {depth}: mean {fmt3(m, '{:.6f}')} ±{fmt3(se, '{:.1e}')} ({t1 + t2:.1f} s)",
+              flush=True)
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump(out, f, indent=1)
+            f.write("\n")
+
+
 def cmd_race(a):
     os.makedirs(a.out, exist_ok=True)
     desc = pm.extract_scene(a.scene, 1.0)
@@ -212,9 +238,9 @@ def cmd_race(a):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
-    for name in ("compare", "race"):
+    for name in ("compare", "race", "means"):
         p = sub.add_parser(name)
-        p.add_argument("--lux", required=True, help="the lux binary")
+        p.add_argument("--lux", required=name != "means", help="the lux binary")
         p.add_argument("--scene", default=DEFAULT_SCENE)
         p.add_argument("--out", default=os.path.join(tempfile.gettempdir(), f"path_vs_mitsuba_{name}"))
         p.add_argument("--json")
@@ -224,6 +250,12 @@ def main():
     c.add_argument("--lux-spp", type=int, default=0, help="lux spp (two halves; default --spp)")
     c.add_argument("--sampler", default="independent", help="Mitsuba sampler")
     c.add_argument("--seed", type=int, default=1)
+    m = sub.choices["means"]
+    m.add_argument("--depths", default="1,2,8")
+    m.add_argument("--res", type=int, default=64, help="square resolution (0: the stage's)")
+    m.add_argument("--spp", type=int, default=16384, help="Mitsuba spp (two halves)")
+    m.add_argument("--sampler", default="independent")
+    m.add_argument("--seed", type=int, default=1)
     r = sub.choices["race"]
     r.add_argument("--depth", type=int, default=8)
     r.add_argument("--gt", help="a ground truth EXR written by an earlier run (with its .json)")
@@ -235,7 +267,7 @@ def main():
     r.add_argument("--targets", default="")
     a = ap.parse_args()
     a.scene = os.path.abspath(a.scene)
-    {"compare": cmd_compare, "race": cmd_race}[a.cmd](a)
+    {"compare": cmd_compare, "race": cmd_race, "means": cmd_means}[a.cmd](a)
 
 
 if __name__ == "__main__":
