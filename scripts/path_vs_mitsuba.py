@@ -253,7 +253,7 @@ def main():
     m = sub.choices["means"]
     m.add_argument("--depths", default="1,2,8")
     m.add_argument("--res", type=int, default=64, help="square resolution (0: the stage's)")
-    m.add_argument("--spp", type=int, default=16384, help="Mitsuba spp (two halves)")
+    m.add_argument("--spp", type=int, default=8192, help="Mitsuba spp (two halves)")
     m.add_argument("--sampler", default="independent")
     m.add_argument("--seed", type=int, default=1)
     r = sub.choices["race"]
