@@ -61,8 +61,9 @@ def mitsuba_integrator(depth: int) -> dict:
 
 
 def lux_render(lux, scene, depth, spp, out, seed, extra=()):
-    """One lux process (spec profile, path integrator); (image, wall seconds, lux's own render s)."""
-    cmd = [lux, "render", scene, "--profile", "spec", "--integrator", "path", "--max-depth",
+    """One lux process (spec profile, path integrator, Lambertian surfaces as the peer builds
+    them); (image, wall seconds, lux's own render s)."""
+    cmd = [lux, "render", scene, "--profile", "spec", "--integrator", "path", "--surfaces", "lambert", "--max-depth",
            str(depth), "--spp", str(spp), "--seed", str(seed), "--quiet", "-o", out, *extra]
     t0 = time.perf_counter()
     r = subprocess.run(cmd, capture_output=True, text=True)

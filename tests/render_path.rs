@@ -156,6 +156,37 @@ fn metal_furnace_never_exceeds_the_dome() {
 }
 
 #[test]
+fn back_faces_of_single_sided_walls_reflect_nothing() {
+    // The furnace corner with single-sided walls whose fronts face out of the box: from the
+    // floor inside, a path meets only their backs, which block the dome and reflect nothing
+    // (as camera rays do not see them; Mitsuba's one-sided BSDFs are black from behind). Every
+    // path then ends at its first bounce: path tracing gives the direct estimate, bit for bit.
+    let mut s = furnace(true, 0.8, 0.8);
+    for m in s.meshes.iter_mut().skip(1) {
+        m.double_sided = false;
+        let c = m.positions.iter().sum::<DVec3>() / m.positions.len() as f64;
+        let inward = DVec3::new(0.0, 1.0, 0.0) - c;
+        for t in &mut m.triangles {
+            let [a, b, d] = t.map(|i| m.positions[i as usize]);
+            if (b - a).cross(d - a).dot(inward) > 0.0 {
+                t.swap(1, 2);
+            }
+        }
+    }
+    let direct = read(&s, IntegratorKind::Direct, 1, 256);
+    let path = read(&s, IntegratorKind::Path, 32, 256);
+    assert!(direct > 0.1, "{direct}");
+    assert_eq!(path, direct);
+    // With the fronts facing in, the walls reflect: more light than direct.
+    for m in s.meshes.iter_mut().skip(1) {
+        for t in &mut m.triangles {
+            t.swap(1, 2);
+        }
+    }
+    assert!(read(&s, IntegratorKind::Path, 32, 256) > 1.2 * direct);
+}
+
+#[test]
 fn glossy_floor_under_the_dome_reflects_its_albedo() {
     // An open UsdPreviewSurface floor (gold-ish metal, and a rough dielectric with clearcoat)
     // under a uniform dome of radiance L seen from straight above: its radiance is

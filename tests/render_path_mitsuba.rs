@@ -5,7 +5,9 @@
 //! The Mitsuba means are in `tests/data/cornell/mitsuba_path_means.json`, which records the
 //! command that produced them (`scripts/path_vs_mitsuba.py means`, run with the race peer's
 //! venv: the scene rebuilt from the same USD by `../shared/tools/race/peer_mitsuba.py`, box
-//! filter, 64 × 64, 8192 spp, lights hidden from the camera in both renderers).
+//! filter, 64 × 64, 8192 spp, lights hidden from the camera in both renderers). The peer
+//! builds Lambertian BSDFs from the materials' `diffuseColor`, so lux shades them Lambertian
+//! too (`SurfaceModel::Lambert`, `--surfaces lambert`): the test is about light transport.
 //! `scripts/path_vs_mitsuba.py compare` makes the full-resolution comparison (BENCHMARKS.md).
 
 mod common;
@@ -13,7 +15,7 @@ mod common;
 use common::options;
 use lux::math::Profile;
 use lux::render::render::Renderer;
-use lux::render::settings::IntegratorKind;
+use lux::render::settings::{IntegratorKind, SurfaceModel};
 use lux::usd::load_stage;
 use std::path::PathBuf;
 
@@ -24,7 +26,7 @@ const SPP: u32 = 256;
 /// Allowed relative difference of each channel's image mean from Mitsuba's.
 ///
 /// Noise budget, measured 2026-11-26 (`lux render tests/data/cornell/cornell.usda --profile spec
-/// --integrator path --max-depth D --spp 256 --resolution 64x64 --seed S`, S = 1…6): the 1σ
+/// --integrator path --surfaces lambert --max-depth D --spp 256 --resolution 64x64 --seed S`, S = 1…6): the 1σ
 /// spread of lux's image mean between seeds at this spp is ≤ 0.013 % (depth 1), ≤ 0.049 %
 /// (depth 2) and ≤ 0.074 % (depth 8) of it per channel; the Mitsuba means carry ≤ 0.016 %
 /// (their `sigma`). Converged, the two renderers differ by ≤ 0.015 % (256 × 256, 1024 spp,
@@ -42,6 +44,7 @@ fn lux_mean(depth: u32) -> [f64; 3] {
     let scene = load_stage(data().join("cornell.usda"), 0.0).unwrap();
     let mut o = options(Profile::Spec, SPP, [RES, RES]);
     o.integrator = IntegratorKind::Path;
+    o.surfaces = SurfaceModel::Lambert;
     o.max_depth = depth;
     let r = Renderer::new(&scene, o).unwrap();
     let warnings: Vec<&String> = r.warnings().collect();

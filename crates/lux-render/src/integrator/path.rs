@@ -8,7 +8,8 @@
 //! emission found along the BSDF sample `Dim::Bsdf { bounce: b }` (MIS against light
 //! sampling). The path then continues along that same BSDF sample, β ← β·f·cos/pdf, to the
 //! first surface on either side (what blocks light for the vertex's estimate); the emission
-//! of what it meets was already counted there. After [`ROULETTE_DEPTH`] vertices Russian
+//! of what it meets was already counted there. The back of a single-sided surface ends the
+//! path: it blocks, but reflects nothing (camera rays do not see it either). After [`ROULETTE_DEPTH`] vertices Russian
 //! roulette ends the path with probability 1 − q, q = min(1, max(β)), and divides β by q; at
 //! most `max_depth` vertices are lit (`max_depth = 1` is the direct integrator, bit for bit).
 
@@ -74,6 +75,11 @@ impl<'a> PathIntegrator<'a> {
             let Some(hit) = closest(w, origin, bs.wi, 0.0, f64::INFINITY, true) else {
                 break;
             };
+            // The back of a single-sided surface blocks light (as for shadow rays) but has no
+            // material there: camera rays cull it, and the path ends on it (black).
+            if hit.back && !w.scene.meshes[hit.mesh].double_sided {
+                break;
+            }
             sp = w.materials.at(w.scene, &hit, bs.wi);
         }
         (rgb, 1.0)
