@@ -1,4 +1,4 @@
-//! Tests of `lux_render::image_io` reading: PNG, JPEG, HDR and EXR textures, the luxtest dome
+//! Tests of `lux_render::image_io` reading: PNG, JPEG, TGA, BMP, HDR and EXR textures, the luxtest dome
 //! texture, nearest and bilinear lookups, texture construction.
 
 mod common;
@@ -114,6 +114,42 @@ fn jpeg_decodes_srgb() {
     let alt = dir.join("grey.jpeg");
     fs::copy(&path, &alt).unwrap();
     assert_eq!(Texture::load(&alt).unwrap(), t);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn tga_and_bmp_decode_srgb() {
+    // 8-bit formats real USD assets use for textures (usd-wg's RoughnessTest reads a .tga):
+    // decoded as sRGB like PNG, exactly (lossless).
+    let dir = scratch("tga_bmp");
+    let lin = |c: u8| eotf(f64::from(c) / 255.0) as f32;
+    for name in ["rgba.tga", "rgb.bmp"] {
+        let path = dir.join(name);
+        let px = [[10u8, 128, 255, 200], [0, 1, 254, 255]];
+        if name.ends_with(".tga") {
+            image::RgbaImage::from_fn(2, 1, |x, _| image::Rgba(px[x as usize]))
+                .save(&path)
+                .unwrap();
+        } else {
+            image::RgbImage::from_fn(2, 1, |x, _| {
+                let p = px[x as usize];
+                image::Rgb([p[0], p[1], p[2]])
+            })
+            .save(&path)
+            .unwrap();
+        }
+        let t = Texture::load(&path).unwrap();
+        assert_eq!((t.width(), t.height()), (2, 1), "{name}");
+        for (texel, p) in t.texels().iter().zip(px) {
+            assert_eq!(&texel[..3], &[lin(p[0]), lin(p[1]), lin(p[2])], "{name}");
+            let alpha = if name.ends_with(".tga") {
+                f32::from(p[3]) / 255.0
+            } else {
+                1.0
+            };
+            assert_eq!(texel[3], alpha, "{name}");
+        }
+    }
     fs::remove_dir_all(&dir).unwrap();
 }
 

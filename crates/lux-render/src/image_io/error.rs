@@ -28,8 +28,8 @@ pub enum ImageError {
 
     /// The file name's extension is not one of the supported formats.
     #[error(
-        "{}: unsupported image format (expected a file name ending in .exr, .png, .jpg, .jpeg \
-         or .hdr)",
+        "{}: unsupported image format (expected a file name ending in .exr, .png, .jpg, .jpeg, \
+         .hdr, .tga or .bmp)",
         .path.display()
     )]
     UnsupportedFormat {

@@ -66,6 +66,8 @@ pub(crate) fn load_rgba_from(src: Source<'_>) -> Result<(usize, usize, Vec<[f32;
         Some("png") => (ImageFormat::Png, "a PNG image"),
         Some("jpg" | "jpeg") => (ImageFormat::Jpeg, "a JPEG image"),
         Some("hdr") => (ImageFormat::Hdr, "a Radiance HDR (RGBE) image"),
+        Some("tga") => (ImageFormat::Tga, "a Truevision TGA image"),
+        Some("bmp") => (ImageFormat::Bmp, "a BMP image"),
         _ => {
             return Err(ImageError::UnsupportedFormat {
                 path: path.to_path_buf(),

@@ -34,6 +34,7 @@ impl Texture {
     /// * `.png` — 8- or 16-bit, grey / grey+alpha / RGB / RGBA; sRGB-decoded to linear.
     /// * `.jpg`, `.jpeg` — sRGB-decoded to linear.
     /// * `.hdr` — Radiance RGBE, linear.
+    /// * `.tga`, `.bmp` — 8-bit, sRGB-decoded to linear.
     ///
     /// Anything else gives [`ImageError::UnsupportedFormat`]. Dimensions are checked against
     /// [`MAX_DIMENSION`](super::MAX_DIMENSION) / [`MAX_PIXELS`](super::MAX_PIXELS) from the

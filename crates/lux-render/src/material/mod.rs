@@ -532,6 +532,12 @@ impl Materials {
                 if let Some(map) = &p.normal {
                     ns = self.normal_mapped(scene, hit, map, st, ns, ng);
                 }
+                // An interpolated or mapped normal can turn away from the viewer near
+                // silhouettes, where the microfacet BSDF has no value (black spots): there the
+                // geometric normal shades.
+                if ns.dot(-d) <= 0.0 {
+                    ns = ng;
+                }
                 let params = PreviewParams {
                     diffuse_color: albedo,
                     use_specular_workflow: p.use_specular_workflow,
