@@ -273,8 +273,7 @@ impl Scene {
         };
         match m.path.strip_prefix(proto.path.as_str()) {
             Some(rel)
-                if (rel.is_empty() || rel.starts_with('/'))
-                    && reader::is_prim_path(&inst.path) =>
+                if (rel.is_empty() || rel.starts_with('/')) && reader::is_prim_path(&inst.path) =>
             {
                 std::borrow::Cow::Owned(format!("{}{rel}", inst.path))
             }

@@ -308,15 +308,14 @@ fn flatten(
     let id = format!("{owner_path}.collection:{name}");
     stack.push(id);
     let base = format!("collection:{name}");
-    let fallback_root =
-        matches!(name, "lightLink" | "shadowLink") && is_light(r, owner)? || {
-            // LightFilter's filterLink has includeRoot fallback true as well.
-            name == "filterLink"
-                && owner
-                    .type_name()
-                    .map_err(|e| r.usd_error(owner, e))?
-                    .is_some_and(|t| t.as_str() == "LightFilter")
-        };
+    let fallback_root = matches!(name, "lightLink" | "shadowLink") && is_light(r, owner)? || {
+        // LightFilter's filterLink has includeRoot fallback true as well.
+        name == "filterLink"
+            && owner
+                .type_name()
+                .map_err(|e| r.usd_error(owner, e))?
+                .is_some_and(|t| t.as_str() == "LightFilter")
+    };
     let include_root = r
         .bool(owner, &format!("{base}:includeRoot"))?
         .unwrap_or(fallback_root);
@@ -446,18 +445,17 @@ mod tests {
     use super::*;
 
     fn rules(entries: &[(&str, Rule)]) -> Membership {
-        Membership::Rules(
-            entries
-                .iter()
-                .map(|(p, r)| ((*p).to_owned(), *r))
-                .collect(),
-        )
+        Membership::Rules(entries.iter().map(|(p, r)| ((*p).to_owned(), *r)).collect())
     }
 
     #[test]
     fn membership_follows_the_most_specific_entry() {
         use Rule::*;
-        let m = rules(&[("/W", ExpandPrims), ("/W/A", Exclude), ("/W/A/m1", ExpandPrims)]);
+        let m = rules(&[
+            ("/W", ExpandPrims),
+            ("/W/A", Exclude),
+            ("/W/A/m1", ExpandPrims),
+        ]);
         assert!(m.contains("/W"));
         assert!(m.contains("/W/B/m3"));
         assert!(!m.contains("/W/A"));

@@ -92,7 +92,13 @@ fn memberships_match_usd_core() {
     // The default is `All` (no per-prim test), and so is an authored includeRoot alone.
     let d = &s.light("/World/Lights/Default").unwrap().linking;
     assert!(d.is_all());
-    assert!(s.light("/World/Lights/Nothing").unwrap().linking.shadow.is_all());
+    assert!(
+        s.light("/World/Lights/Nothing")
+            .unwrap()
+            .linking
+            .shadow
+            .is_all()
+    );
 }
 
 #[test]

@@ -81,7 +81,8 @@ pub fn power_heuristic(a: f64, b: f64) -> f64 {
 /// Transmission of a shadow ray from `origin` along `dir` up to `tmax` towards the light
 /// `l` (`ShadowAPI`): `None` when fully blocked, else the RGB multiplier (1 unoccluded;
 /// `lux_math::shadowed` of the occluder's `shadow_strength` otherwise). Shadows disabled: no
-/// ray is traced.
+/// ray is traced. Occluders outside the light's `collection:shadowLink` cast no shadow
+/// ([`crate::light::first_shadow_occluder`]).
 #[inline]
 pub fn visibility(
     geometry: &Geometry,
@@ -101,7 +102,8 @@ pub fn visibility(
         c.blocked += blocked as u64;
         return (!blocked).then_some(DVec3::ONE);
     }
-    let Some(t) = geometry.first_occluder(origin, dir, 0.0, tmax) else {
+    // Shadow linking: occluders outside the light's shadowLink are passed through.
+    let Some(t) = crate::light::first_shadow_occluder(geometry, l, origin, dir, tmax) else {
         return Some(DVec3::ONE);
     };
     c.blocked += 1;

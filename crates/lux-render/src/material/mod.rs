@@ -142,6 +142,10 @@ pub struct SurfacePoint {
     pub offset: f64,
     /// The BSDF (about the shading normal).
     pub bsdf: Bsdf,
+    /// The geometry hit: index into `Scene::meshes` ([`Hit::mesh`]), for light linking.
+    pub mesh: usize,
+    /// The instance hit ([`Hit::instance`]), for light linking.
+    pub instance: Option<usize>,
 }
 
 impl Materials {
@@ -257,6 +261,8 @@ impl Materials {
             ns,
             offset: hit.offset,
             bsdf: Bsdf::Diffuse(DiffuseBsdf { albedo, ns }),
+            mesh: hit.mesh,
+            instance: hit.instance,
         }
     }
 }
