@@ -93,3 +93,54 @@ fn physical_units_and_spectra_are_reported_with_their_converted_radiance() {
     assert!(text.contains("photometric:power = 800"), "{text}");
     assert!(text.contains("conformance profile"), "{text}");
 }
+
+#[test]
+fn light_and_shadow_links_are_listed_when_authored() {
+    let linking = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("crates/lux-usd/tests/data/scenes/linking.usda");
+    let args = |json| info::InfoArgs {
+        scene: linking.clone(),
+        frame: Some(1.0),
+        json,
+        strict: false,
+        disable_camera_light: false,
+    };
+    let text = info::report(&args(false)).unwrap();
+    let block = |light: &str| {
+        let start = text
+            .find(&format!("light /World/Lights/{light} "))
+            .unwrap_or_else(|| panic!("{light} in {text}"));
+        let rest = &text[start + 1..];
+        let end = rest.find("\nlight ").or(rest.find("\nwarning")).unwrap();
+        rest[..end].to_owned()
+    };
+    let only_a = block("OnlyA");
+    assert!(
+        only_a.contains("  lightLink: includes /World/A, excludes /World/A/m1 (expandPrims)\n"),
+        "{only_a}"
+    );
+    assert!(
+        only_a.contains("  shadowLink: includes /World/B, /World/m6 (expandPrims)"),
+        "{only_a}"
+    );
+    let nothing = block("Nothing");
+    assert!(nothing.contains("  lightLink: nothing\n"), "{nothing}");
+    assert!(nothing.contains("  shadowLink: all"), "{nothing}");
+    // Nothing authored: no lines.
+    assert!(!block("Default").contains("Link:"));
+    let v: serde_json::Value = serde_json::from_str(&info::report(&args(true)).unwrap()).unwrap();
+    let explicit = v["lights"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|l| l["path"] == "/World/Lights/Explicit")
+        .unwrap();
+    assert_eq!(
+        explicit["light_link"],
+        "includes /World/A, /World/B/m4 (explicitOnly)"
+    );
+    assert_eq!(
+        explicit["shadow_link"],
+        "includes /, excludes /World/B (expandPrims)"
+    );
+}

@@ -11,7 +11,7 @@ use lux::render::geometry::Geometry;
 use lux::render::material::Materials;
 use lux::render::render::Renderer;
 use lux::render::settings::IntegratorKind;
-use lux::usd::{Input, Light, Material, Mesh, Scene};
+use lux::usd::{Input, Light, Material, Membership, Mesh, Rule, Scene};
 use std::f64::consts::{FRAC_1_SQRT_2, PI};
 
 /// A distant light of irradiance 2.5 arriving at 45° from +x (travelling along (−1, −1, 0)/√2).
@@ -95,6 +95,43 @@ fn shadow_rays_carry_one_minus_opacity() {
                 close(got, want, 1e-12, &what);
             }
         }
+    }
+}
+
+#[test]
+fn a_veil_outside_the_shadow_link_casts_no_shadow() {
+    // Opacity and shadow linking together: the sun's shadowLink excludes the veil, so its
+    // shadow rays pass it whatever its opacity; with the veil included they carry 1 − o.
+    let open = 2.5 * FRAC_1_SQRT_2 / PI;
+    for (exclude, want) in [(true, open), (false, 0.75 * open)] {
+        let mut s = scene(0.25, 0.0);
+        let mut rules = vec![("/".to_owned(), Rule::ExpandPrims)];
+        if exclude {
+            rules.push(("/Veil".to_owned(), Rule::Exclude));
+        }
+        s.lights[0].linking.shadow = Membership::Rules(rules.into_iter().collect());
+        close(
+            floor_radiance(&s, IntegratorKind::Direct),
+            want,
+            1e-12,
+            &format!("veil excluded from the shadow link: {exclude}"),
+        );
+    }
+    // A ShadowAPI colour (0.2, 0.4, 0.6) at full strength: where the veil stops light the
+    // shadow lets that colour through, so the floor gets T + (1 − T)·colour, T = 0.75.
+    let mut s = scene(0.25, 0.0);
+    s.lights[0].shadow.applied = true;
+    s.lights[0].shadow.color = DVec3::new(0.2, 0.4, 0.6);
+    let mut o = options(Profile::Spec, 16, [1, 1]);
+    o.integrator = IntegratorKind::Direct;
+    let v = Renderer::new(&s, o).unwrap().pixel_value(0, 0);
+    for (k, c) in [0.2, 0.4, 0.6].into_iter().enumerate() {
+        close(
+            v[k],
+            (0.75 + 0.25 * c) * open,
+            1e-12,
+            "coloured shadow of a veil",
+        );
     }
 }
 

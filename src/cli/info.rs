@@ -5,7 +5,8 @@
 //! conformance profile — exactly what the renderer emits before shaping (lux-math's
 //! `intensity · 2^exposure · color · blackbody / sizeFactor`, or lux-spectral's conversion when
 //! physical units or spectra are authored) — a ShapingAPI summary, the physical-unit and
-//! spectral attributes as authored; then every warning of the loader and of the light set-up.
+//! spectral attributes as authored, light and shadow links when authored
+//! (`collection:lightLink` / `collection:shadowLink`); then every warning of the loader and of the light set-up.
 
 use clap::Args;
 use lux_math::{Profile, size_factor};
@@ -116,6 +117,8 @@ pub fn report_json(
                 "profiles": per_profile, "shaping": shaping,
                 "physical": l.physical.as_ref().map(physical_json),
                 "emission_spectrum": l.emission_spectrum.as_ref().map(spectrum_json),
+                "light_link": l.linking.light.describe(),
+                "shadow_link": l.linking.shadow.describe(),
             })
         })
         .collect();
@@ -284,6 +287,11 @@ pub fn report_text(
                     format!(" ({} custom pairs)", p.custom_illuminant.len())
                 }
             );
+        }
+        // LightAPI collection:lightLink / collection:shadowLink, when either is authored.
+        if !l.linking.is_all() {
+            let _ = writeln!(s, "  lightLink: {}", l.linking.light.describe());
+            let _ = writeln!(s, "  shadowLink: {}", l.linking.shadow.describe());
         }
         if let Some(e) = &l.emission_spectrum {
             let _ = writeln!(

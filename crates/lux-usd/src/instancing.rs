@@ -434,8 +434,17 @@ impl Walk<'_> {
                 material,
             });
         }
+        // A light's linking rules inside the prototype follow it to the instance (a point
+        // instance's geometry is judged by its prototype's own paths: they stay).
+        let relink = |l: &mut Light| {
+            if crate::reader::is_prim_path(path) {
+                l.linking.light = l.linking.light.reparented(&d.path, path);
+                l.linking.shadow = l.linking.shadow.reparented(&d.path, path);
+            }
+        };
         for l in &d.lights {
             let mut l = l.clone();
+            relink(&mut l);
             l.path = rename(&l.path);
             l.light_to_world = to_world * l.light_to_world;
             self.scene.lights.push(l);
@@ -451,6 +460,7 @@ impl Walk<'_> {
             m.path = rename(&m.path);
             m.material = m.material.or(material);
             let mut l = l.clone();
+            relink(&mut l);
             l.path = rename(&l.path);
             l.light_to_world = to_world * l.light_to_world;
             m.light = Some(self.scene.lights.len());

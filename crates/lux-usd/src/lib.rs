@@ -24,6 +24,7 @@ pub mod defaults;
 pub mod error;
 pub mod instancing;
 pub mod light;
+pub mod linking;
 mod load;
 pub mod material;
 pub mod mesh;
@@ -45,6 +46,7 @@ pub use error::{LoadError, Warning, WarningKind};
 pub use light::{
     DomeTextureFormat, Light, MaterialSyncMode, PoleAxis, ShadowInputs, ShapingInputs,
 };
+pub use linking::{Linking, Membership, Rule};
 pub use load::{LoadOptions, MEMORY_LAYER, Time, load_stage, load_stage_with, load_usda_str};
 pub use material::{Diffuse, Input, Material, SourceColorSpace, TextureInput, Transform2d, Wrap};
 pub use mesh::{Gprim, Instance, Mesh, Prototype};
@@ -253,6 +255,30 @@ impl Scene {
         };
         let h = (960.0f32 / aspect) as u32;
         [960, h.clamp(1, 65536)]
+    }
+
+    /// The prim path light and shadow linking ([`Membership::contains`]) judge the mesh
+    /// `mesh` by, drawn by `instance` (an index into `instances`) or in the world (`None`):
+    /// a world mesh's own path; for a native instance, the instance-proxy path (the
+    /// instance's path followed by the mesh's path inside the prototype, as usd-core's
+    /// traversal of instance proxies names it); for a PointInstancer instance (whose path is
+    /// not a prim path), the prototype mesh's own path where it is authored.
+    pub fn geometry_path(&self, mesh: usize, instance: Option<usize>) -> std::borrow::Cow<'_, str> {
+        let m = &self.meshes[mesh];
+        let Some(inst) = instance.and_then(|i| self.instances.get(i)) else {
+            return std::borrow::Cow::Borrowed(&m.path);
+        };
+        let Some(proto) = self.prototypes.get(inst.prototype) else {
+            return std::borrow::Cow::Borrowed(&m.path);
+        };
+        match m.path.strip_prefix(proto.path.as_str()) {
+            Some(rel)
+                if (rel.is_empty() || rel.starts_with('/')) && reader::is_prim_path(&inst.path) =>
+            {
+                std::borrow::Cow::Owned(format!("{}{rel}", inst.path))
+            }
+            _ => std::borrow::Cow::Borrowed(&m.path),
+        }
     }
 
     /// The light at a prim path.

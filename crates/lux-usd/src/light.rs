@@ -2,6 +2,7 @@
 //! `ShadowAPI`, physical-unit attributes, all at the load frame.
 
 use crate::error::{LoadError, WarningKind};
+use crate::linking::Linking;
 use crate::reader::{AssetRef, Reader};
 use crate::spectral::PhysicalLight;
 use glam::{DMat4, DVec3};
@@ -137,6 +138,9 @@ pub struct Light {
     pub physical: Option<PhysicalLight>,
     /// LTESpectralAPI `wavelength:emission` (values and/or `illuminantPreset`), if authored.
     pub emission_spectrum: Option<SpectralAttribute>,
+    /// LightAPI `collection:lightLink` / `collection:shadowLink` membership ([`Linking`];
+    /// both [`crate::Membership::All`] unless authored).
+    pub linking: Linking,
 }
 
 /// `DomeLight.inputs:texture:format`: how the texture maps to directions.
@@ -250,6 +254,7 @@ impl Light {
             api_schemas: Vec::new(),
             physical: None,
             emission_spectrum: None,
+            linking: Linking::default(),
         }
     }
 
@@ -284,31 +289,15 @@ const LEGACY_INPUTS: [&str; 14] = [
     "texture:file",
 ];
 
-/// One warning each for what a light authors that lux does not honour yet: light and shadow
-/// linking (`collection:lightLink`, `collection:shadowLink` restricting the light), light
-/// filters (`light:filters`), and pre-21.05 inputs without the `inputs:` prefix (usd-core
-/// ignores those too; the schema defaults are used).
+/// One warning each for what a light authors that lux does not honour yet: light filters
+/// (`light:filters`), and pre-21.05 inputs without the `inputs:` prefix (usd-core ignores those
+/// too; the schema defaults are used). Light and shadow linking are read by
+/// [`crate::linking::read_linking`].
 fn warn_unsupported_authoring(
     r: &mut Reader<'_>,
     prim: &Prim,
     names: &[openusd::tf::Token],
 ) -> Result<(), LoadError> {
-    for (collection, what) in [
-        ("collection:lightLink", "light linking"),
-        ("collection:shadowLink", "shadow linking"),
-    ] {
-        let restricted = names.iter().any(|n| {
-            let n = n.as_str();
-            n == format!("{collection}:includes") || n == format!("{collection}:excludes")
-        }) || r.bool(prim, &format!("{collection}:includeRoot"))? == Some(false);
-        if restricted {
-            r.warn(
-                prim,
-                WarningKind::Unsupported,
-                format!("{what} ({collection}) is not supported yet: the light affects every prim"),
-            );
-        }
-    }
     if !r.targets(prim, "light:filters")?.is_empty() {
         r.warn(
             prim,
@@ -451,6 +440,7 @@ pub fn read_light(
     let physical = crate::spectral::read_physical_light(r, prim, api_schemas)?;
     let emission_spectrum = crate::spectral::read_emission(r, prim)?;
     warn_unsupported_authoring(r, prim, &names)?;
+    let linking = crate::linking::read_linking(r, prim)?;
     if shaping.is_none() && shaping_authored {
         r.warn(
             prim,
@@ -546,5 +536,6 @@ pub fn read_light(
         api_schemas: api_schemas.to_vec(),
         physical,
         emission_spectrum,
+        linking,
     })
 }

@@ -262,6 +262,15 @@ impl Instances {
         best
     }
 
+    /// The mesh (index into `Scene::meshes`) and instance (index into `Scene::instances`) of
+    /// an instanced hit.
+    #[inline]
+    pub fn geometry_of(&self, h: InstanceHit) -> (usize, usize) {
+        let pl = &self.placements[h.placement as usize];
+        let pr = self.blas[pl.blas as usize].prims[h.prim as usize];
+        (pr.mesh as usize, pl.instance as usize)
+    }
+
     /// True when any instanced triangle (either side) lies on `ray`, the `f32` form of
     /// `o + t·d`; stops at the first one found.
     #[inline]

@@ -66,6 +66,18 @@ pub struct Hit {
     pub offset: f64,
 }
 
+/// The first triangle on a shadow ray ([`Geometry::first_occluder_at`]): its distance and
+/// which geometry it belongs to (for shadow linking).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Occluder {
+    /// The `f32` traversal distance along the (unit) ray direction.
+    pub t: f64,
+    /// Index into `Scene::meshes` (for an instance, its prototype's mesh).
+    pub mesh: usize,
+    /// Index into `Scene::instances`; `None` for a world-space mesh.
+    pub instance: Option<usize>,
+}
+
 /// The scene's triangles and their BVHs.
 pub struct Geometry {
     /// The world-space meshes (`Mesh::prototype == None`).
@@ -407,6 +419,40 @@ impl Geometry {
             Some(h) => Some(h.t as f64),
             None => found.then_some(hit.t as f64),
         }
+    }
+
+    /// [`Geometry::first_occluder`] with the geometry it met: the closest triangle (either
+    /// side) on `origin + t·dir`, `t ∈ (tmin, tmax)`, its mesh and instance (shadow linking
+    /// asks whether it casts a light's shadow).
+    pub fn first_occluder_at(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        tmin: f64,
+        tmax: f64,
+    ) -> Option<Occluder> {
+        let ray = Self::ray(origin, dir, tmin, tmax)?;
+        let mut hit = RayHit::none();
+        let world = self.world.as_ref().filter(|w| w.nearest(ray, &mut hit));
+        let mut r = ray;
+        if world.is_some() {
+            r.tmax = hit.t;
+        }
+        if let Some(inst) = &self.instances
+            && let Some(h) = inst.closest(origin, dir, r, false)
+        {
+            let (mesh, instance) = inst.geometry_of(h);
+            return Some(Occluder {
+                t: h.t as f64,
+                mesh,
+                instance: Some(instance),
+            });
+        }
+        world.map(|w| Occluder {
+            t: hit.t as f64,
+            mesh: w.prims[hit.primitive_id as usize].mesh as usize,
+            instance: None,
+        })
     }
 
     /// True when any triangle (either side) lies on `origin + t·dir`, `t ∈ (tmin, tmax)`.

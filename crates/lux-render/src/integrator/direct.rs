@@ -176,6 +176,10 @@ impl<'a> DirectIntegrator<'a> {
         // (times k), with MIS against BSDF sampling unless `alone`.
         let sample_light = |li: usize, pmf: f64, u: [f64; 2], alone: bool, c: &mut Counters| {
             let l = &lights[li];
+            // Light linking: an unlinked light adds nothing here (nor by BSDF sampling).
+            if !l.base().illuminates(sp.mesh, sp.instance) {
+                return DVec3::ZERO;
+            }
             let Some(ls) = l.sample_li(&r, u, self.strategy) else {
                 return DVec3::ZERO;
             };
@@ -281,7 +285,7 @@ impl<'a> DirectIntegrator<'a> {
         let t_geo = hit.map_or(f64::INFINITY, |h| h.t);
         let mut add = |l: &Light, le: DVec3, pdf_l: f64| {
             let base = l.base();
-            if le != DVec3::ZERO && base.plain_shadows() {
+            if le != DVec3::ZERO && base.plain_shadows() && base.illuminates(sp.mesh, sp.instance) {
                 let mis = power_heuristic(bs.pdf, pdf_l);
                 let contrib = if one_scale(&sp.bsdf, base) {
                     bs.weight * le * (mis * base.diffuse)

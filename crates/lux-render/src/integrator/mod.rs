@@ -89,7 +89,10 @@ pub fn power_heuristic(a: f64, b: f64) -> f64 {
 /// `l` (`ShadowAPI`): `None` when fully blocked, else the RGB multiplier (1 unoccluded;
 /// `lux_math::shadowed` of the occluder's `shadow_strength` otherwise). Shadows disabled: no
 /// ray is traced. Through surfaces with UsdPreviewSurface `opacity` the multiplier is
-/// `∏(1 − oᵢ)` (`trace.rs`); a `ShadowAPI` shadow starts at the first surface of opacity > 0.
+/// `T = ∏(1 − oᵢ)` (`trace.rs`); with `ShadowAPI` inputs, `T + (1 − T)·shadowed` where
+/// `shadowed` is the ShadowAPI multiplier at the first surface of opacity > 0.
+/// Occluders outside the light's `collection:shadowLink` cast no shadow
+/// ([`crate::light::first_shadow_occluder`]).
 #[inline]
 pub fn visibility(
     world: &World,
@@ -106,7 +109,9 @@ pub fn visibility(
     c.shadow += 1;
     let geometry = world.geometry;
     if world.transparent {
-        let (tr, first) = trace::transmission(world, origin, dir, tmax);
+        let (tr, first) = trace::transmission(world, origin, dir, tmax, |h| {
+            l.casts_shadow(h.mesh, h.instance)
+        });
         let Some(t) = first else {
             return Some(DVec3::ONE);
         };
@@ -116,7 +121,9 @@ pub fn visibility(
         }
         let sh = &l.shadow;
         let s = lux_math::shadow_strength(t, sh.distance, sh.falloff, sh.falloff_gamma);
-        let m = lux_math::shadowed(s, sh.color) * tr.max(0.0);
+        // What passes the surfaces, plus the ShadowAPI's light where they stop it.
+        let tr = tr.clamp(0.0, 1.0);
+        let m = DVec3::splat(tr) + (1.0 - tr) * lux_math::shadowed(s, sh.color);
         return (m != DVec3::ZERO).then_some(m);
     }
     if l.plain_shadows() {
@@ -124,7 +131,8 @@ pub fn visibility(
         c.blocked += blocked as u64;
         return (!blocked).then_some(DVec3::ONE);
     }
-    let Some(t) = geometry.first_occluder(origin, dir, 0.0, tmax) else {
+    // Shadow linking: occluders outside the light's shadowLink are passed through.
+    let Some(t) = crate::light::first_shadow_occluder(geometry, l, origin, dir, tmax) else {
         return Some(DVec3::ONE);
     };
     c.blocked += 1;

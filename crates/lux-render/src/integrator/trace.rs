@@ -69,8 +69,15 @@ pub fn closest(w: &World, o: DVec3, d: DVec3, tmin: f64, tmax: f64, any_side: bo
 
 /// The fraction of light that passes from `o` along unit `d` up to `tmax` through the
 /// surfaces in between: `∏(1 − oᵢ)` (0 at the first opaque one), with the distance of the
-/// first surface that stops any of it.
-pub fn transmission(w: &World, o: DVec3, d: DVec3, tmax: f64) -> (f64, Option<f64>) {
+/// first surface that stops any of it. Surfaces for which `casts` is false (outside a
+/// light's `shadowLink`) are passed through.
+pub fn transmission(
+    w: &World,
+    o: DVec3,
+    d: DVec3,
+    tmax: f64,
+    casts: impl Fn(&Hit) -> bool,
+) -> (f64, Option<f64>) {
     let (mut origin, mut t0, mut tr) = (o, 0.0, 1.0);
     let mut first = None;
     for _ in 0..MAX_LAYERS {
@@ -80,7 +87,11 @@ pub fn transmission(w: &World, o: DVec3, d: DVec3, tmax: f64) -> (f64, Option<f6
         else {
             return (tr, first);
         };
-        let op = w.materials.opacity(w.scene, &h);
+        let op = if casts(&h) {
+            w.materials.opacity(w.scene, &h)
+        } else {
+            0.0
+        };
         if op > 0.0 && first.is_none() {
             first = Some(t0 + h.t);
         }

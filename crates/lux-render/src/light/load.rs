@@ -164,6 +164,7 @@ impl<'s> Loader<'s> {
             (Profile::Spec, _) => false,
         };
         let b = light.base_mut();
+        b.links = super::LightLinks::new(self.scene, &l.linking);
         b.radiance = radiance;
         b.camera_visible = camera_visible;
         b.diffuse = if l.diffuse.is_finite() {

@@ -51,6 +51,7 @@ mod cylinder;
 mod disk;
 mod distant;
 mod dome;
+mod linking;
 mod load;
 mod mesh;
 mod rect;
@@ -61,6 +62,7 @@ pub use cylinder::CylinderLight;
 pub use disk::DiskLight;
 pub use distant::DistantLight;
 pub use dome::DomeLight;
+pub use linking::{GeomSet, LightLinks, MAX_PASS_THROUGH, first_shadow_occluder};
 pub use mesh::MeshLight;
 pub use rect::RectLight;
 pub use set::{AUTO_ALL_LIGHTS, LightOptions, LightSelection, LightSet};
@@ -97,6 +99,9 @@ pub struct LightBase {
     pub shadow: ShadowInputs,
     /// Light → world.
     pub xf: LightTransform,
+    /// LightAPI `collection:lightLink` / `collection:shadowLink` resolved over the scene
+    /// (none for the default, everything).
+    pub links: LightLinks,
     /// World → light linear map, for emission directions.
     inv_linear: DMat3,
 }
@@ -114,19 +119,22 @@ impl LightBase {
             diffuse: 1.0,
             specular: 1.0,
             shadow,
+            links: LightLinks::default(),
             inv_linear: xf.linear().inverse(),
             xf,
         }
     }
 
     /// Whether the light's shadows are the physical default (enabled, black, no distance
-    /// limit). Lights with other `ShadowAPI` settings are estimated by light sampling alone,
-    /// since a BSDF ray stops at the first occluder.
+    /// limit, cast by every piece of geometry: no `collection:shadowLink` restriction).
+    /// Lights with other `ShadowAPI` settings or shadow links are estimated by light sampling
+    /// alone, since a BSDF ray stops at the first occluder.
     #[inline]
     pub fn plain_shadows(&self) -> bool {
         self.shadow.enable
             && self.shadow.color == DVec3::ZERO
             && (self.shadow.distance.is_nan() || self.shadow.distance < 0.0)
+            && self.links.shadow.is_none()
     }
 
     /// The light-space point of a world point.

@@ -229,6 +229,10 @@ pub struct SurfacePoint {
     pub offset: f64,
     /// The BSDF (about the shading normal).
     pub bsdf: Bsdf,
+    /// The geometry hit: index into `Scene::meshes` ([`Hit::mesh`]), for light linking.
+    pub mesh: usize,
+    /// The instance hit ([`Hit::instance`]), for light linking.
+    pub instance: Option<usize>,
 }
 
 impl Materials {
@@ -557,6 +561,8 @@ impl Materials {
             ns,
             offset: hit.offset,
             bsdf,
+            mesh: hit.mesh,
+            instance: hit.instance,
         }
     }
 

@@ -13,6 +13,7 @@
 //! | `asset a = "x.png"`, in `asset[]` arrays, `timeSamples` and typed dictionary entries (a quoted string where an asset path is expected; usd-core evaluates the string) | `Asset reference expected` | `@x.png@` (escapes evaluated, padded to the same length) |
 //! | `config float a` (`prim_attr_variability: TOK_UNIFORM \| TOK_CONFIG`; read as uniform) | `attribute type expected` | `uniform float a` |
 //! | legacy type names (`Vec3f[]`, `PointFloat`, `Color`, `Matrix4d`, …; `_AddLegacyTypesToRegistry`) | `Cannot parse value for unrecognized type` | the current name ([`legacy_type_name`]) |
+//! | `pathExpression` (UsdCollectionAPI `membershipExpression`, Sdf 23.11), a type openusd 0.6 does not know | `Cannot parse value for unrecognized type` | `string` (the expression text kept; the loader reads it as text) |
 //! | scalar asset time samples (`asset a.timeSamples = { 1: @x@ }`) | "Unsupported property metadata value token" | one-element `asset[]` samples (`1: [@x@]`), which the loader reads back as one asset |
 //!
 //! C-style `/* … */` comments (lexer state `SLASHTERIX_COMMENT`) are already skipped by
@@ -150,6 +151,7 @@ fn may_need_rewrite(text: &str) -> bool {
         || text.contains("//")
         || text.contains("config")
         || text.contains("asset")
+        || text.contains("pathExpression")
         || has_legacy_type_word(text.as_bytes())
 }
 
@@ -349,7 +351,9 @@ impl<'a> Rewriter<'a> {
             }
             return;
         }
-        let legacy = legacy_type_name(word);
+        // `pathExpression` values are quoted strings: read as `string`.
+        let legacy =
+            legacy_type_name(word).or_else(|| (word == "pathExpression").then_some("string"));
         if legacy.is_none() && word != "asset" {
             return;
         }

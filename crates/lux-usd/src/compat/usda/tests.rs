@@ -181,3 +181,15 @@ fn malformed_input_never_panics() {
         let _ = rewrite(&format!("#usda 1.0\n{src}"));
     }
 }
+
+#[test]
+fn path_expressions_are_read_as_strings() {
+    let src = "#usda 1.0\ndef RectLight \"L\" {\n    uniform pathExpression collection:lightLink:membershipExpression = \"/World/A// - /World/A/m1\"\n}\n";
+    let out = rw(src);
+    assert_eq!(out.len(), src.len());
+    assert!(
+        out.contains("uniform string         collection:lightLink:membershipExpression = \"/World/A// - /World/A/m1\""),
+        "{out}"
+    );
+    parses(&out);
+}
