@@ -3,9 +3,6 @@
 #[path = "../src/cli/info.rs"]
 #[allow(dead_code)]
 mod info;
-#[path = "../src/cli/out.rs"]
-#[allow(dead_code)]
-mod out;
 
 use std::path::PathBuf;
 

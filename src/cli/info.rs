@@ -394,7 +394,21 @@ pub fn report(args: &InfoArgs) -> Result<String, String> {
 }
 
 /// Runs `lux info`: prints the report; a load error is returned (the binary exits non-zero).
-/// A closed stdout pipe ends the report quietly ([`super::out::print`]).
+/// A reader closing stdout early (`lux info … | head`) ends the report quietly (exit 0), as
+/// `cli/out.rs` does for the other commands; this file stays self-contained for the tests that
+/// include it.
 pub fn run(args: &InfoArgs) -> Result<(), String> {
-    super::out::print(&format!("{}\n", report(args)?))
+    use std::io::Write as _;
+    let text = report(args)?;
+    let mut out = std::io::stdout().lock();
+    match out
+        .write_all(text.as_bytes())
+        .and_then(|()| out.write_all(b"\n"))
+        .and_then(|()| out.flush())
+    {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(format!("cannot write to stdout: {e}"))
+        }
+        _ => Ok(()),
+    }
 }

@@ -1,7 +1,8 @@
-//! Reports on stdout. A reader that stops early (`lux info … | head`) closes the pipe; that is
-//! not an error: the command stops writing and exits 0 without a message (`println!` would
-//! panic with "failed printing to stdout: Broken pipe" and exit 101). Other write errors (a
-//! full disk behind a redirection) are errors: the command exits non-zero and says so.
+//! Reports on stdout (`lux ies info`; `lux info` does the same in its own file, which tests
+//! include). A reader that stops early (`lux ies info … | head`) closes the pipe; that is not
+//! an error: the command stops writing and exits 0 without a message (`println!` would panic
+//! with "failed printing to stdout: Broken pipe" and exit 101). Other write errors (a full
+//! disk behind a redirection) are errors: the command exits non-zero and says so.
 
 use std::io::{ErrorKind, Write};
 

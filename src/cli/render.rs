@@ -401,7 +401,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     if stats.non_finite_samples > 0 {
         eprintln!(
             "lux: warning: {} NaN or infinite radiance and were written as black",
-            plural(stats.non_finite_samples as u64, "sample had", "samples had")
+            plural(stats.non_finite_samples, "sample had", "samples had")
         );
     }
     let names: Vec<String> = outputs
