@@ -279,10 +279,10 @@ fn xml(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// The labelled polar candela diagram as SVG: title (file name, total lumens), rings at round
-/// candela values labelled along the zenith axis, radials every 30° labelled with γ (0° at
-/// nadir, down), C0–C180 (red, C0 on the right) and C90–C270 (blue, C90 on the right) with a
-/// legend.
+/// The labelled polar candela diagram as SVG: title (file name, total lumens); rings at round
+/// candela values, labelled inside each ring above the right 90° radial; radials every 30°
+/// labelled with γ (0° at nadir, down); C0–C180 (red, C0 on the right) and C90–C270 (blue,
+/// C90 on the right) with a legend.
 fn plot_svg(web: &PhotometricWeb, name: &str, size: u32) -> String {
     use std::f64::consts::PI;
     let s = size as f64;
@@ -320,9 +320,9 @@ fn plot_svg(web: &PhotometricWeb, name: &str, size: u32) -> String {
         );
         let _ = writeln!(
             o,
-            r##"<text x="{:.1}" y="{:.1}" fill="#555">{} cd</text>"##,
-            cx + 0.3 * font,
-            cy - r - 0.2 * font,
+            r##"<text x="{:.1}" y="{:.1}" text-anchor="end" fill="#555">{} cd</text>"##,
+            cx + r - 0.2 * font,
+            cy - 0.3 * font,
             fmt_cd(k as f64 * step)
         );
     }
