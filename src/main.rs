@@ -1,5 +1,10 @@
 //! The `lux` command line: `lux render`, `lux info`, `lux ies …`.
-//! With no arguments it renders the bundled demo scene to `lux-demo.exr` and `lux-demo.png`.
+//! With no arguments it renders the bundled demo scene to `lux-demo.exr` and `lux-demo.png`,
+//! saying so first on stderr.
+//!
+//! Exit status: 0 on success, 1 on an error (the message on stderr; no partial output file is
+//! left), 2 on a usage error. A reader closing stdout early (`lux info … | head`) is not an
+//! error: the report stops and `lux` exits 0 without a message.
 
 mod cli;
 
@@ -38,8 +43,12 @@ fn main() -> ExitCode {
         Some(Command::Info(i)) => cli::info::run(i),
         Some(Command::Ies(cmd)) => cli::ies::run(cmd),
         None => {
+            eprintln!(
+                "lux: no command given, so rendering the bundled demo scene to lux-demo.exr and \
+                 lux-demo.png here (`lux --help` lists the commands)"
+            );
             cli::demo::scene_path(&std::env::temp_dir().join("lux-demo-scene")).and_then(|scene| {
-                eprintln!("lux: rendering the demo scene {}", scene.display());
+                eprintln!("lux: demo scene {}", scene.display());
                 cli::render::run(&cli::render::RenderArgs {
                     scene,
                     frame: Some(1.0),
@@ -62,6 +71,7 @@ fn main() -> ExitCode {
                     output: PathBuf::from("lux-demo.exr"),
                     png: Some(PathBuf::from("lux-demo.png")),
                     exposure: 0.0,
+                    alpha: false,
                     quiet: false,
                 })
             })

@@ -110,3 +110,48 @@ fn plot_writes_a_png_with_both_plane_pairs() {
     let blue = img.pixels().filter(|p| p.0 == [30, 60, 220]).count();
     assert!(red > 100 && blue > 100, "red {red} blue {blue}");
 }
+
+#[test]
+fn plot_refuses_other_formats_and_leaves_no_file() {
+    let f = data("luxtest/bega_84659K4.ies");
+    let o = tmp("polar.jpg");
+    let _ = std::fs::remove_file(&o);
+    let out = lux(&[
+        "ies",
+        "plot",
+        f.to_str().unwrap(),
+        "-o",
+        o.to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains(".png"));
+    assert!(!o.exists());
+}
+
+#[test]
+fn svg_plot_is_labelled() {
+    let f = data("luxtest/bega_omni002_4777lm.ies");
+    let o = tmp("polar.svg");
+    let out = lux(&[
+        "ies",
+        "plot",
+        f.to_str().unwrap(),
+        "-o",
+        o.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let svg = std::fs::read_to_string(&o).unwrap();
+    assert!(svg.starts_with("<svg"), "{svg}");
+    // title: file name and total lumens; legend; angle labels; a candela scale
+    assert!(svg.contains("bega_omni002_4777lm.ies — 4779 lm"), "{svg}");
+    assert!(svg.contains("C0–C180") && svg.contains("C90–C270"));
+    for a in ["0°", "30°", "90°", "180°"] {
+        assert!(svg.contains(&format!(">{a}<")), "{a}");
+    }
+    assert!(svg.contains(" cd</text>"));
+    assert_eq!(svg.matches("<path").count(), 2);
+}

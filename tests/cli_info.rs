@@ -144,3 +144,52 @@ fn light_and_shadow_links_are_listed_when_authored() {
         "includes /, excludes /World/B (expandPrims)"
     );
 }
+
+#[test]
+fn text_report_prints_floats_as_authored_with_units() {
+    let dir = std::env::temp_dir().join(format!("lux-cli-info-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let usda = dir.join("floats.usda");
+    std::fs::write(
+        &usda,
+        r#"#usda 1.0
+(
+    metersPerUnit = 1
+)
+def Camera "Cam"
+{
+}
+def SphereLight "Key" (
+    prepend apiSchemas = ["ShapingAPI"]
+)
+{
+    float inputs:intensity = 0.3
+    float inputs:radius = 0.1
+    float inputs:shaping:cone:angle = 30.7
+    float inputs:shaping:cone:softness = 0.3
+    double3 xformOp:translate = (0.1, 2, -0.7)
+    uniform token[] xformOpOrder = ["xformOp:translate"]
+}
+"#,
+    )
+    .unwrap();
+    let text = info::report(&info::InfoArgs {
+        scene: usda,
+        frame: Some(1.0),
+        json: false,
+        strict: false,
+        disable_camera_light: false,
+    })
+    .unwrap();
+    assert!(!text.contains("0.30000001"), "{text}");
+    assert!(!text.contains("0.699999"), "{text}");
+    assert!(text.contains("softness 0.3 "), "{text}");
+    assert!(text.contains("cone 30.7°"), "{text}");
+    assert!(text.contains("position (0.1, 2, -0.7) m"), "{text}");
+    assert!(text.contains("L = (0.3, 0.3, 0.3) nits"), "{text}");
+    assert!(
+        text.contains("1 camera,") && text.contains("1 light\n"),
+        "{text}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -392,3 +392,191 @@ fn usdrecord_defaults_and_camera_names() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["frame"], 3.0);
 }
+
+/// Decodes a PNG, returning its colour type and pixels as RGBA8.
+fn read_png(path: &Path) -> (image::ColorType, image::RgbaImage) {
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(
+        &bytes[..8],
+        b"\x89PNG\r\n\x1a\n",
+        "{} is not a PNG",
+        path.display()
+    );
+    let img = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png).unwrap();
+    (img.color(), img.to_rgba8())
+}
+
+#[test]
+fn the_output_extension_picks_the_format() {
+    let scene = luxtest("rect.usda");
+    // -o x.png: a real PNG, opaque (RGB, no alpha channel)
+    let png = tmp("ext.png");
+    let _ = std::fs::remove_file(&png);
+    let o = render_small(&scene, &png, &[], &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (color, img) = read_png(&png);
+    assert_eq!(color, image::ColorType::Rgb8);
+    assert_eq!(img.dimensions(), (8, 8));
+    assert!(img.pixels().all(|p| p[3] == 255));
+    // --alpha keeps the coverage: RGBA
+    let o = render_small(&scene, &png, &["--alpha"], &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(read_png(&png).0, image::ColorType::Rgba8);
+    // -o x.EXR: an EXR whatever the case of the extension
+    let exr = tmp("ext.EXR");
+    let o = render_small(&scene, &exr, &[], &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        &std::fs::read(&exr).unwrap()[..4],
+        &[0x76, 0x2f, 0x31, 0x01]
+    );
+    // unknown and missing extensions are refused before anything is read or written
+    for name in ["ext.txt", "ext", "ext.jpg"] {
+        let out = tmp(name);
+        let _ = std::fs::remove_file(&out);
+        let o = render_small(&scene, &out, &[], &[]);
+        assert!(!o.status.success(), "{name} should be refused");
+        let e = stderr(&o);
+        assert!(
+            e.contains(name) && e.contains(".exr") && e.contains(".png"),
+            "{e}"
+        );
+        assert!(!e.contains("profile"), "refused after loading: {e}");
+        assert!(!out.exists(), "{name} was written");
+    }
+}
+
+#[test]
+fn the_png_flag_is_opaque_too() {
+    let exr = tmp("pngflag.exr");
+    let png = tmp("pngflag.png");
+    let o = render_small(
+        &luxtest("rect.usda"),
+        &exr,
+        &["--png", png.to_str().unwrap()],
+        &[],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(read_png(&png).0, image::ColorType::Rgb8);
+    assert!(Texture::load(&exr).is_ok());
+}
+
+#[test]
+fn arguments_are_checked_before_the_stage_is_read() {
+    // The scene does not exist: each argument error must come first.
+    let out = tmp("early.exr");
+    for (args, needle) in [
+        (vec!["--spp", "0"], "--spp 0"),
+        (vec!["--spp", "2000000"], "--spp 2000000"),
+        (vec!["--max-depth", "0"], "--max-depth 0"),
+        (vec!["--max-depth", "129"], "--max-depth 129"),
+        (vec!["--light-samples", "65"], "--light-samples 65"),
+        (vec!["--penumbra-samples", "0"], "--penumbra-samples 0"),
+        (vec!["--threads", "0"], "--threads 0"),
+    ] {
+        let mut a = vec!["render", "/no/such/scene.usda", "-o", out.to_str().unwrap()];
+        a.extend(&args);
+        let o = lux(&a, &[]);
+        assert!(!o.status.success(), "{args:?}");
+        let e = stderr(&o);
+        assert!(e.contains(needle), "{args:?}: {e}");
+        assert!(
+            !e.contains("scene.usda"),
+            "{args:?}: the stage was read first: {e}"
+        );
+    }
+    let o = lux(&["render", "/no/such/scene.usda", "-o", "/tmp/x.tiff"], &[]);
+    assert!(
+        stderr(&o).contains("unknown output format .tiff"),
+        "{}",
+        stderr(&o)
+    );
+    // An output folder that does not exist is found before rendering as well.
+    let o = lux(
+        &[
+            "render",
+            "/no/such/scene.usda",
+            "-o",
+            tmp("no-such-folder").join("x.exr").to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(stderr(&o).contains("does not exist"), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("scene.usda"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_directory_as_scene_is_called_a_directory() {
+    let dir = root().join("scenes/demo");
+    let o = lux(
+        &[
+            "render",
+            dir.to_str().unwrap(),
+            "-o",
+            tmp("dir.exr").to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("is a directory"), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("no such file"), "{}", stderr(&o));
+    let o = lux(&["info", dir.to_str().unwrap()], &[]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("is a directory"), "{}", stderr(&o));
+}
+
+/// Runs `lux ARGS` with stdout a pipe whose read end is closed at once, before the report is
+/// written: the write meets a broken pipe.
+fn closed_pipe(args: &[&str]) -> std::process::Output {
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_lux"))
+        .args(args)
+        .env_remove("LUX_CONFORMANCE_PROFILE")
+        .env("XDG_CONFIG_HOME", tmp("no-config"))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    child.wait_with_output().unwrap()
+}
+
+#[test]
+fn a_closed_stdout_pipe_ends_quietly() {
+    let demo = root().join("scenes/demo/demo.usda");
+    let ies = root().join("crates/lux-ies/tests/data/luxtest/bega_omni002_4777lm.ies");
+    for args in [
+        vec!["info", demo.to_str().unwrap()],
+        vec!["info", demo.to_str().unwrap(), "--json"],
+        vec!["ies", "info", ies.to_str().unwrap()],
+        vec!["ies", "info", ies.to_str().unwrap(), "--json"],
+    ] {
+        let o = closed_pipe(&args);
+        let e = stderr(&o);
+        assert!(
+            !e.contains("panicked") && !e.contains("Broken pipe"),
+            "{args:?}: {e}"
+        );
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {e}");
+    }
+}
+
+#[test]
+fn counts_are_singular_for_one() {
+    let o = lux(&["info", luxtest("rect.usda").to_str().unwrap()], &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("1 camera,") && text.contains("1 light\n"),
+        "{text}"
+    );
+    for wrong in [
+        "1 cameras",
+        "1 lights",
+        "1 meshes",
+        "1 prims",
+        "1 triangles",
+    ] {
+        assert!(!text.contains(wrong), "{wrong}: {text}");
+    }
+}

@@ -4,6 +4,7 @@
 use clap::Subcommand;
 use lux_ies::{Edition, IesFile, ParseOptions, Parsed, PhotometricWeb};
 use lux_math::Profile;
+use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
 /// IES file tools.
@@ -29,11 +30,13 @@ pub enum IesCommand {
         #[arg(long, default_value = "2002", value_parser = ["2002", "2019"])]
         edition: String,
     },
-    /// Draw the polar candela diagram (C0–C180 and C90–C270 planes) as a PNG.
+    /// Draw the polar candela diagram (C0–C180 and C90–C270 planes): as SVG with the title
+    /// (file name, total lumens), candela scale, angle labels and plane legend; or as a PNG
+    /// with the same curves and grid, unlabelled.
     Plot {
         /// The IES file.
         file: PathBuf,
-        /// Output PNG.
+        /// Output: .svg (labelled diagram) or .png (curves and grid).
         #[arg(short, long)]
         output: PathBuf,
         /// Image size in pixels (square).
@@ -58,17 +61,54 @@ pub fn run(cmd: &IesCommand) -> Result<(), String> {
             } else {
                 Edition::Lm63_2002
             };
-            std::fs::write(output, parsed.file.write(ed))
-                .map_err(|e| format!("{}: cannot write: {e}", output.display()))
+            write_file(output, parsed.file.write(ed).as_bytes())
         }
         IesCommand::Plot { file, output, size } => {
+            let ext = output
+                .extension()
+                .map(|e| e.to_string_lossy().to_ascii_lowercase());
+            let svg = match ext.as_deref() {
+                Some("svg") => true,
+                Some("png") => false,
+                _ => {
+                    return Err(format!(
+                        "{}: unknown plot format: name the output .svg (labelled) or .png",
+                        output.display()
+                    ));
+                }
+            };
             let parsed = load(file)?;
             let web = expand(file, &parsed)?;
-            let img = plot(&web, (*size).clamp(64, 8192));
-            img.save(output)
-                .map_err(|e| format!("{}: cannot write PNG: {e}", output.display()))
+            let size = (*size).clamp(64, 8192);
+            if svg {
+                let name = file.file_name().map_or_else(
+                    || file.display().to_string(),
+                    |n| n.to_string_lossy().into(),
+                );
+                return write_file(output, plot_svg(&web, &name, size).as_bytes());
+            }
+            let img = plot(&web, size);
+            let mut png = Vec::new();
+            img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+                .map_err(|e| format!("{}: cannot encode PNG: {e}", output.display()))?;
+            write_file(output, &png)
         }
     }
+}
+
+/// Writes `bytes` to `path` atomically (temporary file + rename): a failure leaves no partial
+/// file and a previous file as it was.
+fn write_file(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    use std::io::Write as _;
+    lux_render::image_io::write_atomically(path, |w| {
+        w.write_all(bytes)
+            .map_err(|source| lux_render::image_io::ImageError::Io {
+                path: path.to_path_buf(),
+                action: "write",
+                source,
+            })
+    })
+    .map_err(|e| e.to_string())
 }
 
 fn load(path: &Path) -> Result<Parsed, String> {
@@ -95,6 +135,7 @@ fn info(path: &Path, json: bool) -> Result<(), String> {
     let field = web.field_angles();
     let (mt, mp) = web.max_direction();
     let warnings: Vec<String> = parsed.warnings.iter().map(ToString::to_string).collect();
+    let mut s = String::new();
     if json {
         let v = serde_json::json!({
             "file": path.display().to_string(),
@@ -118,22 +159,25 @@ fn info(path: &Path, json: bool) -> Result<(), String> {
             "field_angle_deg": {"c0_c180": field.c0_c180, "c90_c270": field.c90_c270},
             "warnings": warnings,
         });
-        println!(
+        let _ = writeln!(
+            s,
             "{}",
             serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
         );
     } else {
         let opt = |a: Option<f64>| a.map_or("-".to_string(), |x| format!("{x:.2}°"));
-        println!("file               {}", path.display());
-        println!("edition            {}", f.edition);
-        println!("photometric type   {}", f.photometric_type.letter());
-        println!(
+        let _ = writeln!(s, "file               {}", path.display());
+        let _ = writeln!(s, "edition            {}", f.edition);
+        let _ = writeln!(s, "photometric type   {}", f.photometric_type.letter());
+        let _ = writeln!(
+            s,
             "angles             {} vertical × {} horizontal ({:?})",
             f.num_vertical(),
             f.num_horizontal(),
             web.symmetry()
         );
-        println!(
+        let _ = writeln!(
+            s,
             "multipliers        candela {} × ballast {} × third {} ({})",
             f.candela_multiplier,
             f.ballast_factor,
@@ -145,75 +189,221 @@ fn info(path: &Path, json: bool) -> Result<(), String> {
             }
         );
         if f.is_absolute() {
-            println!("lamps              {} (absolute photometry)", f.lamp_count);
+            let _ = writeln!(
+                s,
+                "lamps              {} (absolute photometry)",
+                f.lamp_count
+            );
         } else {
-            println!(
+            let _ = writeln!(
+                s,
                 "lamps              {} × {} lm",
                 f.lamp_count, f.lumens_per_lamp
             );
         }
-        println!(
+        let _ = writeln!(
+            s,
             "flux               {:.3} lm (exact; midpoint {:.3} lm)",
             web.flux_exact(),
             web.flux_midpoint()
         );
-        println!(
+        let _ = writeln!(
+            s,
             "mean intensity     {:.4} cd (flux / {})",
             web.mean_intensity(Profile::Spec),
             if web.covers_sphere() { "4π" } else { "2π" }
         );
-        println!(
+        let _ = writeln!(
+            s,
             "max intensity      {:.3} cd at θ {:.2}°, φ {:.2}°",
             web.max_candela(),
             mt.to_degrees(),
             mp.to_degrees()
         );
-        println!(
+        let _ = writeln!(
+            s,
             "beam angle (50 %)  C0-C180 {}, C90-C270 {}",
             opt(beam.c0_c180),
             opt(beam.c90_c270)
         );
-        println!(
+        let _ = writeln!(
+            s,
             "field angle (10 %) C0-C180 {}, C90-C270 {}",
             opt(field.c0_c180),
             opt(field.c90_c270)
         );
         for w in &warnings {
-            println!("warning            {w}");
+            let _ = writeln!(s, "warning            {w}");
         }
     }
-    Ok(())
+    super::out::print(&s)
 }
 
-/// The polar candela diagram: nadir (θ = 0) points down; the right half shows C0 (red) and C90
-/// (blue), the left half C180 and C270; circles every 1/4 of the peak, radials every 30°.
+/// A round candela step for about four rings up to `peak`: 1, 2, 2.5 or 5 × 10^k.
+fn ring_step(peak: f64) -> f64 {
+    if !(peak > 0.0 && peak.is_finite()) {
+        return 1.0;
+    }
+    let raw = peak / 4.0;
+    let p = 10f64.powf(raw.log10().floor());
+    [1.0, 2.0, 2.5, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * p)
+        .find(|&s| s >= raw)
+        .unwrap_or(10.0 * p)
+}
+
+/// The intensity curve of plane `phi` (right half, γ ≥ 0) and `phi + 180°` (left half,
+/// γ < 0), γ from −180° to 180° measured from nadir.
+fn plane_curve(web: &PhotometricWeb, phi: f64) -> Vec<(f64, f64)> {
+    use std::f64::consts::PI;
+    let samples = 721;
+    (0..samples)
+        .map(|k| {
+            let g = -PI + 2.0 * PI * k as f64 / (samples - 1) as f64;
+            let i = if g >= 0.0 {
+                web.intensity(g.min(PI - 1e-12), phi)
+            } else {
+                web.intensity((-g).min(PI - 1e-12), phi + PI)
+            };
+            (g, i)
+        })
+        .collect()
+}
+
+/// Escapes text for SVG.
+fn xml(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// The labelled polar candela diagram as SVG: title (file name, total lumens); rings at round
+/// candela values, labelled inside each ring above the right 90° radial; radials every 30°
+/// labelled with γ (0° at nadir, down); C0–C180 (red, C0 on the right) and C90–C270 (blue,
+/// C90 on the right) with a legend.
+fn plot_svg(web: &PhotometricWeb, name: &str, size: u32) -> String {
+    use std::f64::consts::PI;
+    let s = size as f64;
+    let font = (s / 45.0).max(8.0);
+    let title_h = 2.2 * font;
+    let legend_h = 2.0 * font;
+    let cx = s / 2.0;
+    let r_max = ((s - title_h - legend_h) / 2.0 - 2.2 * font).max(10.0);
+    let cy = title_h + 1.6 * font + r_max;
+    let c0 = plane_curve(web, 0.0);
+    let c90 = plane_curve(web, 0.5 * PI);
+    let peak = c0.iter().chain(&c90).map(|p| p.1).fold(0.0, f64::max);
+    let step = ring_step(peak);
+    let rings = ((peak / step).ceil() as usize).max(1);
+    let scale = r_max / (rings as f64 * step);
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{size}" height="{size}" viewBox="0 0 {size} {size}" font-family="sans-serif" font-size="{font:.1}">"#
+    );
+    let _ = writeln!(o, r#"<rect width="100%" height="100%" fill="white"/>"#);
+    let _ = writeln!(
+        o,
+        r#"<text x="{cx:.1}" y="{:.1}" text-anchor="middle" font-size="{:.1}" font-weight="bold">{} — {:.0} lm</text>"#,
+        1.5 * font,
+        1.2 * font,
+        xml(name),
+        web.flux_exact()
+    );
+    for k in 1..=rings {
+        let r = k as f64 * step * scale;
+        let _ = writeln!(
+            o,
+            r##"<circle cx="{cx:.1}" cy="{cy:.1}" r="{r:.1}" fill="none" stroke="#c8c8c8"/>"##
+        );
+        let _ = writeln!(
+            o,
+            r##"<text x="{:.1}" y="{:.1}" text-anchor="end" fill="#555">{} cd</text>"##,
+            cx + r - 0.2 * font,
+            cy - 0.3 * font,
+            fmt_cd(k as f64 * step)
+        );
+    }
+    for k in 0..12 {
+        let g = k as f64 * PI / 6.0;
+        let (dx, dy) = (g.sin(), g.cos());
+        let _ = writeln!(
+            o,
+            r##"<line x1="{cx:.1}" y1="{cy:.1}" x2="{:.1}" y2="{:.1}" stroke="#c8c8c8"/>"##,
+            cx + r_max * dx,
+            cy + r_max * dy
+        );
+        let deg = if k <= 6 { k * 30 } else { 360 - k * 30 };
+        let _ = writeln!(
+            o,
+            r#"<text x="{:.1}" y="{:.1}" text-anchor="middle" dominant-baseline="middle">{deg}°</text>"#,
+            cx + (r_max + 1.2 * font) * dx,
+            cy + (r_max + 1.0 * font) * dy
+        );
+    }
+    let path = |pts: &[(f64, f64)]| {
+        let mut d = String::new();
+        for (k, (g, i)) in pts.iter().enumerate() {
+            let (x, y) = (cx + i * scale * g.sin(), cy + i * scale * g.cos());
+            let _ = write!(d, "{}{x:.2},{y:.2}", if k == 0 { "M" } else { " L" });
+        }
+        d
+    };
+    for (pts, color) in [(&c90, "#1e3cdc"), (&c0, "#dc1e1e")] {
+        let _ = writeln!(
+            o,
+            r#"<path d="{}" fill="none" stroke="{color}" stroke-width="2"/>"#,
+            path(pts)
+        );
+    }
+    let ly = s - 0.9 * font;
+    for (k, (label, color)) in [("C0–C180", "#dc1e1e"), ("C90–C270", "#1e3cdc")]
+        .into_iter()
+        .enumerate()
+    {
+        let x = cx - 7.0 * font + k as f64 * 7.5 * font;
+        let _ = writeln!(
+            o,
+            r#"<line x1="{x:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{color}" stroke-width="3"/>"#,
+            ly - 0.35 * font,
+            x + 1.8 * font,
+            ly - 0.35 * font
+        );
+        let _ = writeln!(
+            o,
+            r#"<text x="{:.1}" y="{ly:.1}">{label}</text>"#,
+            x + 2.2 * font
+        );
+    }
+    let _ = writeln!(o, "</svg>");
+    o
+}
+
+/// A ring's candela value: no trailing zeros.
+fn fmt_cd(v: f64) -> String {
+    let t = format!("{v:.3}");
+    t.trim_end_matches('0').trim_end_matches('.').to_owned()
+}
+
+/// The polar candela diagram as pixels, unlabelled (the SVG has the labels): nadir (θ = 0)
+/// points down; the right half shows C0 (red) and C90 (blue), the left half C180 and C270;
+/// circles at the round candela values of [`plot_svg`], radials every 30°.
 fn plot(web: &PhotometricWeb, size: u32) -> image::RgbImage {
     use std::f64::consts::PI;
     let mut img = image::RgbImage::from_pixel(size, size, image::Rgb([255, 255, 255]));
     let c = size as f64 / 2.0;
     let r_max = c * 0.9;
-    let samples = 721;
-    let curve = |phi: f64| -> Vec<(f64, f64)> {
-        // γ from -180 (plane φ+180, left) to +180 (plane φ, right)
-        (0..samples)
-            .map(|k| {
-                let g = -PI + 2.0 * PI * k as f64 / (samples - 1) as f64;
-                let i = if g >= 0.0 {
-                    web.intensity(g.min(PI - 1e-12), phi)
-                } else {
-                    web.intensity((-g).min(PI - 1e-12), phi + PI)
-                };
-                (g, i)
-            })
-            .collect()
-    };
-    let c0 = curve(0.0);
-    let c90 = curve(0.5 * PI);
+    let c0 = plane_curve(web, 0.0);
+    let c90 = plane_curve(web, 0.5 * PI);
     let peak = c0.iter().chain(&c90).map(|p| p.1).fold(0.0, f64::max);
-    let scale = if peak > 0.0 { r_max / peak } else { 0.0 };
+    let step = ring_step(peak);
+    let rings = ((peak / step).ceil() as usize).max(1);
+    let scale = r_max / (rings as f64 * step);
     let grey = image::Rgb([200, 200, 200]);
-    for ring in 1..=4 {
-        let r = r_max * ring as f64 / 4.0;
+    for ring in 1..=rings {
+        let r = r_max * ring as f64 / rings as f64;
         let n = 720;
         let pts: Vec<(f64, f64)> = (0..=n)
             .map(|k| {

@@ -164,6 +164,51 @@ pub fn report_json(
     })
 }
 
+/// A float for the text report. Lights' inputs are authored as `float` (f32): the value is
+/// shown as the shortest text that reads back as the same f32 (`0.3`, not the f64 widening
+/// `0.30000001192092896`), and values derived from them in f64 at that precision. Scientific
+/// notation outside 1e-4 to 1e9.
+fn num(x: f64) -> String {
+    let f = x as f32;
+    if x == 0.0 {
+        "0".to_owned()
+    } else if !f.is_finite() {
+        format!("{x}")
+    } else if (1e-4..1e9).contains(&f.abs()) {
+        format!("{f}")
+    } else {
+        format!("{f:e}")
+    }
+}
+
+/// A value computed from authored floats (sizeFactor, radiance, axis) to 6 significant
+/// digits: `5.4`, not the f32 neighbour `5.3999996`.
+fn approx(x: f64) -> String {
+    match format!("{x:.5e}").parse::<f64>() {
+        Ok(r) if x.is_finite() => num(r),
+        _ => format!("{x}"),
+    }
+}
+
+/// A vector as `(x, y, z)` with `f` ([`num`] or [`approx`]); components below 1e-12 of the
+/// largest (rounding in transforms) show as 0.
+fn vec3_with(v: glam::DVec3, f: fn(f64) -> String) -> String {
+    let m = v.abs().max_element();
+    let c = |x: f64| f(if x.abs() <= m * 1e-12 { 0.0 } else { x });
+    format!("({}, {}, {})", c(v.x), c(v.y), c(v.z))
+}
+
+/// The unit of a physical-light quantity.
+fn quantity_unit(q: lux_spectral::PhysicalQuantity) -> &'static str {
+    use lux_spectral::PhysicalQuantity as Q;
+    match q {
+        Q::PhotometricPower(_) => "lm",
+        Q::RadiometricPower(_) => "W",
+        Q::PhotometricIlluminance(_) => "lx",
+        Q::RadiometricIrradiance(_) => "W/m²",
+    }
+}
+
 fn plural(n: usize, one: &str, many: &str) -> String {
     format!("{n} {}", if n == 1 { one } else { many })
 }
@@ -215,9 +260,13 @@ pub fn report_text(
     );
     let _ = writeln!(
         s,
-        "geometry: {} ({} triangles) stored once, {} drawn through {}",
+        "geometry: {} ({}) stored once, {} drawn through {}",
         plural(scene.meshes.len(), "mesh", "meshes"),
-        j["triangles"],
+        plural(
+            j["triangles"].as_u64().unwrap_or(0) as usize,
+            "triangle",
+            "triangles"
+        ),
         plural(scene.prototypes.len(), "prototype", "prototypes"),
         plural(scene.instances.len(), "instance", "instances"),
     );
@@ -232,20 +281,35 @@ pub fn report_text(
         let p = l.position();
         let a = l.axis();
         let _ = writeln!(s, "light {} ({})", l.path, l.type_name);
+        let unit = if scene.meters_per_unit == 1.0 {
+            " m".to_owned()
+        } else {
+            format!(" × {} m", num(scene.meters_per_unit))
+        };
         let _ = writeln!(
             s,
-            "  position ({:.6}, {:.6}, {:.6})  axis ({:.6}, {:.6}, {:.6})",
-            p.x, p.y, p.z, a.x, a.y, a.z
+            "  position {}{unit}  axis {}",
+            vec3_with(p, num),
+            vec3_with(a, approx)
         );
         for prof in Profile::ALL {
             let e = &lj["profiles"][prof.name()];
+            let rgb = e["luminance_rgb"].as_array().map(|c| {
+                let c: Vec<f64> = c.iter().map(|x| x.as_f64().unwrap_or(f64::NAN)).collect();
+                format!(
+                    "{} nits",
+                    vec3_with(glam::DVec3::new(c[0], c[1], c[2]), approx)
+                )
+            });
             let _ = writeln!(
                 s,
                 "  {:<9} sizeFactor {}  L = {}{}",
                 prof.name(),
-                e["size_factor"],
-                e["luminance_rgb"],
+                approx(e["size_factor"].as_f64().unwrap_or(f64::NAN)),
+                rgb.as_deref().unwrap_or("none"),
                 e.get("error")
+                    .or_else(|| e.get("note"))
+                    .and_then(|x| x.as_str())
                     .map(|x| format!("  ({x})"))
                     .unwrap_or_default()
             );
@@ -255,12 +319,12 @@ pub fn report_text(
                 let _ = writeln!(
                     s,
                     "  shaping: focus {} tint {} cone {}° softness {} ies {} angleScale {} normalize {}",
-                    sh.focus,
-                    sh.focus_tint,
-                    sh.cone_angle_deg,
-                    sh.cone_softness,
+                    num(sh.focus),
+                    vec3_with(sh.focus_tint, num),
+                    num(sh.cone_angle_deg),
+                    num(sh.cone_softness),
                     sh.ies_file.as_ref().map_or("none", |a| a.authored.as_str()),
-                    sh.ies_angle_scale,
+                    num(sh.ies_angle_scale),
                     sh.ies_normalize
                 );
             }
@@ -271,7 +335,13 @@ pub fn report_text(
         if let Some(p) = &l.physical {
             match p.quantity {
                 Some(q) => {
-                    let _ = writeln!(s, "  {} = {}", q.attribute(), q.value());
+                    let _ = writeln!(
+                        s,
+                        "  {} = {} {}",
+                        q.attribute(),
+                        num(q.value()),
+                        quantity_unit(q)
+                    );
                 }
                 None => {
                     let _ = writeln!(s, "  PhysicalLightIlluminantAPI");
@@ -284,7 +354,10 @@ pub fn report_text(
                 if p.custom_illuminant.is_empty() {
                     String::new()
                 } else {
-                    format!(" ({} custom pairs)", p.custom_illuminant.len())
+                    format!(
+                        " ({})",
+                        plural(p.custom_illuminant.len(), "custom pair", "custom pairs")
+                    )
                 }
             );
         }
@@ -296,8 +369,8 @@ pub fn report_text(
         if let Some(e) = &l.emission_spectrum {
             let _ = writeln!(
                 s,
-                "  wavelength:emission = {} pairs, preset {:?}, unit {:?}, {:?}",
-                e.values.len(),
+                "  wavelength:emission = {}, preset {:?}, unit {:?}, {:?}",
+                plural(e.values.len(), "pair", "pairs"),
                 e.illuminant_preset,
                 e.unit_for_wavelength,
                 e.interpolation
@@ -329,7 +402,21 @@ pub fn report(args: &InfoArgs) -> Result<String, String> {
 }
 
 /// Runs `lux info`: prints the report; a load error is returned (the binary exits non-zero).
+/// A reader closing stdout early (`lux info … | head`) ends the report quietly (exit 0), as
+/// `cli/out.rs` does for the other commands; this file stays self-contained for the tests that
+/// include it.
 pub fn run(args: &InfoArgs) -> Result<(), String> {
-    println!("{}", report(args)?);
-    Ok(())
+    use std::io::Write as _;
+    let text = report(args)?;
+    let mut out = std::io::stdout().lock();
+    match out
+        .write_all(text.as_bytes())
+        .and_then(|()| out.write_all(b"\n"))
+        .and_then(|()| out.flush())
+    {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(format!("cannot write to stdout: {e}"))
+        }
+        _ => Ok(()),
+    }
 }

@@ -3,4 +3,5 @@
 pub mod demo;
 pub mod ies;
 pub mod info;
+pub mod out;
 pub mod render;

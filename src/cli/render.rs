@@ -1,16 +1,51 @@
-//! `lux render SCENE …`: renders a USD stage with the reference renderer, writes an RGBA float
-//! EXR (and optionally an sRGB PNG) atomically, with a progress bar and a closing summary.
+//! `lux render SCENE …`: renders a USD stage with the reference renderer, writes the image
+//! atomically in the format the output's extension names (`.exr`: RGBA float32, linear;
+//! `.png`: 8-bit sRGB, opaque unless `--alpha`), with a progress bar and a closing summary.
+//!
+//! Arguments are checked before the stage is read: sample counts and depth against the
+//! renderer's limits ([`MAX_SPP`], [`MAX_DEPTH`], [`MAX_LIGHT_SAMPLES`]), the output formats,
+//! and that the outputs' folders exist.
 
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use lux_math::Profile;
 use lux_render::conformance::{PROFILE_ENV, default_config_paths, resolve_profile};
-use lux_render::image_io::{stage_exr, stage_png};
+use lux_render::image_io::{ImageRgba, StagedFile, stage_exr, stage_png, stage_png_opaque};
 use lux_render::light::LightSelection;
 use lux_render::render::{RenderOptions, RenderStats, Renderer};
-use lux_render::settings::SamplingMode;
+use lux_render::settings::{MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_SPP, SamplingMode};
 use lux_usd::{LoadOptions, Time, load_stage_with};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+
+/// An output image format, chosen by the file's extension (as usdrecord does).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutputFormat {
+    /// `.exr`: RGBA float32, linear.
+    Exr,
+    /// `.png`: 8-bit sRGB (exposure applied), RGB unless `--alpha`.
+    Png,
+}
+
+impl OutputFormat {
+    /// The format of `path` by its extension (case-insensitive); other extensions are errors.
+    pub fn of(path: &Path) -> Result<OutputFormat, String> {
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        match ext.as_deref() {
+            Some("exr") => Ok(OutputFormat::Exr),
+            Some("png") => Ok(OutputFormat::Png),
+            Some(e) => Err(format!(
+                "{}: unknown output format .{e}: expected .exr (float, linear) or .png (8-bit sRGB)",
+                path.display()
+            )),
+            None => Err(format!(
+                "{}: no file extension: expected .exr (float, linear) or .png (8-bit sRGB)",
+                path.display()
+            )),
+        }
+    }
+}
 
 /// `--sampling`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -60,7 +95,7 @@ pub struct RenderArgs {
     /// Time code to render (default: the stage's startTimeCode, as usdrecord).
     #[arg(long, allow_hyphen_values = true)]
     pub frame: Option<f64>,
-    /// Samples per pixel.
+    /// Samples per pixel, 1 to 1048576.
     #[arg(long, default_value_t = 64)]
     pub spp: u32,
     /// Output resolution WxH (default: the stage's RenderSettings, else usdrecord's 960 wide at
@@ -115,15 +150,20 @@ pub struct RenderArgs {
     /// Random seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Output EXR (RGBA float32, linear).
+    /// Output image; the extension names the format: .exr (RGBA float32, linear) or .png
+    /// (8-bit sRGB).
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Also write an sRGB PNG.
+    /// Also write an 8-bit sRGB PNG here.
     #[arg(long)]
     pub png: Option<PathBuf>,
-    /// Exposure of the PNG in stops.
+    /// Exposure of PNG outputs in stops.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub exposure: f64,
+    /// Keep the alpha channel in PNG outputs (default: opaque RGB, so viewers show the empty
+    /// background black rather than transparent).
+    #[arg(long)]
+    pub alpha: bool,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -174,20 +214,82 @@ pub fn load(
     load_stage_with(scene, time, &options).map_err(|e| e.to_string())
 }
 
-/// Renders according to `args`; returns the summary lines printed at the end.
-pub fn run(args: &RenderArgs) -> Result<(), String> {
+/// Checks what can be checked without the stage: numeric ranges (the renderer's limits), the
+/// output formats and folders. Returns the outputs: `-o` in its format, then `--png`.
+pub fn check_args(args: &RenderArgs) -> Result<Vec<(PathBuf, OutputFormat)>, String> {
     if !args.exposure.is_finite() {
         return Err(format!(
             "--exposure {}: expected a finite number",
             args.exposure
         ));
     }
-    if args.spp == 0 {
-        return Err("--spp 0: samples per pixel must be at least 1".into());
+    for (flag, what, v, max) in [
+        ("--spp", "samples per pixel", args.spp, MAX_SPP),
+        ("--max-depth", "path depth", args.max_depth, MAX_DEPTH),
+        (
+            "--light-samples",
+            "light samples",
+            args.light_samples,
+            MAX_LIGHT_SAMPLES,
+        ),
+        (
+            "--penumbra-samples",
+            "penumbra samples",
+            args.penumbra_samples,
+            MAX_LIGHT_SAMPLES,
+        ),
+    ] {
+        if v == 0 || v > max {
+            return Err(format!("{flag} {v}: {what} must be 1 to {max}"));
+        }
     }
     if args.threads == Some(0) {
         return Err("--threads 0: expected at least 1".into());
     }
+    let mut outputs = vec![(args.output.clone(), OutputFormat::of(&args.output)?)];
+    if let Some(png) = &args.png {
+        outputs.push((png.clone(), OutputFormat::Png));
+    }
+    for (path, _) in &outputs {
+        if path.is_dir() {
+            return Err(format!(
+                "{}: is a directory, not an image file",
+                path.display()
+            ));
+        }
+        let folder = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        if !folder.is_dir() {
+            return Err(format!(
+                "{}: cannot write: the folder {} does not exist",
+                path.display(),
+                folder.display()
+            ));
+        }
+    }
+    Ok(outputs)
+}
+
+/// Encodes `image` to a temporary file next to `path` in `format` ([`StagedFile`]).
+fn stage(
+    path: &Path,
+    format: OutputFormat,
+    image: &ImageRgba,
+    args: &RenderArgs,
+) -> Result<StagedFile, String> {
+    match format {
+        OutputFormat::Exr => stage_exr(path, image),
+        OutputFormat::Png if args.alpha => stage_png(path, image, args.exposure),
+        OutputFormat::Png => stage_png_opaque(path, image, args.exposure),
+    }
+    .map_err(|e| e.to_string())
+}
+
+/// Renders according to `args` and writes the outputs; the summary goes to stderr.
+pub fn run(args: &RenderArgs) -> Result<(), String> {
+    let outputs = check_args(args)?;
     let mut scene = load(&args.scene, args.frame, args.strict)?;
     for note in scene.add_usdrecord_defaults(!args.disable_camera_light) {
         eprintln!("lux: {note}");
@@ -275,7 +377,6 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         b
     };
     let pool = match args.threads {
-        Some(0) => return Err("--threads 0: expected at least 1".into()),
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()
@@ -287,43 +388,44 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let threads = pool.current_num_threads();
     let (image, stats) = pool.install(|| renderer.render(&|n| bar.inc(n)));
     bar.finish_and_clear();
-    // Both outputs are encoded to temporary files before either replaces its target: a failed
-    // encode or write leaves neither (and no temporary file).
-    let exr = stage_exr(&args.output, &image).map_err(|e| e.to_string())?;
-    let png = match &args.png {
-        Some(png) => Some(stage_png(png, &image, args.exposure).map_err(|e| e.to_string())?),
-        None => None,
-    };
-    exr.commit().map_err(|e| e.to_string())?;
-    if let Some(png) = png {
-        png.commit().map_err(|e| e.to_string())?;
+    // Every output is encoded to a temporary file before any replaces its target: a failed
+    // encode or write leaves none (and no temporary file).
+    let staged = outputs
+        .iter()
+        .map(|(path, format)| stage(path, *format, &image, args))
+        .collect::<Result<Vec<_>, _>>()?;
+    for file in staged {
+        file.commit().map_err(|e| e.to_string())?;
     }
     eprintln!("{}", summary(&stats, threads));
     if stats.non_finite_samples > 0 {
         eprintln!(
-            "lux: warning: {} samples had NaN or infinite radiance and were written as black",
-            stats.non_finite_samples
+            "lux: warning: {} NaN or infinite radiance and were written as black",
+            plural(stats.non_finite_samples, "sample had", "samples had")
         );
     }
-    eprintln!(
-        "lux: wrote {}{}",
-        args.output.display(),
-        args.png
-            .as_ref()
-            .map(|p| format!(" and {}", p.display()))
-            .unwrap_or_default()
-    );
+    let names: Vec<String> = outputs
+        .iter()
+        .map(|(p, _)| p.display().to_string())
+        .collect();
+    eprintln!("lux: wrote {}", names.join(" and "));
     Ok(())
+}
+
+/// `n` and the singular or plural noun.
+fn plural(n: u64, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
 }
 
 /// The closing line: time, samples/s, rays/s.
 pub fn summary(stats: &RenderStats, threads: usize) -> String {
     let t = stats.seconds.max(1e-9);
     format!(
-        "lux: {} px × spp = {} samples in {:.3} s on {threads} threads: {:.3} M samples/s, {:.3} M rays/s ({} rays, {} shadow)",
+        "lux: {} px × spp = {} samples in {:.3} s on {}: {:.3} M samples/s, {:.3} M rays/s ({} rays, {} shadow)",
         stats.pixels,
         stats.samples,
         stats.seconds,
+        plural(threads as u64, "thread", "threads"),
         stats.samples as f64 / t / 1e6,
         stats.rays as f64 / t / 1e6,
         stats.rays,

@@ -64,9 +64,9 @@ impl<'s> Reader<'s> {
 
     /// The raw composed value of `name` at the load time; `None` when unauthored or blocked.
     ///
-    /// Scalar floating-point time samples are re-evaluated here (see
-    /// [`Reader::typed_scalar_sample`]), so a `.usda` and a `.usdc` of the same stage give the
-    /// same value at every time.
+    /// Scalar floating-point time samples are re-evaluated here (the `.usda` parser reads them
+    /// type-blind; they are interpolated with the attribute's declared type), so a `.usda` and
+    /// a `.usdc` of the same stage give the same value at every time.
     pub fn raw(&self, prim: &Prim, name: &str) -> Result<Option<Value>, LoadError> {
         if !is_property_name(name) {
             return Ok(None);

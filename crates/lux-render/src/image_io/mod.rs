@@ -35,7 +35,8 @@ mod write;
 pub use error::{IN_MEMORY, ImageError};
 pub use texture::Texture;
 pub use write::{
-    StagedFile, stage_atomically, stage_exr, stage_png, write_atomically, write_exr, write_png,
+    StagedFile, stage_atomically, stage_exr, stage_png, stage_png_opaque, write_atomically,
+    write_exr, write_png,
 };
 
 use std::path::Path;

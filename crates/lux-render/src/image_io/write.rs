@@ -201,6 +201,8 @@ fn encode_alpha8(alpha: f64) -> u8 {
 /// `round(255 · clamp(a, 0, 1))`. The file is always RGBA (alpha 255 where the image is
 /// opaque).
 ///
+/// [`stage_png_opaque`] writes the same colours as an RGB PNG without alpha.
+///
 /// Errors if `exposure_ev` is not finite ([`ImageError::InvalidExposure`]), if the size is
 /// empty or too large, if `pixels.len() != width * height`, or on I/O failure.
 pub fn write_png(path: &Path, image: &ImageRgba, exposure_ev: f64) -> Result<(), ImageError> {
@@ -213,6 +215,26 @@ pub fn stage_png(
     image: &ImageRgba,
     exposure_ev: f64,
 ) -> Result<StagedFile, ImageError> {
+    stage_png_channels(path, image, exposure_ev, true)
+}
+
+/// As [`stage_png`] but an 8-bit RGB PNG: the colours of [`write_png`], alpha dropped, so
+/// viewers show the image opaque (an empty background black, not checkered).
+pub fn stage_png_opaque(
+    path: &Path,
+    image: &ImageRgba,
+    exposure_ev: f64,
+) -> Result<StagedFile, ImageError> {
+    stage_png_channels(path, image, exposure_ev, false)
+}
+
+/// The PNG encoder of [`stage_png`] (`alpha`: RGBA) and [`stage_png_opaque`] (RGB).
+fn stage_png_channels(
+    path: &Path,
+    image: &ImageRgba,
+    exposure_ev: f64,
+    alpha: bool,
+) -> Result<StagedFile, ImageError> {
     if !exposure_ev.is_finite() {
         return Err(ImageError::InvalidExposure {
             path: path.to_path_buf(),
@@ -222,16 +244,19 @@ pub fn stage_png(
     check_buffer(path, image.width, image.height, image.pixels.len())?;
     let scale = exposure_ev.exp2();
 
-    let mut bytes = vec![0u8; image.pixels.len() * 4];
+    let channels = if alpha { 4 } else { 3 };
+    let mut bytes = vec![0u8; image.pixels.len() * channels];
     bytes
-        .par_chunks_mut(image.width * 4)
+        .par_chunks_mut(image.width * channels)
         .zip(image.pixels.par_chunks(image.width))
         .for_each(|(out, row)| {
-            for (o, p) in out.chunks_exact_mut(4).zip(row) {
+            for (o, p) in out.chunks_exact_mut(channels).zip(row) {
                 o[0] = encode_srgb8(f64::from(p[0]) * scale);
                 o[1] = encode_srgb8(f64::from(p[1]) * scale);
                 o[2] = encode_srgb8(f64::from(p[2]) * scale);
-                o[3] = encode_alpha8(f64::from(p[3]));
+                if alpha {
+                    o[3] = encode_alpha8(f64::from(p[3]));
+                }
             }
         });
 
@@ -241,7 +266,11 @@ pub fn stage_png(
                 &bytes,
                 image.width as u32,
                 image.height as u32,
-                image::ExtendedColorType::Rgba8,
+                if alpha {
+                    image::ExtendedColorType::Rgba8
+                } else {
+                    image::ExtendedColorType::Rgb8
+                },
             )
             .map_err(|e| match e {
                 image::ImageError::IoError(source) => ImageError::Io {
