@@ -1,6 +1,9 @@
 //! Command-line front end of the `lux` binary.
 
 pub mod demo;
+pub mod farm;
 pub mod ies;
 pub mod info;
+pub mod merge;
 pub mod render;
+pub mod tile;

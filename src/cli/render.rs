@@ -5,7 +5,7 @@ use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use lux_math::Profile;
 use lux_render::conformance::{PROFILE_ENV, default_config_paths, resolve_profile};
-use lux_render::image_io::{stage_exr, stage_png};
+use lux_render::image_io::stage_png;
 use lux_render::light::LightSelection;
 use lux_render::render::{RenderOptions, RenderStats, Renderer};
 use lux_render::settings::SamplingMode;
@@ -127,6 +127,10 @@ pub struct RenderArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Render only band I of N (rows ⌊I·H/N⌋ to ⌊(I+1)·H/N⌋ − 1) to an EXR of those rows, for
+    /// `lux merge`.
+    #[arg(long, value_parser = crate::cli::tile::parse_tile)]
+    pub tile: Option<crate::cli::tile::TileSpec>,
 }
 
 fn parse_profile(s: &str) -> Result<Profile, String> {
@@ -253,7 +257,9 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         _ => "direct lighting".to_owned(),
     };
     eprintln!("{announce}, {transport}, {} spp", args.spp);
-    let renderer = Renderer::new(&scene, options).map_err(|e| e.to_string())?;
+    let header = crate::cli::tile::FrameHeader::new(args, &scene, &options);
+    let mut renderer = Renderer::new(&scene, options).map_err(|e| e.to_string())?;
+    let rows = crate::cli::tile::restrict(&mut renderer, args)?;
     for w in &scene.warnings {
         eprintln!("lux: warning: {w}");
     }
@@ -289,7 +295,8 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     bar.finish_and_clear();
     // Both outputs are encoded to temporary files before either replaces its target: a failed
     // encode or write leaves neither (and no temporary file).
-    let exr = stage_exr(&args.output, &image).map_err(|e| e.to_string())?;
+    let tile = args.tile.zip(rows);
+    let exr = crate::cli::tile::stage_exr(&args.output, &image, &header, tile)?;
     let png = match &args.png {
         Some(png) => Some(stage_png(png, &image, args.exposure).map_err(|e| e.to_string())?),
         None => None,
