@@ -319,7 +319,15 @@ fn farm_writes_an_openjd_template_with_render_and_merge_steps() {
     }
     assert!(merge_args.contains("\"-o\", \"{{Param.OutputDir}}/sphere.{{Task.Param.Frame}}.exr\""));
     assert!(merge_args.contains("\"--png\""));
-    assert!(y.contains(&format!("default: {:?}", frames.to_str().unwrap())));
+    // OpenJD wants default paths relative to the template's directory.
+    assert!(has("  default: \"frames\""), "{y}");
+    // and none outside it: the scene has no default.
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.starts_with("  # (no default: ") && l.contains("sphere.usda")),
+        "{y}"
+    );
 
     // Render options the template sets itself, or that lux render rejects, are refused.
     for bad in [&["--frame", "3"][..], &["--tile", "0/2"], &["--spp", "x"]] {

@@ -118,6 +118,31 @@ fn absolute(p: &Path) -> PathBuf {
     std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf())
 }
 
+/// `path` relative to the directory `base` (both made absolute), e.g. `../scenes/a.usda`; `None`
+/// when they share no root (another drive).
+fn relative_to(base: &Path, path: &Path) -> Option<PathBuf> {
+    use std::path::Component;
+    let (base, path) = (absolute(base), absolute(path));
+    fn norm(p: &Path) -> Vec<Component<'_>> {
+        p.components().filter(|c| *c != Component::CurDir).collect()
+    }
+    let (b, p) = (norm(&base), norm(&path));
+    if b.first() != p.first() {
+        return None;
+    }
+    let common = b.iter().zip(&p).take_while(|(x, y)| x == y).count();
+    if b[common..].contains(&Component::ParentDir) {
+        return None;
+    }
+    let mut out: PathBuf = b[common..].iter().map(|_| Component::ParentDir).collect();
+    out.extend(&p[common..]);
+    Some(if out.as_os_str().is_empty() {
+        PathBuf::from(".")
+    } else {
+        out
+    })
+}
+
 /// The job template of `args` (render options already checked).
 pub fn template(args: &FarmArgs) -> Result<String, String> {
     if args.tiles == 0 {
@@ -173,8 +198,20 @@ pub fn template(args: &FarmArgs) -> Result<String, String> {
     if args.png {
         merge.extend(["--png".to_owned(), out(".png")]);
     }
-    let scene = absolute(&args.scene);
-    let output_dir = absolute(&args.output_dir);
+    // OpenJD joins default paths to the template's directory and refuses absolute ones and
+    // ones outside it: a path elsewhere has no default (the job must give it).
+    let job_dir = absolute(&args.output)
+        .parent()
+        .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+    let default = |p: &Path| match relative_to(&job_dir, p) {
+        Some(r) if !r.starts_with("..") => {
+            format!("  default: {}", q(&r.to_string_lossy().replace('\\', "/")))
+        }
+        _ => format!(
+            "  # (no default: {} is outside the template's directory)",
+            p.display()
+        ),
+    };
     let job_name = format!("lux {name} {a}-{b}");
     let mut y = String::new();
     let w = &mut y;
@@ -195,7 +232,7 @@ pub fn template(args: &FarmArgs) -> Result<String, String> {
     let _ = writeln!(w, "  objectType: FILE");
     let _ = writeln!(w, "  dataFlow: IN");
     let _ = writeln!(w, "  description: The USD stage to render.");
-    let _ = writeln!(w, "  default: {}", q(&scene.to_string_lossy()));
+    let _ = writeln!(w, "{}", default(&args.scene));
     let _ = writeln!(w, "- name: OutputDir");
     let _ = writeln!(w, "  type: PATH");
     let _ = writeln!(w, "  objectType: DIRECTORY");
@@ -204,7 +241,7 @@ pub fn template(args: &FarmArgs) -> Result<String, String> {
         w,
         "  description: Where the tiles and the merged frames are written."
     );
-    let _ = writeln!(w, "  default: {}", q(&output_dir.to_string_lossy()));
+    let _ = writeln!(w, "{}", default(&args.output_dir));
     let _ = writeln!(w, "- name: Lux");
     let _ = writeln!(w, "  type: STRING");
     let _ = writeln!(w, "  description: The lux executable on the workers.");
@@ -281,6 +318,15 @@ mod tests {
         assert_eq!(parse_frames("-5--1"), Ok([-5, -1]));
         assert!(parse_frames("3-1").is_err());
         assert!(parse_frames("a-b").is_err());
+    }
+
+    #[test]
+    fn relative_paths() {
+        let r = |b: &str, p: &str| relative_to(Path::new(b), Path::new(p)).unwrap();
+        assert_eq!(r("/a/b", "/a/c/d.usda"), PathBuf::from("../c/d.usda"));
+        assert_eq!(r("/a/b", "/a/b/f"), PathBuf::from("f"));
+        assert_eq!(r("/a/b", "/a/b"), PathBuf::from("."));
+        assert_eq!(r("/a/./b", "/x"), PathBuf::from("../../x"));
     }
 
     #[test]
