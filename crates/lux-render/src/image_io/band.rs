@@ -56,8 +56,10 @@ pub fn stage_exr_band(
         let p = pixels[pos.y() * width + pos.x()];
         (p[0], p[1], p[2], p[3])
     });
-    let mut layer_attributes = LayerAttributes::default();
-    layer_attributes.layer_position = Vec2(0, y0 as i32);
+    let mut layer_attributes = LayerAttributes {
+        layer_position: Vec2(0, y0 as i32),
+        ..LayerAttributes::default()
+    };
     for (name, value) in attributes {
         layer_attributes.other.insert(
             Text::from_slice_unchecked(name.as_bytes()),
