@@ -1,4 +1,4 @@
-//! The `lux` command line: `lux render`, `lux info`, `lux ies …`.
+//! The `lux` command line: `lux render`, `lux info`, `lux ies …`, `lux merge`, `lux farm`.
 //! With no arguments it renders the bundled demo scene to `lux-demo.exr` and `lux-demo.png`,
 //! saying so first on stderr.
 //!
@@ -34,6 +34,10 @@ enum Command {
     /// IES (LM-63) photometric file tools.
     #[command(subcommand)]
     Ies(cli::ies::IesCommand),
+    /// Assemble the tiles of `lux render --tile I/N` into the frame (checked, atomic).
+    Merge(cli::merge::MergeArgs),
+    /// Write an Open Job Description job template rendering frames as tiles, then merging them.
+    Farm(cli::farm::FarmArgs),
 }
 
 fn main() -> ExitCode {
@@ -42,6 +46,8 @@ fn main() -> ExitCode {
         Some(Command::Render(r)) => cli::render::run(r),
         Some(Command::Info(i)) => cli::info::run(i),
         Some(Command::Ies(cmd)) => cli::ies::run(cmd),
+        Some(Command::Merge(m)) => cli::merge::run(m),
+        Some(Command::Farm(f)) => cli::farm::run(f),
         None => {
             eprintln!(
                 "lux: no command given, so rendering the bundled demo scene to lux-demo.exr and \
@@ -73,6 +79,7 @@ fn main() -> ExitCode {
                     exposure: 0.0,
                     alpha: false,
                     quiet: false,
+                    tile: None,
                 })
             })
         }

@@ -10,7 +10,7 @@ use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use lux_math::Profile;
 use lux_render::conformance::{PROFILE_ENV, default_config_paths, resolve_profile};
-use lux_render::image_io::{ImageRgba, StagedFile, stage_exr, stage_png, stage_png_opaque};
+use lux_render::image_io::{ImageRgba, StagedFile, stage_png, stage_png_opaque};
 use lux_render::light::LightSelection;
 use lux_render::render::{RenderOptions, RenderStats, Renderer};
 use lux_render::settings::{MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_SPP, SamplingMode};
@@ -167,6 +167,10 @@ pub struct RenderArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Render only band I of N (rows ⌊I·H/N⌋ to ⌊(I+1)·H/N⌋ − 1) to an EXR of those rows, for
+    /// `lux merge`.
+    #[arg(long, value_parser = crate::cli::tile::parse_tile)]
+    pub tile: Option<crate::cli::tile::TileSpec>,
 }
 
 fn parse_profile(s: &str) -> Result<Profile, String> {
@@ -261,7 +265,8 @@ pub fn check_args(args: &RenderArgs) -> Result<Vec<(PathBuf, OutputFormat)>, Str
             Some(p) if !p.as_os_str().is_empty() => p,
             _ => Path::new("."),
         };
-        if !folder.is_dir() {
+        // A tile's folder is made for it (farm jobs write into fresh directories).
+        if !folder.is_dir() && (args.tile.is_none() || folder.exists()) {
             return Err(format!(
                 "{}: cannot write: the folder {} does not exist",
                 path.display(),
@@ -278,9 +283,12 @@ fn stage(
     format: OutputFormat,
     image: &ImageRgba,
     args: &RenderArgs,
+    header: &crate::cli::tile::FrameHeader,
+    tile: Option<(crate::cli::tile::TileSpec, [u32; 2])>,
 ) -> Result<StagedFile, String> {
     match format {
-        OutputFormat::Exr => stage_exr(path, image),
+        // The EXR records the lux:* header (and, for a tile, only its rows).
+        OutputFormat::Exr => return crate::cli::tile::stage_exr(path, image, header, tile),
         OutputFormat::Png if args.alpha => stage_png(path, image, args.exposure),
         OutputFormat::Png => stage_png_opaque(path, image, args.exposure),
     }
@@ -355,7 +363,9 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         _ => "direct lighting".to_owned(),
     };
     eprintln!("{announce}, {transport}, {} spp", args.spp);
-    let renderer = Renderer::new(&scene, options).map_err(|e| e.to_string())?;
+    let header = crate::cli::tile::FrameHeader::new(args, &scene, &options);
+    let mut renderer = Renderer::new(&scene, options).map_err(|e| e.to_string())?;
+    let rows = crate::cli::tile::restrict(&mut renderer, args)?;
     for w in &scene.warnings {
         eprintln!("lux: warning: {w}");
     }
@@ -390,9 +400,10 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     bar.finish_and_clear();
     // Every output is encoded to a temporary file before any replaces its target: a failed
     // encode or write leaves none (and no temporary file).
+    let tile = args.tile.zip(rows);
     let staged = outputs
         .iter()
-        .map(|(path, format)| stage(path, *format, &image, args))
+        .map(|(path, format)| stage(path, *format, &image, args, &header, tile))
         .collect::<Result<Vec<_>, _>>()?;
     for file in staged {
         file.commit().map_err(|e| e.to_string())?;

@@ -84,6 +84,15 @@ impl<'s> Renderer<'s> {
         self.film.window
     }
 
+    /// Renders only rows `y0..y1` of the window (a band of the frame, for splitting it over
+    /// processes); pixels keep the seeds of the whole frame, so a band is bit-identical to the
+    /// same rows of a full render. An empty intersection renders nothing.
+    pub fn restrict_rows(&mut self, [y0, y1]: [u32; 2]) {
+        let w = &mut self.film.window;
+        w[1] = w[1].max(y0);
+        w[3] = w[3].min(y1).max(w[1]);
+    }
+
     /// Number of BVH triangles (each instanced prototype's once).
     pub fn triangle_count(&self) -> usize {
         self.geometry.triangle_count()

@@ -27,11 +27,13 @@
 //!   directory and rename it over the target ([`write_atomically`]); on error the target is
 //!   untouched and the temporary file removed.
 
+mod band;
 mod error;
 mod read;
 mod texture;
 mod write;
 
+pub use band::{ExrBand, read_exr_band, stage_exr_band};
 pub use error::{IN_MEMORY, ImageError};
 pub use texture::Texture;
 pub use write::{

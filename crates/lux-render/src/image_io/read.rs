@@ -120,7 +120,7 @@ struct ExrPixels {
     written: usize,
 }
 
-fn exr_error(path: &Path, error: exr::error::Error) -> ImageError {
+pub(crate) fn exr_error(path: &Path, error: exr::error::Error) -> ImageError {
     use exr::error::Error;
     match error {
         // A short read means a truncated file: a decoding problem, not an OS one.
