@@ -191,7 +191,7 @@ fn png_round_trip_within_quantisation() {
 #[test]
 fn unsupported_and_missing_files() {
     let dir = scratch("unsupported");
-    for name in ["image.tga", "image", "image.exr.bak", "image.tiff"] {
+    for name in ["image.psd", "image", "image.exr.bak", "image.tiff"] {
         let path = dir.join(name);
         fs::write(&path, b"whatever").unwrap();
         let err = Texture::load(&path).unwrap_err();

@@ -35,6 +35,7 @@ mod sample;
 mod select;
 mod sphere;
 pub mod spherical;
+pub mod stats;
 mod strategy;
 mod transform;
 pub mod warp;

@@ -479,86 +479,6 @@ mod tests {
         (mean, (var / n).powf(0.5))
     }
 
-    /// ln Γ(x) for x > 0 (Lanczos, g = 7, n = 9).
-    fn ln_gamma(x: f64) -> f64 {
-        const C: [f64; 9] = [
-            0.999_999_999_999_809_9,
-            676.520_368_121_885_1,
-            -1_259.139_216_722_402_8,
-            771.323_428_777_653_1,
-            -176.615_029_162_140_6,
-            12.507_343_278_686_905,
-            -0.138_571_095_265_720_12,
-            9.984_369_578_019_572e-6,
-            1.505_632_735_149_311_6e-7,
-        ];
-        if x < 0.5 {
-            let pi = std::f64::consts::PI;
-            return (pi / (pi * x).sin()).ln() - ln_gamma(1.0 - x);
-        }
-        let x = x - 1.0;
-        let t = x + 7.5;
-        let mut a = C[0];
-        for (i, c) in C.iter().enumerate().skip(1) {
-            a += c / (x + i as f64);
-        }
-        0.5 * TAU.ln() + (x + 0.5) * t.ln() - t + a.ln()
-    }
-
-    /// Regularised upper incomplete gamma Q(a, x): series for P below a + 1, else Lentz's
-    /// continued fraction.
-    fn gamma_q(a: f64, x: f64) -> f64 {
-        if x <= 0.0 {
-            return 1.0;
-        }
-        let lead = a * x.ln() - x - ln_gamma(a);
-        if x < a + 1.0 {
-            let (mut term, mut sum, mut ap) = (1.0 / a, 1.0 / a, a);
-            for _ in 0..10_000 {
-                ap += 1.0;
-                term *= x / ap;
-                sum += term;
-                if term.abs() < sum.abs() * 1e-16 {
-                    break;
-                }
-            }
-            1.0 - sum * lead.exp()
-        } else {
-            let tiny = 1e-300;
-            let mut b = x + 1.0 - a;
-            let mut c = 1.0 / tiny;
-            let mut d = 1.0 / b;
-            let mut h = d;
-            for i in 1..10_000 {
-                let an = -(i as f64) * (i as f64 - a);
-                b += 2.0;
-                d = an * d + b;
-                if d.abs() < tiny {
-                    d = tiny;
-                }
-                c = b + an / c;
-                if c.abs() < tiny {
-                    c = tiny;
-                }
-                d = 1.0 / d;
-                let delta = d * c;
-                h *= delta;
-                if (delta - 1.0).abs() < 1e-16 {
-                    break;
-                }
-            }
-            lead.exp() * h
-        }
-    }
-
-    #[test]
-    fn chi2_cdf_known_values() {
-        // χ² with 2 dof: Q = exp(−x/2); 1 dof at 3.841: p = 0.05; 10 dof at 18.307: p = 0.05.
-        assert!((gamma_q(1.0, 1.5) - (-1.5f64).exp()).abs() < 1e-12);
-        assert!((gamma_q(0.5, 0.5 * 3.841_458_820_694_124) - 0.05).abs() < 1e-9);
-        assert!((gamma_q(5.0, 0.5 * 18.307_038_053_275_146) - 0.05).abs() < 1e-9);
-    }
-
     /// Random parameters spanning the valid ranges.
     fn params() -> impl Strategy<Value = PreviewParams> {
         (
@@ -970,7 +890,7 @@ mod tests {
                 chi2 += (po - pe) * (po - pe) / pe;
                 dof += 1;
             }
-            let pv = gamma_q(0.5 * (dof - 1) as f64, 0.5 * chi2);
+            let pv = lux_sample::stats::chi2_p_value(chi2, dof - 1);
             assert!(dof > 20, "r {r}: {dof} bins");
             assert!(
                 pv > 1e-3,

@@ -9,87 +9,9 @@ use lux_math::Frame;
 use lux_sample::*;
 use std::f64::consts::{PI, TAU};
 
-// ---------------------------------------------------------------------------------------------
-// Incomplete gamma (own implementation: series for x < a + 1, Lentz continued fraction above).
-
-/// ln Γ(x) for x > 0 (Lanczos, g = 7, n = 9; ~1e-15 relative).
-pub fn ln_gamma(x: f64) -> f64 {
-    const G: [f64; 9] = [
-        0.999_999_999_999_809_9,
-        676.520_368_121_885_1,
-        -1_259.139_216_722_402_8,
-        771.323_428_777_653_1,
-        -176.615_029_162_140_6,
-        12.507_343_278_686_905,
-        -0.138_571_095_265_720_12,
-        9.984_369_578_019_572e-6,
-        1.505_632_735_149_311_6e-7,
-    ];
-    if x < 0.5 {
-        return (PI / (PI * x).sin()).ln() - ln_gamma(1.0 - x);
-    }
-    let x = x - 1.0;
-    let mut a = G[0];
-    let t = x + 7.5;
-    for (i, g) in G.iter().enumerate().skip(1) {
-        a += g / (x + i as f64);
-    }
-    0.5 * (TAU).ln() + (x + 0.5) * t.ln() - t + a.ln()
-}
-
-/// Regularised upper incomplete gamma Q(a, x) = Γ(a, x)/Γ(a).
-pub fn gamma_q(a: f64, x: f64) -> f64 {
-    if x <= 0.0 {
-        return 1.0;
-    }
-    let lead = -x + a * x.ln() - ln_gamma(a);
-    if x < a + 1.0 {
-        // P(a, x) = e^lead/a · Σ xⁿ/((a+1)…(a+n)).
-        let mut term = 1.0 / a;
-        let mut sum = term;
-        let mut n = a;
-        for _ in 0..10_000 {
-            n += 1.0;
-            term *= x / n;
-            sum += term;
-            if term.abs() < sum.abs() * 1e-16 {
-                break;
-            }
-        }
-        1.0 - sum * lead.exp()
-    } else {
-        // Continued fraction for Q (modified Lentz).
-        let tiny = 1e-300;
-        let mut b = x + 1.0 - a;
-        let mut c = 1.0 / tiny;
-        let mut d = 1.0 / b;
-        let mut h = d;
-        for i in 1..10_000 {
-            let an = -(i as f64) * (i as f64 - a);
-            b += 2.0;
-            d = an * d + b;
-            if d.abs() < tiny {
-                d = tiny;
-            }
-            c = b + an / c;
-            if c.abs() < tiny {
-                c = tiny;
-            }
-            d = 1.0 / d;
-            let delta = d * c;
-            h *= delta;
-            if (delta - 1.0).abs() < 1e-16 {
-                break;
-            }
-        }
-        lead.exp() * h
-    }
-}
-
-/// p-value of a χ² statistic with `dof` degrees of freedom.
-pub fn chi2_p_value(chi2: f64, dof: usize) -> f64 {
-    gamma_q(0.5 * dof as f64, 0.5 * chi2)
-}
+// The χ² p-value: `lux_sample::stats`.
+#[allow(unused_imports)] // (not every test crate that includes this module uses all three)
+pub use lux_sample::stats::{chi2_p_value, gamma_q, ln_gamma};
 
 // ---------------------------------------------------------------------------------------------
 // χ² histogram test.
