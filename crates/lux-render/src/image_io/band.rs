@@ -41,7 +41,7 @@ pub fn stage_exr_band(
     attributes: &[(String, String)],
 ) -> Result<StagedFile, ImageError> {
     check_buffer(path, image.width, image.height, image.pixels.len())?;
-    check_dimensions(path, image.width as u64, frame_height as u64)?;
+    // (no read-side size limit: what the renderer made, it can write)
     if y0 + image.height > frame_height {
         return Err(ImageError::InvalidDimensions {
             path: path.to_path_buf(),

@@ -6,7 +6,6 @@ use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use exr::prelude::{Encoding, Image, SpecificChannels, Vec2, WritableImage};
 use image::ImageEncoder;
 use rayon::prelude::*;
 
@@ -142,34 +141,10 @@ pub fn write_exr(path: &Path, image: &ImageRgba) -> Result<(), ImageError> {
     stage_exr(path, image)?.commit()
 }
 
-/// [`write_exr`] up to the rename: the encoded file, staged ([`StagedFile`]).
+/// [`write_exr`] up to the rename: the encoded file, staged ([`StagedFile`]) — a band of all
+/// the frame's rows without attributes ([`super::stage_exr_band`]).
 pub fn stage_exr(path: &Path, image: &ImageRgba) -> Result<StagedFile, ImageError> {
-    check_buffer(path, image.width, image.height, image.pixels.len())?;
-    let width = image.width;
-    let pixels = &image.pixels;
-    let channels = SpecificChannels::rgba(|pos: Vec2<usize>| {
-        let p = pixels[pos.y() * width + pos.x()];
-        (p[0], p[1], p[2], p[3])
-    });
-    let exr_image = Image::from_encoded_channels(
-        (image.width, image.height),
-        Encoding::SMALL_LOSSLESS,
-        channels,
-    );
-    stage_atomically(path, |writer| {
-        exr_image.write().to_buffered(writer).map_err(|e| match e {
-            exr::error::Error::Io(source) => ImageError::Io {
-                path: path.to_path_buf(),
-                action: "write",
-                source,
-            },
-            other => ImageError::Encode {
-                path: path.to_path_buf(),
-                format: "OpenEXR",
-                message: other.to_string(),
-            },
-        })
-    })
+    super::stage_exr_band(path, image, 0, image.height, &[])
 }
 
 /// Encodes a linear value (already scaled by the exposure) as an 8-bit sRGB code:
