@@ -22,7 +22,7 @@ use crate::geometry::Hit;
 use crate::image_io::Texture;
 use crate::settings::SurfaceModel;
 use glam::{DMat3, DVec2, DVec3};
-use lux_usd::{Input, Scene, SurfaceSpectral};
+use lux_usd::{Input, Scene, SurfaceSpectral, TextureInput};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -273,23 +273,12 @@ impl Materials {
                     ld.colour(path, "diffuseColor", &m.diffuse, grey)?
                 }
             };
-            let emission = match &m.emissive_texture {
-                Some(t) => match texture_shader(
-                    path,
-                    "emissiveColor",
-                    DVec3::ZERO,
-                    t,
-                    &mut ld.cache,
-                    strict,
-                    &mut ld.warnings,
-                )? {
-                    Param::Texture(s) => Some(s),
-                    // An unreadable file: its fallback is a constant, glowing as a texture of
-                    // one texel would.
-                    Param::Value(_) => None,
-                },
-                None => None,
-            };
+            let emission = ld.texture(
+                path,
+                "emissiveColor",
+                DVec3::ZERO,
+                m.emissive_texture.as_deref(),
+            )?;
             if surfaces == SurfaceModel::Lambert || !m.preview {
                 materials.push(Shader {
                     diffuse,
@@ -313,21 +302,7 @@ impl Materials {
                     0.01,
                 )?,
                 ior: ld.float(path, "ior", &m.ior, 1.5)?,
-                normal: match &m.normal {
-                    Some(t) => match texture_shader(
-                        path,
-                        "normal",
-                        DVec3::Z,
-                        t,
-                        &mut ld.cache,
-                        strict,
-                        &mut ld.warnings,
-                    )? {
-                        Param::Texture(s) => Some(s),
-                        Param::Value(_) => None,
-                    },
-                    None => None,
-                },
+                normal: ld.texture(path, "normal", DVec3::Z, m.normal.as_deref())?,
             };
             let opacity = ld.float(path, "opacity", &m.opacity, 1.0)?;
             let opaque = match &opacity {
@@ -655,6 +630,34 @@ impl InputLoader {
                 &mut self.warnings,
             ),
         }
+    }
+
+    /// An input read only from a texture (`emissiveColor` as a texture, `normal`): the texture,
+    /// or `None` without one or when its file cannot be read (no glow, no perturbation; the
+    /// warning names the file, an error when strict).
+    fn texture(
+        &mut self,
+        path: &str,
+        name: &str,
+        default: DVec3,
+        t: Option<&TextureInput>,
+    ) -> Result<Option<TextureShader>, RenderError> {
+        let Some(t) = t else {
+            return Ok(None);
+        };
+        let p = texture_shader(
+            path,
+            name,
+            default,
+            t,
+            &mut self.cache,
+            self.strict,
+            &mut self.warnings,
+        )?;
+        Ok(match p {
+            Param::Texture(s) => Some(s),
+            Param::Value(_) => None,
+        })
     }
 
     /// A float input of material `path` (kept in `x`).
