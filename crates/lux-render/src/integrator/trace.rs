@@ -13,21 +13,19 @@
 use super::World;
 use crate::geometry::Hit;
 use glam::DVec3;
+use lux_sample::SplitMix64;
 
 /// Most surfaces a ray passes through before it is treated as stopped.
 const MAX_LAYERS: usize = 64;
 
 /// A uniform number in \[0, 1) from a hit point and direction (deterministic stochastic
-/// opacity; SplitMix64's finaliser over the coordinates' bits).
+/// opacity): lux-sample's SplitMix64 chained over the coordinates' bits.
 fn hash01(p: DVec3, d: DVec3) -> f64 {
-    let mut h: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut h = 0;
     for x in [p.x, p.y, p.z, d.x, d.y, d.z] {
-        h ^= x.to_bits();
-        h = (h ^ (h >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        h = (h ^ (h >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        h ^= h >> 31;
+        h = SplitMix64::new(h ^ x.to_bits()).next_u64();
     }
-    (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    SplitMix64::new(h).next_f64()
 }
 
 /// The origin just past `h` along `d` (its `f32` clearance on the far side).

@@ -289,19 +289,21 @@ impl Materials {
                 });
                 continue;
             }
+            // The schema defaults stand in for unreadable textures.
+            let d = PreviewParams::default();
             let preview = PreviewInputs {
                 use_specular_workflow: m.use_specular_workflow,
-                specular: ld.colour(path, "specularColor", &m.specular, DVec3::ZERO)?,
-                metallic: ld.float(path, "metallic", &m.metallic, 0.0)?,
-                roughness: ld.float(path, "roughness", &m.roughness, 0.5)?,
-                clearcoat: ld.float(path, "clearcoat", &m.clearcoat, 0.0)?,
+                specular: ld.colour(path, "specularColor", &m.specular, d.specular_color)?,
+                metallic: ld.float(path, "metallic", &m.metallic, d.metallic)?,
+                roughness: ld.float(path, "roughness", &m.roughness, d.roughness)?,
+                clearcoat: ld.float(path, "clearcoat", &m.clearcoat, d.clearcoat)?,
                 clearcoat_roughness: ld.float(
                     path,
                     "clearcoatRoughness",
                     &m.clearcoat_roughness,
-                    0.01,
+                    d.clearcoat_roughness,
                 )?,
-                ior: ld.float(path, "ior", &m.ior, 1.5)?,
+                ior: ld.float(path, "ior", &m.ior, d.ior)?,
                 normal: ld.texture(path, "normal", DVec3::Z, m.normal.as_deref())?,
             };
             let opacity = ld.float(path, "opacity", &m.opacity, 1.0)?;
@@ -610,6 +612,26 @@ struct InputLoader {
 }
 
 impl InputLoader {
+    /// The texture `t` feeding input `name` of material `path` (its fallback, or `default`,
+    /// when the file cannot be read: [`texture_shader`]).
+    fn shader(
+        &mut self,
+        path: &str,
+        name: &str,
+        default: DVec3,
+        t: &TextureInput,
+    ) -> Result<Param, RenderError> {
+        texture_shader(
+            path,
+            name,
+            default,
+            t,
+            &mut self.cache,
+            self.strict,
+            &mut self.warnings,
+        )
+    }
+
     /// A colour input of material `path`.
     fn colour(
         &mut self,
@@ -620,15 +642,21 @@ impl InputLoader {
     ) -> Result<Param, RenderError> {
         match input {
             Input::Value(v) => Ok(Param::Value(*v)),
-            Input::Texture(t) => texture_shader(
-                path,
-                name,
-                default,
-                t,
-                &mut self.cache,
-                self.strict,
-                &mut self.warnings,
-            ),
+            Input::Texture(t) => self.shader(path, name, default, t),
+        }
+    }
+
+    /// A float input of material `path` (kept in `x`).
+    fn float(
+        &mut self,
+        path: &str,
+        name: &str,
+        input: &Input<f64>,
+        default: f64,
+    ) -> Result<Param, RenderError> {
+        match input {
+            Input::Value(v) => Ok(Param::Value(DVec3::splat(*v))),
+            Input::Texture(t) => self.shader(path, name, DVec3::splat(default), t),
         }
     }
 
@@ -642,38 +670,11 @@ impl InputLoader {
         default: DVec3,
         t: Option<&TextureInput>,
     ) -> Result<Option<TextureShader>, RenderError> {
-        let Some(t) = t else {
-            return Ok(None);
-        };
-        let p = texture_shader(
-            path,
-            name,
-            default,
-            t,
-            &mut self.cache,
-            self.strict,
-            &mut self.warnings,
-        )?;
-        Ok(match p {
-            Param::Texture(s) => Some(s),
-            Param::Value(_) => None,
-        })
-    }
-
-    /// A float input of material `path` (kept in `x`).
-    fn float(
-        &mut self,
-        path: &str,
-        name: &str,
-        input: &Input<f64>,
-        default: f64,
-    ) -> Result<Param, RenderError> {
-        match input {
-            Input::Value(v) => Ok(Param::Value(DVec3::splat(*v))),
-            Input::Texture(t) => {
-                let t = Input::Texture(t.clone());
-                self.colour(path, name, &t, DVec3::splat(default))
-            }
-        }
+        Ok(
+            match t.map(|t| self.shader(path, name, default, t)).transpose()? {
+                Some(Param::Texture(s)) => Some(s),
+                _ => None,
+            },
+        )
     }
 }
