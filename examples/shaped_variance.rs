@@ -34,7 +34,7 @@ fn render(
     o.spp = spp;
     o.resolution = Some([256, 256]);
     o.cone_clipping = clip;
-    o.light_samples = light_samples;
+    o.light_samples = Some(light_samples);
     o.seed = seed;
     let r = Renderer::new(scene, o).expect("scene prepares");
     let (img, stats) = r.render(&|_| {});

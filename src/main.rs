@@ -70,7 +70,7 @@ fn main() -> ExitCode {
                     integrator: None,
                     max_depth: 8,
                     surfaces: None,
-                    light_samples: 1,
+                    light_samples: None,
                     penumbra_samples: 1,
                     threads: None,
                     seed: 0,

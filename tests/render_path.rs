@@ -84,6 +84,8 @@ fn read(scene: &Scene, integrator: IntegratorKind, depth: u32, spp: u32) -> f64 
     let mut o = options(Profile::Spec, spp, [1, 1]);
     o.integrator = integrator;
     o.max_depth = depth;
+    // One light sample per vertex for both integrators (the direct one takes 4 by default).
+    o.light_samples = Some(1);
     Renderer::new(scene, o).unwrap().pixel_value(0, 0).y
 }
 
@@ -274,6 +276,7 @@ fn one_vertex_is_the_direct_integrator_bit_for_bit() {
             let mut o = options(Profile::Spec, 4, [48, 48]);
             o.integrator = kind;
             o.max_depth = 1;
+            o.light_samples = Some(1);
             Renderer::new(&scene, o).unwrap().render(&|_| {}).0.pixels
         };
         assert_eq!(

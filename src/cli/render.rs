@@ -137,11 +137,13 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = SelectionArg::Auto)]
     pub light_selection: SelectionArg,
     /// Light samples per light (or per light choice) at each shading point, 1 to 64: more
-    /// shadow rays per camera ray, for penumbrae.
-    #[arg(long, default_value_t = 1)]
-    pub light_samples: u32,
-    /// Light samples per light in shadowed pixels, 1 to 64 (1: off): from 8 spp, a pixel whose
-    /// pilot sample (not part of the estimate) found a blocked shadow ray takes this many.
+    /// shadow rays per camera ray, for penumbrae (default: 4 with the direct integrator and
+    /// lux sampling, else 1)
+    #[arg(long)]
+    pub light_samples: Option<u32>,
+    /// Light samples per light in shadowed pixels, 1 to 64 (1: off), times --light-samples: from
+    /// 8 spp, a pixel whose pilot sample (not part of the estimate) found a blocked shadow ray
+    /// takes this many times more.
     #[arg(long, default_value_t = 1)]
     pub penumbra_samples: u32,
     /// Worker threads (default: all cores). The image does not depend on it.
@@ -233,7 +235,7 @@ pub fn check_args(args: &RenderArgs) -> Result<Vec<(PathBuf, OutputFormat)>, Str
         (
             "--light-samples",
             "light samples",
-            args.light_samples,
+            args.light_samples.unwrap_or(1),
             MAX_LIGHT_SAMPLES,
         ),
         (

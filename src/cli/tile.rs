@@ -83,7 +83,7 @@ pub fn settings_string(options: &RenderOptions, camera_light: bool) -> String {
         options.max_depth,
         lower(&options.surfaces),
         lower(&options.selection),
-        options.light_samples,
+        options.light_samples(),
         options.penumbra_samples,
         options.cone_clipping,
         options.seed,
