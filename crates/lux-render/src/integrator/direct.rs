@@ -310,7 +310,11 @@ impl<'a> DirectIntegrator<'a> {
             });
         match hit {
             Some(h) => {
-                if let Some(li) = w.lights.mesh_light.get(h.mesh).copied().flatten() {
+                // The back of a single-sided emitter emits nothing (light samples never reach
+                // it: the sampler checks the side).
+                if let Some(li) = w.lights.mesh_light.get(h.mesh).copied().flatten()
+                    && (!h.back || w.scene.meshes[h.mesh].double_sided)
+                {
                     let l = &lights[li];
                     add(
                         l,
