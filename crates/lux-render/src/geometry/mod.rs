@@ -28,6 +28,7 @@ use crate::light::{Light, LightHit};
 use blas::Blas;
 use glam::{DVec2, DVec3, Vec3A};
 use instances::Instances;
+pub(crate) use instances::drawable_transform;
 pub use lights::LINEAR_LIGHTS;
 use lights::LightShapes;
 use lux_usd::Scene;

@@ -125,7 +125,7 @@ impl<'a> DirectIntegrator<'a> {
             glow += w.materials.emission(w.scene, &hit);
         }
         // A mesh light's own glow, seen directly.
-        if let Some(li) = w.lights.mesh_light.get(hit.mesh).copied().flatten() {
+        if let Some(li) = w.lights.light_of(hit.mesh, hit.instance) {
             let l = &lights[li];
             glow += match l {
                 // materialSyncMode: the material's glow, not the light's radiance.
@@ -312,7 +312,7 @@ impl<'a> DirectIntegrator<'a> {
             Some(h) => {
                 // The back of a single-sided emitter emits nothing (light samples never reach
                 // it: the sampler checks the side).
-                if let Some(li) = w.lights.mesh_light.get(h.mesh).copied().flatten()
+                if let Some(li) = w.lights.light_of(h.mesh, h.instance)
                     && (!h.back || w.scene.meshes[h.mesh].double_sided)
                 {
                     let l = &lights[li];
