@@ -202,15 +202,17 @@ fn assert_same_lights_and_hits(a: &Scene, b: &Scene, what: &str) {
 /// Renders `a` and `b` (the same scene, instanced and flattened) with the direct integrator
 /// (every light; the light BVH) and the path integrator, and compares them pixel by pixel.
 ///
-/// Bit for bit where every decision is: the lights and hits are (see
-/// [`assert_same_lights_and_hits`]), but a shadow ray towards a point of an emitter seen at
-/// a grazing angle (|cos| ≲ 0.1) starts `offset` off the receiver and crosses the emitter's
-/// plane within the ray's clearance (`geometry::shadow_tmax`) of its end: whether the
-/// emitter's own triangle is met before `tmax` there is decided by `f32` rounding, which
-/// happens in prototype space for an instance and in world space for its flattened twin. So
-/// a few pixels (those with such samples) differ; the test is that those are few and that the
-/// mean difference over the image is within 4 of its standard errors of zero in every
-/// channel (pixels are independent estimates; their differences' spread gives the error).
+/// The lights and the hits are the same bits (see [`assert_same_lights_and_hits`]); what is
+/// not is the ray clearance of a hit on an instance (`Hit::offset`: at least the world one,
+/// an ulp more near the origin through the rounding of `Placement::stretch`, more for a
+/// scaled instance), so secondary rays from instanced surfaces start a hair apart — and the
+/// `f32` traversal runs in prototype space for an instance, in world space for its twin, which
+/// can turn a ray grazing an edge. Pixels seen through such rays differ: by rounding mostly,
+/// rarely by a sample (`level_instances_render_as_their_flattened_twins_bit_for_bit` has
+/// none of these). The test: at most 1 % of the pixels differ by more than 1e-4, and the mean
+/// difference over the image is within 4 of its standard errors of zero in every channel
+/// (pixels are independent estimates; their differences' spread gives the error), or below
+/// 1e-6 of the image mean (rounding).
 fn assert_renders_agree(a: &Scene, b: &Scene, what: &str) {
     for (kind, selection) in [
         (IntegratorKind::Direct, LightSelection::All),
@@ -259,7 +261,7 @@ fn assert_renders_agree(a: &Scene, b: &Scene, what: &str) {
             "{what}, {kind:?}/{selection:?}: {differ} of {n} pixels differ, {flipped} by more \
              than 1e-4"
         );
-        assert!(flipped * 50 <= x.len(), "{what}: {flipped} pixels differ");
+        assert!(flipped * 100 <= x.len(), "{what}: {flipped} pixels differ");
     }
 }
 
@@ -553,3 +555,60 @@ fn the_camera_sees_an_instance_glow_on_its_front_only() {
     assert_eq!(v.truncate(), DVec3::ZERO);
 }
 
+/// `s` keeping only the instances whose path is in `keep`.
+fn with_instances(s: &Scene, keep: &[&str]) -> Scene {
+    let mut s = s.clone();
+    s.instances.retain(|i| keep.contains(&i.path.as_str()));
+    assert_eq!(s.instances.len(), keep.len());
+    s
+}
+
+#[test]
+fn level_instances_render_as_their_flattened_twins_bit_for_bit() {
+    // Without the tilted emitters and panels every pixel of direct lighting is the same bits
+    // as the flattened twin's (light sampling, shadow rays, BSDF rays and their MIS weights).
+    // C (translated, turned about y, scaled non-uniformly and mirrored) is among them. Path
+    // tracing continues from instanced surfaces, whose ray clearance can be an ulp larger
+    // (see `assert_renders_agree`): its pixels agree to f32 rounding.
+    let native = with_instances(
+        &load("native.usda"),
+        &[
+            "/World/Cards/A",
+            "/World/Cards/C",
+            "/World/Cards/D",
+            "/World/Cards/F",
+            "/World/Cards/G",
+        ],
+    );
+    let pi = with_instances(
+        &load("pointinstancer.usda"),
+        &[
+            "/World/Cards[0]",
+            "/World/Cards[1]",
+            "/World/Cards[3]",
+            "/World/Cards[6]",
+        ],
+    );
+    for (s, what) in [(native, "native"), (pi, "point instances")] {
+        let f = flatten(&s);
+        for selection in [LightSelection::All, LightSelection::Bvh] {
+            let (x, y) = (
+                render(&s, IntegratorKind::Direct, selection, 2),
+                render(&f, IntegratorKind::Direct, selection, 1),
+            );
+            let differ = x.iter().zip(&y).filter(|(p, q)| p != q).count();
+            assert_eq!(differ, 0, "{what}, direct, {selection:?}");
+        }
+        let (x, y) = (
+            render(&s, IntegratorKind::Path, LightSelection::Auto, 2),
+            render(&f, IntegratorKind::Path, LightSelection::Auto, 2),
+        );
+        let worst = x
+            .iter()
+            .zip(&y)
+            .flat_map(|(p, q)| (0..4).map(move |k| (p[k] - q[k]).abs() / q[k].abs().max(1e-3)))
+            .fold(0.0f32, f32::max);
+        println!("{what}, path: worst relative difference {worst:e}");
+        assert!(worst < 1e-6, "{what}, path: {worst}");
+    }
+}

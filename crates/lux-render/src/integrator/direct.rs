@@ -20,7 +20,7 @@
 use super::{CameraRay, World, closest, power_heuristic, visibility};
 use crate::film::Counters;
 use crate::geometry::Hit;
-use crate::geometry::shadow_tmax;
+use crate::geometry::{shadow_ray_to, shadow_tmax};
 use crate::light::{Light, LightBase, Seen};
 use crate::material::{Bsdf, SurfacePoint};
 use crate::sampler::{Dim, SampleStream};
@@ -191,16 +191,21 @@ impl<'a> DirectIntegrator<'a> {
             if ls.l == DVec3::ZERO {
                 return DVec3::ZERO;
             }
-            let tmax = if ls.dist.is_finite() {
-                shadow_tmax(ls.dist, ls.point)
-            } else {
-                f64::INFINITY
+            // A mesh light is geometry: its shadow ray aims at the sampled point from `origin`
+            // (`shadow_ray_to`); other lights are not occluders.
+            let (dir, tmax) = match l {
+                Light::Mesh(_) => match shadow_ray_to(origin, ls.point) {
+                    Some(ray) => ray,
+                    None => return DVec3::ZERO,
+                },
+                _ if ls.dist.is_finite() => (ls.wi, shadow_tmax(ls.dist, ls.point)),
+                _ => (ls.wi, f64::INFINITY),
             };
             if tmax <= 0.0 {
                 return DVec3::ZERO;
             }
             let base = l.base();
-            let Some(vis) = visibility(w, base, origin, ls.wi, tmax, c) else {
+            let Some(vis) = visibility(w, base, origin, dir, tmax, c) else {
                 return DVec3::ZERO;
             };
             let pdf = pmf * ls.pdf;
@@ -319,7 +324,10 @@ impl<'a> DirectIntegrator<'a> {
                     add(
                         l,
                         l.le(l.base().to_local(h.p), -wi, Seen::Lit),
-                        pmf(li) * l.pdf_li_triangle(&r, h.tri, wi),
+                        // The density of the point it hit, as light samples from `p` reach
+                        // it (the ray left from `origin`: along `wi` from `p` it may pass the
+                        // triangle's edge).
+                        pmf(li) * l.pdf_li_triangle(&r, h.tri, (h.p - sp.p).normalize()),
                     );
                 }
             }
