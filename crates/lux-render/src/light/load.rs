@@ -210,6 +210,10 @@ impl<'s> Loader<'s> {
             .iter()
             .map(|p| to_world.transform_point3(*p))
             .collect();
+        // The geometry leaves such an instance out (`geometry::instances`): nothing to emit.
+        if !positions.iter().all(|p| p.as_vec3().is_finite()) {
+            return Err("its instance lies outside the f32 range the renderer draws".to_owned());
+        }
         let mirror = glam::DMat3::from_mat4(to_world).determinant() < 0.0;
         let reversed: Vec<[u32; 3]>;
         let triangles = if mirror {

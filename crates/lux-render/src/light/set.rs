@@ -129,7 +129,8 @@ impl LightSet {
             }
         }
         let instanced_first = lights.len();
-        let instanced = instanced_emitters(scene, &mut loader, &mut lights);
+        let instanced =
+            instanced_emitters(scene, &mut loader, &mut lights, MAX_INSTANCED_EMITTER_BYTES);
         lights.shrink_to_fit();
         let mut warnings = loader.warnings;
         let selector = build_selector(&lights, options.selection, &mut warnings);
@@ -190,14 +191,17 @@ fn emitter_bytes(triangles: usize) -> usize {
 
 /// One light per instance and emissive mesh of its prototype (a mesh whose own material, or
 /// else its instance's, has a non-black `emissiveColor`), appended to `lights` in (instance,
-/// mesh) order; returns those pairs. Instances that are not drawn (a transform that is not
-/// finite or singular, a prototype out of range) emit nothing. Failures are one warning per
-/// prototype mesh, not per instance.
+/// mesh) order, while their estimated bytes ([`emitter_bytes`]) fit in `budget`; returns
+/// those pairs. Instances that are not drawn (a transform that is not finite or singular, a
+/// prototype out of range) emit nothing. Failures are one warning per prototype mesh, not per
+/// instance.
 fn instanced_emitters(
     scene: &Scene,
     loader: &mut Loader,
     lights: &mut Vec<Light>,
+    mut budget: usize,
 ) -> Vec<(u32, u32)> {
+    let limit = budget;
     let np = scene.prototypes.len();
     if scene.instances.is_empty() || np == 0 {
         return Vec::new();
@@ -224,7 +228,6 @@ fn instanced_emitters(
         return Vec::new();
     }
     let mut keys = Vec::new();
-    let mut budget = MAX_INSTANCED_EMITTER_BYTES;
     let mut over_budget = 0usize;
     // Per prototype mesh: (instances whose light failed, the first reason).
     let mut failed: Vec<(usize, usize, String)> = Vec::new();
@@ -278,7 +281,7 @@ fn instanced_emitters(
              meshes neither light the scene nor glow (they are drawn unlit): the first {} \
              hold the {} MiB of light data lux allows them",
             keys.len(),
-            MAX_INSTANCED_EMITTER_BYTES >> 20
+            limit >> 20
         ));
     }
     keys
@@ -355,5 +358,131 @@ fn sync_with_material(rl: &mut Light, l: &lux_usd::Light, mesh: &lux_usd::Mesh, 
         }
         lux_usd::MaterialSyncMode::Independent => ml.glow = Some(m.emissive),
         lux_usd::MaterialSyncMode::NoMaterialResponse => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DMat4;
+    use lux_usd::{Instance, Material, Mesh, Prototype};
+
+    fn options() -> LightOptions {
+        LightOptions {
+            profile: Profile::Spec,
+            selection: LightSelection::All,
+            strict: false,
+            cone_clipping: true,
+        }
+    }
+
+    /// Prototype 0: an emissive card (mesh 0) and a degenerate emissive triangle (mesh 1);
+    /// prototype 1: a plain card (mesh 2) without a binding of its own.
+    fn scene(instances: Vec<(usize, DMat4, Option<usize>)>) -> Scene {
+        let mut s = Scene::empty("emitters.usda");
+        s.materials.push(Material {
+            emissive: DVec3::ONE,
+            ..Material::new("/Glow")
+        });
+        s.materials.push(Material::new("/Plain"));
+        let card = |path: &str| {
+            Mesh::new(
+                path,
+                vec![
+                    DVec3::new(0.0, 0.0, 0.0),
+                    DVec3::new(1.0, 0.0, 0.0),
+                    DVec3::new(1.0, 0.0, 1.0),
+                    DVec3::new(0.0, 0.0, 1.0),
+                ],
+                vec![[0, 1, 2], [0, 2, 3]],
+            )
+        };
+        let mut glow = card("/P0/Glow");
+        glow.material = Some(0);
+        glow.prototype = Some(0);
+        let mut flat = Mesh::new("/P0/Flat", vec![DVec3::ZERO; 3], vec![[0, 1, 2]]);
+        flat.material = Some(0);
+        flat.prototype = Some(0);
+        let mut plain = card("/P1/Card");
+        plain.prototype = Some(1);
+        s.meshes = vec![glow, flat, plain];
+        s.prototypes = vec![
+            Prototype {
+                path: "/P0".to_owned(),
+                meshes: vec![0, 1],
+            },
+            Prototype {
+                path: "/P1".to_owned(),
+                meshes: vec![2],
+            },
+        ];
+        s.instances = instances
+            .into_iter()
+            .enumerate()
+            .map(|(i, (prototype, to_world, material))| Instance {
+                path: format!("/PI[{i}]"),
+                prototype,
+                to_world,
+                material,
+            })
+            .collect();
+        s
+    }
+
+    #[test]
+    fn instances_emit_by_their_material_once_each() {
+        let t = |x: f64| DMat4::from_translation(DVec3::new(x, 1.0, 0.0));
+        let s = scene(vec![
+            (0, t(0.0), None),
+            // Singular: not drawn, no light, no warning.
+            (0, DMat4::from_scale(DVec3::new(1.0, 0.0, 1.0)), None),
+            // The plain card glows where its instance binds the emissive material.
+            (1, t(2.0), Some(0)),
+            (1, t(4.0), Some(1)),
+            (1, t(6.0), None),
+            (0, t(8.0), Some(1)),
+            // Outside the f32 range the geometry draws.
+            (0, t(1e300), None),
+        ]);
+        let set = LightSet::new(&s, options()).unwrap();
+        // (instance, mesh): 0's card, 2's card, 5's card (its own binding wins).
+        assert_eq!(set.instanced, vec![(0, 0), (2, 2), (5, 0)]);
+        assert_eq!(set.lights.len(), 3);
+        for (k, &(i, m)) in set.instanced.iter().enumerate() {
+            assert_eq!(set.light_of(m as usize, Some(i as usize)), Some(k));
+            assert_eq!(set.lights[k].mesh(), Some(m as usize));
+        }
+        assert_eq!(set.light_of(2, Some(3)), None);
+        assert_eq!(set.light_of(0, None), None);
+        // One warning per prototype mesh, in the order they first failed: the degenerate
+        // triangle in its 3 drawn instances, the card in the instance outside the f32 range.
+        assert_eq!(set.warnings.len(), 2, "{:?}", set.warnings);
+        let w = &set.warnings;
+        assert!(
+            w[0].starts_with("/P0/Flat: ") && w[0].ends_with("(3 instances)"),
+            "{w:?}"
+        );
+        assert!(
+            w[1].starts_with("/P0/Glow: ") && w[1].ends_with("(1 instance)"),
+            "{w:?}"
+        );
+        assert!(w[1].contains("outside the f32 range"), "{w:?}");
+    }
+
+    #[test]
+    fn instanced_emitters_stop_at_their_budget_with_a_warning() {
+        let t = |x: f64| DMat4::from_translation(DVec3::new(x, 1.0, 0.0));
+        let s = scene((0..5).map(|i| (1, t(i as f64), Some(0))).collect());
+        let mut loader = Loader::new(&s, options());
+        let mut lights = Vec::new();
+        let keys = instanced_emitters(&s, &mut loader, &mut lights, 3 * emitter_bytes(2));
+        assert_eq!(keys, vec![(0, 2), (1, 2), (2, 2)]);
+        assert_eq!(lights.len(), 3);
+        assert_eq!(loader.warnings.len(), 1);
+        assert!(
+            loader.warnings[0].contains("2 more instance meshes"),
+            "{}",
+            loader.warnings[0]
+        );
     }
 }
