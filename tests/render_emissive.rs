@@ -209,3 +209,68 @@ fn textured_emission_is_found_by_bsdf_rays() {
     close(g.x, 2.0, 1e-6, "glow, red");
     close(g.z, 0.5, 1e-6, "glow, blue");
 }
+
+#[test]
+fn a_single_sided_emitter_lights_only_its_front_side() {
+    // The quad of `scene` single-sided: wound as it is, its front faces down (towards the
+    // floor), which gets the closed form; wound the other way its front faces up, and the
+    // floor below sees its back, which emits nothing — to light samples (they check the side)
+    // nor to BSDF rays that hit it.
+    let (mut s, corners) = scene(DVec3::new(2.0, 1.0, 0.5));
+    let q = s.meshes.len() - 1;
+    s.meshes[q].double_sided = false;
+    let pi = lux::sample::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
+    let floor = |s: &Scene| {
+        let mut o = options(Profile::Spec, 4096, [1, 1]);
+        o.integrator = IntegratorKind::Direct;
+        Renderer::new(s, o).unwrap().pixel_value(0, 0)
+    };
+    let v = floor(&s);
+    for (c, l) in [(v.x, 2.0), (v.y, 1.0), (v.z, 0.5)] {
+        close(
+            c,
+            l * pi / PI,
+            1e-3,
+            "floor under the front of a single-sided emitter",
+        );
+    }
+    s.meshes[q].triangles = s.meshes[q]
+        .triangles
+        .iter()
+        .map(|t| [t[0], t[2], t[1]])
+        .collect();
+    assert_eq!(floor(&s).truncate(), DVec3::ZERO, "the back emits nothing");
+}
+
+#[test]
+fn an_emitter_far_from_the_origin_lights_as_near_it() {
+    // The whole probe scene moved 20, 100 and 1000 units along x: the floor under the quad
+    // still reads the closed form. (Shadow rays once aimed along the light sample's direction
+    // from the shading point, not from their offset origin; the offset grows with the
+    // coordinates, and the quad shadowed its own samples: 68 % of the light at 20 units,
+    // 0.6 % at 100.)
+    for shift in [20.0, 100.0, 1000.0] {
+        let off = DVec3::new(shift, 0.0, 0.0);
+        let (mut s, corners) = scene(DVec3::new(2.0, 1.0, 0.5));
+        for m in &mut s.meshes {
+            for p in &mut m.positions {
+                *p += off;
+            }
+        }
+        s.cameras[0] = common::probe_camera(shift, 0.0);
+        let corners: Vec<DVec3> = corners.iter().map(|c| *c + off).collect();
+        let pi = lux::sample::projected::polygon(off, DVec3::Y, &corners);
+        let mut o = options(Profile::Spec, 4096, [1, 1]);
+        o.integrator = IntegratorKind::Direct;
+        let v = Renderer::new(&s, o).unwrap().pixel_value(0, 0);
+        println!("x = {shift}: {} of the closed form", v.x / (2.0 * pi / PI));
+        for (c, l) in [(v.x, 2.0), (v.y, 1.0), (v.z, 0.5)] {
+            close(
+                c,
+                l * pi / PI,
+                1e-3,
+                &format!("floor under the quad at x = {shift}"),
+            );
+        }
+    }
+}

@@ -32,6 +32,14 @@ use obvhs::cwbvh::builder::build_cwbvh;
 use obvhs::ray::{Ray, RayHit};
 use std::time::Duration;
 
+/// Whether an instance of transform `to_world` can be drawn: finite, and its linear part of
+/// finite non-zero determinant. (An instance is also left out when it lands outside the `f32`
+/// range or its prototype has no valid triangle.)
+pub fn drawable_transform(to_world: &glam::DMat4) -> bool {
+    let det = DMat3::from_mat4(*to_world).determinant();
+    to_world.is_finite() && det != 0.0 && det.is_finite()
+}
+
 /// One drawn instance: where its prototype's BVH sits in the world.
 #[derive(Clone, Copy, Debug)]
 struct Placement {
@@ -110,11 +118,7 @@ impl Instances {
                 proto_meshes[p].push(mi);
             }
         }
-        let linear = |m: &glam::DMat4| DMat3::from_mat4(*m);
-        let usable = |i: &lux_usd::Instance| {
-            let det = linear(&i.to_world).determinant();
-            i.prototype < np && i.to_world.is_finite() && det != 0.0 && det.is_finite()
-        };
+        let usable = |i: &lux_usd::Instance| i.prototype < np && drawable_transform(&i.to_world);
         let mut drawn = vec![false; np];
         for i in scene.instances.iter().take(u32::MAX as usize) {
             if usable(i) {

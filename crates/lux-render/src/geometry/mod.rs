@@ -28,6 +28,7 @@ use crate::light::{Light, LightHit};
 use blas::Blas;
 use glam::{DVec2, DVec3, Vec3A};
 use instances::Instances;
+pub(crate) use instances::drawable_transform;
 pub use lights::LINEAR_LIGHTS;
 use lights::LightShapes;
 use lux_usd::Scene;
@@ -107,6 +108,24 @@ pub const SHADOW_CLEARANCE: f64 = 1e-4;
 #[inline]
 pub fn shadow_tmax(dist: f64, point: DVec3) -> f64 {
     dist * (1.0 - SHADOW_CLEARANCE) - offset_scale(point)
+}
+
+/// The shadow ray from `origin` to the point `point` of an emitting surface that is geometry
+/// (a mesh light): its unit direction and `tmax` ([`shadow_tmax`] of its length); `None` when
+/// the two points coincide or the length is not finite.
+///
+/// A light sample's direction `wi` is taken from the shading point `p`, while shadow rays start
+/// at `origin = p + δ·ng` ([`Hit::offset`]). Along `wi` from there a ray meets the emitter's
+/// plane (normal `n`) `δ·|n·ng| / |n·wi|` before the sampled point: at grazing angles, and far
+/// from the world origin where `δ` grows with the coordinates, more than the clearance
+/// [`shadow_tmax`] keeps, and the emitter shadowed its own sample (measured: an emissive quad
+/// 20 units from the origin lit the floor under it to 68 % of the closed form, at 100 units to
+/// 0.6 %). Aimed at the point from `origin`, the ray meets the plane at its end.
+#[inline]
+pub fn shadow_ray_to(origin: DVec3, point: DVec3) -> Option<(DVec3, f64)> {
+    let d = point - origin;
+    let dist = d.length();
+    (dist > 0.0 && dist.is_finite()).then(|| (d / dist, shadow_tmax(dist, point)))
 }
 
 /// The `f64` re-intersection of a ray with a triangle.

@@ -20,7 +20,7 @@
 use super::{CameraRay, World, closest, power_heuristic, visibility};
 use crate::film::Counters;
 use crate::geometry::Hit;
-use crate::geometry::shadow_tmax;
+use crate::geometry::{shadow_ray_to, shadow_tmax};
 use crate::light::{Light, LightBase, Seen};
 use crate::material::{Bsdf, SurfacePoint};
 use crate::sampler::{Dim, SampleStream};
@@ -125,7 +125,7 @@ impl<'a> DirectIntegrator<'a> {
             glow += w.materials.emission(w.scene, &hit);
         }
         // A mesh light's own glow, seen directly.
-        if let Some(li) = w.lights.mesh_light.get(hit.mesh).copied().flatten() {
+        if let Some(li) = w.lights.light_of(hit.mesh, hit.instance) {
             let l = &lights[li];
             glow += match l {
                 // materialSyncMode: the material's glow, not the light's radiance.
@@ -191,16 +191,21 @@ impl<'a> DirectIntegrator<'a> {
             if ls.l == DVec3::ZERO {
                 return DVec3::ZERO;
             }
-            let tmax = if ls.dist.is_finite() {
-                shadow_tmax(ls.dist, ls.point)
-            } else {
-                f64::INFINITY
+            // A mesh light is geometry: its shadow ray aims at the sampled point from `origin`
+            // (`shadow_ray_to`); other lights are not occluders.
+            let (dir, tmax) = match l {
+                Light::Mesh(_) => match shadow_ray_to(origin, ls.point) {
+                    Some(ray) => ray,
+                    None => return DVec3::ZERO,
+                },
+                _ if ls.dist.is_finite() => (ls.wi, shadow_tmax(ls.dist, ls.point)),
+                _ => (ls.wi, f64::INFINITY),
             };
             if tmax <= 0.0 {
                 return DVec3::ZERO;
             }
             let base = l.base();
-            let Some(vis) = visibility(w, base, origin, ls.wi, tmax, c) else {
+            let Some(vis) = visibility(w, base, origin, dir, tmax, c) else {
                 return DVec3::ZERO;
             };
             let pdf = pmf * ls.pdf;
@@ -310,12 +315,19 @@ impl<'a> DirectIntegrator<'a> {
             });
         match hit {
             Some(h) => {
-                if let Some(li) = w.lights.mesh_light.get(h.mesh).copied().flatten() {
+                // The back of a single-sided emitter emits nothing (light samples never reach
+                // it: the sampler checks the side).
+                if let Some(li) = w.lights.light_of(h.mesh, h.instance)
+                    && (!h.back || w.scene.meshes[h.mesh].double_sided)
+                {
                     let l = &lights[li];
                     add(
                         l,
                         l.le(l.base().to_local(h.p), -wi, Seen::Lit),
-                        pmf(li) * l.pdf_li_triangle(&r, h.tri, wi),
+                        // The density of the point it hit, as light samples from `p` reach
+                        // it (the ray left from `origin`: along `wi` from `p` it may pass the
+                        // triangle's edge).
+                        pmf(li) * l.pdf_li_triangle(&r, h.tri, (h.p - sp.p).normalize()),
                     );
                 }
             }

@@ -182,29 +182,52 @@ impl<'s> Loader<'s> {
         Ok(light)
     }
 
-    /// The light of the world mesh `mi` whose material emits `emissive` (UsdPreviewSurface
-    /// `emissiveColor`, radiance): emissive geometry is light, sampled and found by rays as a
+    /// The light of the scene mesh `mi` whose material emits `emissive` (UsdPreviewSurface
+    /// `emissiveColor`, radiance), drawn in the world (`instance` `None`) or by the instance
+    /// `instance` of its prototype: emissive geometry is light, sampled and found by rays as a
     /// `MeshLightAPI` mesh is, of radiance `emissive` from each side the mesh shows (one side
     /// for a single-sided mesh), unshaped and with the default shadows.
-    pub(super) fn emissive_mesh(&self, mi: usize, emissive: DVec3) -> Result<Light, String> {
+    ///
+    /// An instance's light emits from the prototype mesh mapped to the world as flattening
+    /// maps it (`lux_usd::Mesh::transformed`): positions `M·v` by `DMat4::transform_point3`,
+    /// the winding reversed when `det M < 0`; so its triangles, areas, power and sampling are
+    /// those of the flattened mesh, bit for bit. It is named by its instance-proxy path (a
+    /// native instance) or by the prototype mesh and the instance (a point instance).
+    pub(super) fn emissive_mesh(
+        &self,
+        mi: usize,
+        instance: Option<usize>,
+        emissive: DVec3,
+    ) -> Result<Light, String> {
         let m = &self.scene.meshes[mi];
-        let base = LightBase::new(
-            &m.path,
-            LightTransform::IDENTITY,
-            Shaping::identity(),
-            lux_usd::ShadowInputs::default(),
-        );
-        let mut light = MeshLight::new(base, mi, m).map(Light::Mesh)?;
-        let triangles: Vec<[DVec3; 3]> = m
-            .triangles
+        let Some(ii) = instance else {
+            return emitter(&m.path, mi, None, &m.positions, &m.triangles, m, emissive);
+        };
+        let inst = &self.scene.instances[ii];
+        let to_world = inst.to_world;
+        let positions: Vec<DVec3> = m
+            .positions
             .iter()
-            .map(|t| t.map(|k| m.positions[k as usize]))
+            .map(|p| to_world.transform_point3(*p))
             .collect();
-        let area = lux_math::mesh_area(&glam::DMat4::IDENTITY, &triangles);
-        light.base_mut().radiance = emissive;
-        let power = light.power(area);
-        light.base_mut().power = if power.is_finite() { power } else { 0.0 };
-        Ok(light)
+        // The geometry leaves such an instance out (`geometry::instances`): nothing to emit.
+        if !positions.iter().all(|p| p.as_vec3().is_finite()) {
+            return Err("its instance lies outside the f32 range the renderer draws".to_owned());
+        }
+        let mirror = glam::DMat3::from_mat4(to_world).determinant() < 0.0;
+        let reversed: Vec<[u32; 3]>;
+        let triangles = if mirror {
+            reversed = m.triangles.iter().map(|t| [t[0], t[2], t[1]]).collect();
+            &reversed
+        } else {
+            &m.triangles
+        };
+        let path = if lux_usd::reader::is_prim_path(&inst.path) {
+            self.scene.geometry_path(mi, Some(ii)).into_owned()
+        } else {
+            format!("{} (instance {})", m.path, inst.path)
+        };
+        emitter(&path, mi, Some(ii), &positions, triangles, m, emissive)
     }
 
     /// An asset of light `l` that cannot be used: an error when strict, else a warning.
@@ -367,4 +390,34 @@ fn load_texture(
     );
     cache.insert(path.to_path_buf(), t.clone());
     Ok(t)
+}
+
+/// The light of emissive geometry: scene mesh `mi` (`m`) drawn by `instance`, from its
+/// world-space `positions` and `triangles`, of radiance `emissive`.
+fn emitter(
+    path: &str,
+    mi: usize,
+    instance: Option<usize>,
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    m: &lux_usd::Mesh,
+    emissive: DVec3,
+) -> Result<Light, String> {
+    let base = LightBase::new(
+        path,
+        LightTransform::IDENTITY,
+        Shaping::identity(),
+        lux_usd::ShadowInputs::default(),
+    );
+    let mut light = MeshLight::from_world(base, mi, instance, positions, triangles, m.double_sided)
+        .map(Light::Mesh)?;
+    let corners: Vec<[DVec3; 3]> = triangles
+        .iter()
+        .map(|t| t.map(|k| positions[k as usize]))
+        .collect();
+    let area = lux_math::mesh_area(&glam::DMat4::IDENTITY, &corners);
+    light.base_mut().radiance = emissive;
+    let power = light.power(area);
+    light.base_mut().power = if power.is_finite() { power } else { 0.0 };
+    Ok(light)
 }

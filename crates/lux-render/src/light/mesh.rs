@@ -1,5 +1,11 @@
-//! Mesh lights (UsdLux `MeshLightAPI` on a `UsdGeomMesh`): every triangle of the world-space
-//! mesh emits from its front side (both sides when `doubleSided`).
+//! Mesh lights (UsdLux `MeshLightAPI` on a `UsdGeomMesh`, and emissive geometry): every
+//! triangle of the world-space mesh emits from its front side (both sides when `doubleSided`).
+//!
+//! A mesh inside an instanced prototype emits once per instance: each instance's light holds
+//! the prototype mesh mapped to the world by the instance transform (`M·v`, the winding
+//! reversed when `det M < 0` so that the front stays the USD front side), exactly the
+//! triangles flattening the instance would give, so areas, normals and the emitting side are
+//! the world ones whatever the scale, shear or mirroring.
 
 use super::{LiSample, LightBase, LightHit, Seen};
 use glam::DVec3;
@@ -12,8 +18,11 @@ use lux_usd::Mesh;
 pub struct MeshLight {
     /// What every light carries.
     pub base: LightBase,
-    /// Index into `Scene::meshes`.
+    /// Index into `Scene::meshes` (for an instance, its prototype's mesh).
     pub mesh: usize,
+    /// Index into `Scene::instances` of the instance the light emits from; `None` for a
+    /// world-space mesh.
+    pub instance: Option<usize>,
     /// What camera rays see on the mesh instead of the light's radiance: the bound material's
     /// UsdPreviewSurface `emissiveColor` under `materialSyncMode` `materialGlowTintsLight` or
     /// `independent` (geometry-lights proposal: "primary rays see the emissive/glow response as
@@ -28,21 +37,35 @@ impl MeshLight {
     /// The world-space mesh `m` (index `mesh` in the scene); `Err` names what lux-sample
     /// refused (no triangles, bad indices).
     pub(super) fn new(base: LightBase, mesh: usize, m: &Mesh) -> Result<MeshLight, String> {
+        MeshLight::from_world(base, mesh, None, &m.positions, &m.triangles, m.double_sided)
+    }
+
+    /// The light of scene mesh `mesh` drawn by `instance` (`None`: in the world) from its
+    /// world-space `positions` and `triangles` (wound towards the front side).
+    pub(super) fn from_world(
+        base: LightBase,
+        mesh: usize,
+        instance: Option<usize>,
+        positions: &[DVec3],
+        triangles: &[[u32; 3]],
+        double_sided: bool,
+    ) -> Result<MeshLight, String> {
         let sampler = lux_sample::MeshLight::new(
-            &m.positions,
-            &m.triangles,
+            positions,
+            triangles,
             None,
-            m.double_sided,
+            double_sided,
             lux_sample::MeshTechnique::SphericalTriangle,
         )
         .map_err(|e| e.to_string())?;
-        let world_box = m.positions.iter().fold(
+        let world_box = positions.iter().fold(
             (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
             |(lo, hi), p| (lo.min(*p), hi.max(*p)),
         );
         Ok(MeshLight {
             base,
             mesh,
+            instance,
             glow: None,
             world_box,
             sampler,

@@ -394,7 +394,8 @@ impl Light {
         matches!(self, Light::Distant(l) if l.is_delta())
     }
 
-    /// The scene mesh a mesh light emits from.
+    /// The scene mesh a mesh light emits from (for an instance's light, its prototype's mesh:
+    /// [`MeshLight::instance`] names the instance).
     pub fn mesh(&self) -> Option<usize> {
         match self {
             Light::Mesh(l) => Some(l.mesh),
