@@ -10,9 +10,7 @@ fn root() -> &'static Path {
 }
 
 fn luxtest(name: &str) -> PathBuf {
-    root()
-        .join("crates/lux-render/tests/data/luxtest/usd")
-        .join(name)
+    root().join("tests/data/luxtest/usd").join(name)
 }
 
 fn lux(args: &[&str], env: &[(&str, &str)]) -> std::process::Output {
@@ -194,7 +192,7 @@ fn failures_exit_non_zero_and_leave_no_file() {
 
 #[test]
 fn info_failures_exit_non_zero_naming_the_file_and_prim() {
-    let bad = root().join("crates/lux-usd/tests/data/scenes/bad");
+    let bad = root().join("tests/data/scenes/bad");
     // missing file
     let o = lux(&["info", "/no/such/stage.usda"], &[]);
     assert!(!o.status.success());
@@ -544,7 +542,7 @@ fn closed_pipe(args: &[&str]) -> std::process::Output {
 #[test]
 fn a_closed_stdout_pipe_ends_quietly() {
     let demo = root().join("scenes/demo/demo.usda");
-    let ies = root().join("crates/lux-ies/tests/data/luxtest/bega_omni002_4777lm.ies");
+    let ies = root().join("tests/data/ies/luxtest/bega_omni002_4777lm.ies");
     for args in [
         vec!["info", demo.to_str().unwrap()],
         vec!["info", demo.to_str().unwrap(), "--json"],
