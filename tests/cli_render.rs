@@ -330,67 +330,6 @@ fn demo_scene_renders_every_light_kind_without_warnings() {
     );
 }
 
-fn realusd(name: &str) -> PathBuf {
-    root().join("tests/data/realusd").join(name)
-}
-
-/// usdrecord's behaviour where the stage is silent, said in the log: a stage without camera or
-/// light gets a framing camera and a camera light (`--disable-camera-light` turns the light
-/// off, and the render is then black); the frame is the stage's startTimeCode; `--camera`
-/// takes a bare name when it is unique and says which names exist when it is not found.
-#[test]
-fn usdrecord_defaults_and_camera_names() {
-    let out = tmp("defaults.exr");
-    let teapot = realusd("usdwg/full_assets/Teapot/Teapot.usd");
-    let o = render_small(&teapot, &out, &[], &[]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let e = stderr(&o);
-    assert!(
-        e.contains("no camera on the stage: usdrecord's framing camera"),
-        "{e}"
-    );
-    assert!(
-        e.contains("no light on the stage: usdrecord's camera light"),
-        "{e}"
-    );
-    let lit = Texture::load(&out).unwrap();
-    assert!(
-        lit.texels().iter().any(|p| p[0] > 0.0),
-        "the camera light lights the teapot"
-    );
-    let o = render_small(&teapot, &out, &["--disable-camera-light"], &[]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(
-        !stderr(&o).contains("camera light (a DistantLight"),
-        "{}",
-        stderr(&o)
-    );
-    let dark = Texture::load(&out).unwrap();
-    assert!(
-        dark.texels().iter().all(|p| p[0] == 0.0),
-        "no light, no image"
-    );
-    // two cameras: a bare name picks one; an unknown name lists them
-    let dome = realusd(
-        "openusd/pxr/usdImaging/usdImagingGL/testenv/testUsdImagingGLDomeLight/domeLightZup.usda",
-    );
-    let o = render_small(&dome, &out, &["--camera", "BackCamera"], &[]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let o = render_small(&dome, &out, &["--camera", "SideCamera"], &[]);
-    assert!(!o.status.success());
-    let e = stderr(&o);
-    assert!(
-        e.contains("SideCamera") && e.contains("FrontCamera") && e.contains("BackCamera"),
-        "{e}"
-    );
-    // the stage's startTimeCode when no --frame is given (the ShaderBall starts at 3)
-    let ball = realusd("usdwg/full_assets/StandardShaderBall/standard_shader_ball_scene.usda");
-    let o = lux(&["info", ball.to_str().unwrap(), "--json"], &[]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    assert_eq!(v["frame"], 3.0);
-}
-
 /// Decodes a PNG, returning its colour type and pixels as RGBA8.
 fn read_png(path: &Path) -> (image::ColorType, image::RgbaImage) {
     let bytes = std::fs::read(path).unwrap();
