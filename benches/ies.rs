@@ -32,7 +32,7 @@ fn directions() -> Vec<(f64, f64)> {
 
 fn data(rel: &str) -> String {
     let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("crates/lux-ies/tests/data")
+        .join("tests/data/ies")
         .join(rel);
     String::from_utf8_lossy(&std::fs::read(p).unwrap()).into_owned()
 }
@@ -80,7 +80,7 @@ fn parse(c: &mut Criterion) {
         "radiance",
     ] {
         let root = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("crates/lux-ies/tests/data")
+            .join("tests/data/ies")
             .join(dir);
         for e in std::fs::read_dir(root).unwrap() {
             let p = e.unwrap().path();

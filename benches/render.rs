@@ -23,7 +23,7 @@ use std::path::PathBuf;
 
 fn luxtest(name: &str) -> Scene {
     let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("crates/lux-render/tests/data/luxtest/usd")
+        .join("tests/data/luxtest/usd")
         .join(format!("{name}.usda"));
     load_stage(p, 1.0).expect("luxtest scene loads")
 }

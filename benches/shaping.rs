@@ -23,8 +23,7 @@ use lux::shaping::{Shaping, ShapingOptions, ShapingParams};
 use std::hint::black_box;
 
 const N: usize = 4096;
-const OMNI: &str =
-    include_str!("../crates/lux-shaping/tests/data/ies/luxtest/bega_omni001_1238lm.ies");
+const OMNI: &str = include_str!("../tests/data/ies/luxtest/bega_omni001_1238lm.ies");
 
 fn rng() -> impl FnMut() -> f64 {
     let mut s = 0x9E3779B97F4A7C15u64;

@@ -54,7 +54,7 @@ fn main() {
     let gt_spp = args.first().copied().unwrap_or(4096);
     let spp = args.get(1).copied().unwrap_or(64);
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let data = root.join("crates/lux-render/tests/data/luxtest/usd");
+    let data = root.join("tests/data/luxtest/usd");
     println!(
         "threads: {}; ground truth {gt_spp} spp (lux sampling); measured {spp} spp",
         rayon::current_num_threads()

@@ -62,8 +62,7 @@ fn main() {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(16);
-    let data =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("crates/lux-render/tests/data/luxtest/usd");
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/luxtest/usd");
     println!(
         "threads: {}; 256×256, {spp} spp, hdembree profile",
         rayon::current_num_threads()

@@ -8,7 +8,7 @@ use std::process::Command;
 
 fn luxtest(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("crates/lux-render/tests/data/luxtest/usd")
+        .join("tests/data/luxtest/usd")
         .join(name)
 }
 

@@ -5,7 +5,7 @@ use std::process::Command;
 
 fn data(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("crates/lux-ies/tests/data")
+        .join("tests/data/ies")
         .join(rel)
 }
 

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 fn scene(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("crates/lux-render/tests/data/luxtest/usd")
+        .join("tests/data/luxtest/usd")
         .join(name)
 }
 
@@ -96,8 +96,7 @@ fn physical_units_and_spectra_are_reported_with_their_converted_radiance() {
 
 #[test]
 fn light_and_shadow_links_are_listed_when_authored() {
-    let linking = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("crates/lux-usd/tests/data/scenes/linking.usda");
+    let linking = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes/linking.usda");
     let args = |json| info::InfoArgs {
         scene: linking.clone(),
         frame: Some(1.0),

@@ -10,9 +10,7 @@ fn root() -> &'static Path {
 }
 
 fn luxtest(name: &str) -> PathBuf {
-    root()
-        .join("crates/lux-render/tests/data/luxtest/usd")
-        .join(name)
+    root().join("tests/data/luxtest/usd").join(name)
 }
 
 fn lux(args: &[&str], env: &[(&str, &str)]) -> std::process::Output {
@@ -194,7 +192,7 @@ fn failures_exit_non_zero_and_leave_no_file() {
 
 #[test]
 fn info_failures_exit_non_zero_naming_the_file_and_prim() {
-    let bad = root().join("crates/lux-usd/tests/data/scenes/bad");
+    let bad = root().join("tests/data/scenes/bad");
     // missing file
     let o = lux(&["info", "/no/such/stage.usda"], &[]);
     assert!(!o.status.success());
@@ -330,67 +328,6 @@ fn demo_scene_renders_every_light_kind_without_warnings() {
         "{}",
         v["warnings"]
     );
-}
-
-fn realusd(name: &str) -> PathBuf {
-    root().join("tests/data/realusd").join(name)
-}
-
-/// usdrecord's behaviour where the stage is silent, said in the log: a stage without camera or
-/// light gets a framing camera and a camera light (`--disable-camera-light` turns the light
-/// off, and the render is then black); the frame is the stage's startTimeCode; `--camera`
-/// takes a bare name when it is unique and says which names exist when it is not found.
-#[test]
-fn usdrecord_defaults_and_camera_names() {
-    let out = tmp("defaults.exr");
-    let teapot = realusd("usdwg/full_assets/Teapot/Teapot.usd");
-    let o = render_small(&teapot, &out, &[], &[]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let e = stderr(&o);
-    assert!(
-        e.contains("no camera on the stage: usdrecord's framing camera"),
-        "{e}"
-    );
-    assert!(
-        e.contains("no light on the stage: usdrecord's camera light"),
-        "{e}"
-    );
-    let lit = Texture::load(&out).unwrap();
-    assert!(
-        lit.texels().iter().any(|p| p[0] > 0.0),
-        "the camera light lights the teapot"
-    );
-    let o = render_small(&teapot, &out, &["--disable-camera-light"], &[]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(
-        !stderr(&o).contains("camera light (a DistantLight"),
-        "{}",
-        stderr(&o)
-    );
-    let dark = Texture::load(&out).unwrap();
-    assert!(
-        dark.texels().iter().all(|p| p[0] == 0.0),
-        "no light, no image"
-    );
-    // two cameras: a bare name picks one; an unknown name lists them
-    let dome = realusd(
-        "openusd/pxr/usdImaging/usdImagingGL/testenv/testUsdImagingGLDomeLight/domeLightZup.usda",
-    );
-    let o = render_small(&dome, &out, &["--camera", "BackCamera"], &[]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let o = render_small(&dome, &out, &["--camera", "SideCamera"], &[]);
-    assert!(!o.status.success());
-    let e = stderr(&o);
-    assert!(
-        e.contains("SideCamera") && e.contains("FrontCamera") && e.contains("BackCamera"),
-        "{e}"
-    );
-    // the stage's startTimeCode when no --frame is given (the ShaderBall starts at 3)
-    let ball = realusd("usdwg/full_assets/StandardShaderBall/standard_shader_ball_scene.usda");
-    let o = lux(&["info", ball.to_str().unwrap(), "--json"], &[]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    assert_eq!(v["frame"], 3.0);
 }
 
 /// Decodes a PNG, returning its colour type and pixels as RGBA8.
@@ -544,7 +481,7 @@ fn closed_pipe(args: &[&str]) -> std::process::Output {
 #[test]
 fn a_closed_stdout_pipe_ends_quietly() {
     let demo = root().join("scenes/demo/demo.usda");
-    let ies = root().join("crates/lux-ies/tests/data/luxtest/bega_omni002_4777lm.ies");
+    let ies = root().join("tests/data/ies/luxtest/bega_omni002_4777lm.ies");
     for args in [
         vec!["info", demo.to_str().unwrap()],
         vec!["info", demo.to_str().unwrap(), "--json"],

@@ -114,8 +114,7 @@ fn the_dome_is_the_background_nearest_texel_in_hdembree() {
 /// multipliers are 1 there) up to the filtering of the texel edges.
 #[test]
 fn the_luxtest_dome_frame_shows_the_texture_in_both_profiles() {
-    let f = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("crates/lux-render/tests/data/luxtest/usd/dome.usda");
+    let f = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/luxtest/usd/dome.usda");
     let s = load_stage(f, 1.0).unwrap();
     let mean = |p: Profile| {
         let r = Renderer::new(&s, common::options(p, 4, [64, 64])).unwrap();
@@ -297,8 +296,7 @@ fn polygon_irradiance(p: DVec3, poly: &[DVec3], l: f64) -> f64 {
 
 #[test]
 fn rect_frame_21_last_lit_row_matches_the_closed_form() {
-    let f = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("crates/lux-render/tests/data/luxtest/usd/rect.usda");
+    let f = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/luxtest/usd/rect.usda");
     let s = load_stage(f, 21.0).unwrap();
     // The light: a 2 × 2 rect at (0, 0.3, 0) facing −Z, radiance 125 (normalize on): it stands
     // on the floor, and only its part above the floor (y ∈ [0, 1.3]) lights floor points.

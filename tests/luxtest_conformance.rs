@@ -44,7 +44,7 @@ const REF_VAR_SPP: u32 = 1024;
 const DARK: f64 = 1e-5;
 
 fn data() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("crates/lux-render/tests/data/luxtest")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/luxtest")
 }
 
 struct Row {

@@ -2,7 +2,8 @@
 //! `SOURCES.md` and `EXTRA_SOURCES.md`): `lux info` reports what usd-core 26.11 reports for each (numbers derived with
 //! usd-core when the test was written: visible lights, meshes, other gprims, cameras, native
 //! and PointInstancer instances at the stage's start time), and a small render of each is
-//! finite and not black.
+//! finite and not black; through the built `lux` binary, usdrecord's defaults where a stage is
+//! silent. (The published package leaves this suite and its data out: see Cargo.toml.)
 
 #[path = "../src/cli/info.rs"]
 #[allow(dead_code)]
@@ -12,7 +13,8 @@ use lux_math::Profile;
 use lux_render::conformance::{ProfileSource, ResolvedProfile};
 use lux_render::render::{RenderOptions, Renderer};
 use lux_usd::{LoadOptions, Time, WarningKind, load_stage_with};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
 /// What usd-core reports for one file.
 struct UsdCore {
@@ -404,4 +406,98 @@ fn an_unreadable_light_texture_is_that_lights_warning() {
         .err()
         .expect("strict refuses it");
     assert!(e.to_string().contains("UVtemplate_1x1.tex"), "{e}");
+}
+
+/// `lux ARGS…` through the built binary, without the user's profile environment and config files.
+fn lux(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_lux"))
+        .args(args)
+        .env_remove("LUX_CONFORMANCE_PROFILE")
+        .env("XDG_CONFIG_HOME", tmp("no-config"))
+        .output()
+        .unwrap()
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("lux-realusd-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name)
+}
+
+/// `lux render <scene> --spp 1 --resolution 8x8 -o <out> <extra…> --quiet` (a quick render).
+fn render_small(scene: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
+    let mut a = vec![
+        "render",
+        scene.to_str().unwrap(),
+        "--spp",
+        "1",
+        "--resolution",
+        "8x8",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    a.extend_from_slice(extra);
+    a.push("--quiet");
+    lux(&a)
+}
+
+fn stderr(o: &std::process::Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// usdrecord's behaviour where the stage is silent, said in the log: a stage without camera or
+/// light gets a framing camera and a camera light (`--disable-camera-light` turns the light
+/// off, and the render is then black); the frame is the stage's startTimeCode; `--camera`
+/// takes a bare name when it is unique and says which names exist when it is not found.
+#[test]
+fn usdrecord_defaults_and_camera_names() {
+    let out = tmp("defaults.exr");
+    let teapot = path("usdwg/full_assets/Teapot/Teapot.usd");
+    let o = render_small(&teapot, &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("no camera on the stage: usdrecord's framing camera"),
+        "{e}"
+    );
+    assert!(
+        e.contains("no light on the stage: usdrecord's camera light"),
+        "{e}"
+    );
+    let lit = lux_render::image_io::Texture::load(&out).unwrap();
+    assert!(
+        lit.texels().iter().any(|p| p[0] > 0.0),
+        "the camera light lights the teapot"
+    );
+    let o = render_small(&teapot, &out, &["--disable-camera-light"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        !stderr(&o).contains("camera light (a DistantLight"),
+        "{}",
+        stderr(&o)
+    );
+    let dark = lux_render::image_io::Texture::load(&out).unwrap();
+    assert!(
+        dark.texels().iter().all(|p| p[0] == 0.0),
+        "no light, no image"
+    );
+    // two cameras: a bare name picks one; an unknown name lists them
+    let dome = path(
+        "openusd/pxr/usdImaging/usdImagingGL/testenv/testUsdImagingGLDomeLight/domeLightZup.usda",
+    );
+    let o = render_small(&dome, &out, &["--camera", "BackCamera"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = render_small(&dome, &out, &["--camera", "SideCamera"]);
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(
+        e.contains("SideCamera") && e.contains("FrontCamera") && e.contains("BackCamera"),
+        "{e}"
+    );
+    // the stage's startTimeCode when no --frame is given (the ShaderBall starts at 3)
+    let ball = path("usdwg/full_assets/StandardShaderBall/standard_shader_ball_scene.usda");
+    let o = lux(&["info", ball.to_str().unwrap(), "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["frame"], 3.0);
 }

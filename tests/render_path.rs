@@ -268,8 +268,7 @@ fn glossy_floor_under_the_dome_reflects_its_albedo() {
 
 #[test]
 fn one_vertex_is_the_direct_integrator_bit_for_bit() {
-    let data =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("crates/lux-render/tests/data/luxtest/usd");
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/luxtest/usd");
     for (name, frame) in [("sphere", 1.0), ("rect", 25.0), ("dome", 1.0)] {
         let scene = load_stage(data.join(format!("{name}.usda")), frame).unwrap();
         let render = |kind| {

@@ -174,7 +174,7 @@ fn normal_map_tilts_the_shading_normal() {
     // normal (0.6, 0.0039, 0.8). Tangent ∂p/∂s = +x, bitangent +y: the shading normal is
     // normalize(0.6, 0.0039, 0.8) in the world.
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("crates/lux-usd/tests/data/scenes/preview_surface.usda");
+        .join("tests/data/scenes/preview_surface.usda");
     let s = lux::usd::load_stage(&path, 1.0).unwrap();
     let g = Geometry::new(&s);
     let m = Materials::new(&s).unwrap();

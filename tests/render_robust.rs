@@ -14,7 +14,7 @@ use lux::usd::{AssetRef, Camera, Light, Projection, Scene, load_stage};
 use std::path::PathBuf;
 
 fn luxtest() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("crates/lux-render/tests/data/luxtest/usd")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/luxtest/usd")
 }
 
 #[test]

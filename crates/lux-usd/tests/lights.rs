@@ -1,7 +1,7 @@
 //! Lights: every type, every `LightAPI` / `ShapingAPI` / `ShadowAPI` input at its schema
-//! default when unauthored (checked against the UsdLux 26.11 schema text when the spec folder
-//! is beside the repository), ShapingAPI only when applied, PluginLight reported as
-//! unsupported, and authored values of `roundtrip.usda`.
+//! default when unauthored (checked against the UsdLux 26.11 schema text in `tests/data/schema`),
+//! ShapingAPI only when applied, PluginLight reported as unsupported, and authored values of
+//! `roundtrip.usda`.
 
 use glam::{DMat4, DVec3};
 use lux_math::{LightKind, LightShape};
@@ -69,10 +69,9 @@ const SCHEMA: &[(&str, &str, V)] = &[
     ("PortalLight", "inputs:height", V::F(1.0)),
 ];
 
-/// The UsdLux 26.11 schema text (the copy kept with lux-math's test data, with its notice).
+/// The UsdLux 26.11 schema text (`tests/data/schema`, with its notice and licence).
 fn schema_file() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../lux-math/tests/data/usdLux-schema-26.11.usda")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/schema/usdLux-schema-26.11.usda")
 }
 
 #[test]
