@@ -1,6 +1,9 @@
 //! `lux render` and `lux info` through the built binary: outputs, the profile chain in the
 //! log, and failures that exit non-zero with a message and leave no output file behind.
 
+mod common;
+
+use common::cli::{lux, render_small};
 use lux::render::image_io::Texture;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -13,43 +16,10 @@ fn luxtest(name: &str) -> PathBuf {
     root().join("tests/data/luxtest/usd").join(name)
 }
 
-fn lux(args: &[&str], env: &[(&str, &str)]) -> std::process::Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_lux"));
-    c.args(args).env_remove("LUX_CONFORMANCE_PROFILE");
-    // Keep the user's config files out of the tests.
-    c.env("XDG_CONFIG_HOME", tmp("no-config"));
-    for (k, v) in env {
-        c.env(k, v);
-    }
-    c.output().unwrap()
-}
-
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("lux-cli-render-{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
     d.join(name)
-}
-
-/// `lux render <scene> --spp 1 --resolution 8x8 -o <out> <extra…> --quiet` (a quick render).
-fn render_small(
-    scene: &Path,
-    out: &Path,
-    extra: &[&str],
-    env: &[(&str, &str)],
-) -> std::process::Output {
-    let mut a = vec![
-        "render",
-        scene.to_str().unwrap(),
-        "--spp",
-        "1",
-        "--resolution",
-        "8x8",
-        "-o",
-        out.to_str().unwrap(),
-    ];
-    a.extend_from_slice(extra);
-    a.push("--quiet");
-    lux(&a, env)
 }
 
 fn stderr(o: &std::process::Output) -> String {

@@ -5,16 +5,18 @@
 //! finite and not black; through the built `lux` binary, usdrecord's defaults where a stage is
 //! silent. (The published package leaves this suite and its data out: see Cargo.toml.)
 
+mod common;
+
 #[path = "../src/cli/info.rs"]
 #[allow(dead_code)]
 mod info;
 
+use common::cli::{lux, render_small};
 use lux_math::Profile;
 use lux_render::conformance::{ProfileSource, ResolvedProfile};
 use lux_render::render::{RenderOptions, Renderer};
 use lux_usd::{LoadOptions, Time, WarningKind, load_stage_with};
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::PathBuf;
 
 /// What usd-core reports for one file.
 struct UsdCore {
@@ -409,36 +411,10 @@ fn an_unreadable_light_texture_is_that_lights_warning() {
 }
 
 /// `lux ARGS…` through the built binary, without the user's profile environment and config files.
-fn lux(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_lux"))
-        .args(args)
-        .env_remove("LUX_CONFORMANCE_PROFILE")
-        .env("XDG_CONFIG_HOME", tmp("no-config"))
-        .output()
-        .unwrap()
-}
-
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("lux-realusd-{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
     d.join(name)
-}
-
-/// `lux render <scene> --spp 1 --resolution 8x8 -o <out> <extra…> --quiet` (a quick render).
-fn render_small(scene: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
-    let mut a = vec![
-        "render",
-        scene.to_str().unwrap(),
-        "--spp",
-        "1",
-        "--resolution",
-        "8x8",
-        "-o",
-        out.to_str().unwrap(),
-    ];
-    a.extend_from_slice(extra);
-    a.push("--quiet");
-    lux(&a)
 }
 
 fn stderr(o: &std::process::Output) -> String {
@@ -453,7 +429,7 @@ fn stderr(o: &std::process::Output) -> String {
 fn usdrecord_defaults_and_camera_names() {
     let out = tmp("defaults.exr");
     let teapot = path("usdwg/full_assets/Teapot/Teapot.usd");
-    let o = render_small(&teapot, &out, &[]);
+    let o = render_small(&teapot, &out, &[], &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     let e = stderr(&o);
     assert!(
@@ -469,7 +445,7 @@ fn usdrecord_defaults_and_camera_names() {
         lit.texels().iter().any(|p| p[0] > 0.0),
         "the camera light lights the teapot"
     );
-    let o = render_small(&teapot, &out, &["--disable-camera-light"]);
+    let o = render_small(&teapot, &out, &["--disable-camera-light"], &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
         !stderr(&o).contains("camera light (a DistantLight"),
@@ -485,9 +461,9 @@ fn usdrecord_defaults_and_camera_names() {
     let dome = path(
         "openusd/pxr/usdImaging/usdImagingGL/testenv/testUsdImagingGLDomeLight/domeLightZup.usda",
     );
-    let o = render_small(&dome, &out, &["--camera", "BackCamera"]);
+    let o = render_small(&dome, &out, &["--camera", "BackCamera"], &[]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let o = render_small(&dome, &out, &["--camera", "SideCamera"]);
+    let o = render_small(&dome, &out, &["--camera", "SideCamera"], &[]);
     assert!(!o.status.success());
     let e = stderr(&o);
     assert!(
@@ -496,7 +472,7 @@ fn usdrecord_defaults_and_camera_names() {
     );
     // the stage's startTimeCode when no --frame is given (the ShaderBall starts at 3)
     let ball = path("usdwg/full_assets/StandardShaderBall/standard_shader_ball_scene.usda");
-    let o = lux(&["info", ball.to_str().unwrap(), "--json"]);
+    let o = lux(&["info", ball.to_str().unwrap(), "--json"], &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["frame"], 3.0);

@@ -4,6 +4,8 @@
 
 #![allow(dead_code)]
 
+pub mod cli;
+
 use glam::{DMat4, DVec3};
 use lux::math::Profile;
 use lux::render::conformance::{ProfileSource, ResolvedProfile};
