@@ -155,3 +155,89 @@ fn svg_plot_is_labelled() {
     assert!(svg.contains(" cd</text>"));
     assert_eq!(svg.matches("<path").count(), 2);
 }
+
+/// The value of attribute `name` in an SVG element's line.
+fn attr<'a>(line: &'a str, name: &str) -> Option<&'a str> {
+    let key = format!(" {name}=\"");
+    let start = line.find(&key)? + key.len();
+    Some(&line[start..start + line[start..].find('"')?])
+}
+
+fn num(line: &str, name: &str) -> f64 {
+    attr(line, name).unwrap().parse().unwrap()
+}
+
+/// The same file plotted as SVG and as PNG at the default size: wherever the SVG places a label
+/// (title, ring values, angle labels, legend), the PNG has ink (dark pixels: text; the grid is
+/// light grey and the curves saturated red and blue); the lower half inside the rings, with
+/// curves and grid but no label, has none. Before the PNG had labels it had no ink at all.
+#[test]
+fn png_plot_is_labelled_where_the_svg_is() {
+    let f = data("luxtest/bega_omni002_4777lm.ies");
+    let (svg_path, png_path) = (tmp("labels.svg"), tmp("labels.png"));
+    for o in [&svg_path, &png_path] {
+        let out = lux(&[
+            "ies",
+            "plot",
+            f.to_str().unwrap(),
+            "-o",
+            o.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let svg = std::fs::read_to_string(&svg_path).unwrap();
+    let img = image::open(&png_path).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (800, 800));
+    let count = |x0: f64, y0: f64, x1: f64, y1: f64, pred: &dyn Fn(&image::Rgb<u8>) -> bool| {
+        let clamp = |v: f64| v.clamp(0.0, 800.0) as u32;
+        let mut n = 0;
+        for y in clamp(y0)..clamp(y1) {
+            for x in clamp(x0)..clamp(x1) {
+                n += usize::from(pred(img.get_pixel(x, y)));
+            }
+        }
+        n
+    };
+    let ink = |p: &image::Rgb<u8>| p.0.iter().all(|&c| c < 128);
+    let font = num(svg.lines().next().unwrap(), "font-size");
+    let mut texts = Vec::new();
+    for line in svg.lines().filter(|l| l.starts_with("<text")) {
+        let (x, y) = (num(line, "x"), num(line, "y"));
+        let fs = attr(line, "font-size").map_or(font, |v| v.parse().unwrap());
+        let text = &line[line.find('>').unwrap() + 1..line.find("</text>").unwrap()];
+        // the box the SVG's text covers, widths estimated at 0.6 em a character
+        let w = text.chars().count() as f64 * 0.6 * fs;
+        let (x0, x1) = match attr(line, "text-anchor") {
+            Some("middle") => (x - w / 2.0, x + w / 2.0),
+            Some("end") => (x - w, x),
+            _ => (x, x + w),
+        };
+        let (y0, y1) = if attr(line, "dominant-baseline") == Some("middle") {
+            (y - 0.6 * fs, y + 0.6 * fs)
+        } else {
+            (y - fs, y + 0.3 * fs)
+        };
+        let n = count(x0, y0, x1, y1, &ink);
+        assert!(
+            n >= 20,
+            "{text:?}: {n} ink pixels in the PNG at the SVG's label"
+        );
+        texts.push(text.to_owned());
+    }
+    // title, a value per ring, 12 angle labels, 2 legend entries
+    let rings = svg.matches("<circle").count();
+    assert!(rings >= 2, "{svg}");
+    assert_eq!(texts.len(), 1 + rings + 12 + 2, "{texts:?}");
+    assert!(texts[0].starts_with("bega_omni002_4777lm.ies"), "{texts:?}");
+    // the lower half inside the outer ring: curves and grid, no ink
+    let outer = svg.lines().rfind(|l| l.starts_with("<circle")).unwrap();
+    let (cx, cy, r) = (num(outer, "cx"), num(outer, "cy"), num(outer, "r"));
+    let region = (cx - 0.5 * r, cy + 0.2 * r, cx + 0.5 * r, cy + 0.8 * r);
+    let drawn = count(region.0, region.1, region.2, region.3, &|p| p.0 != [255; 3]);
+    assert!(drawn > 200, "{drawn} curve and grid pixels");
+    assert_eq!(count(region.0, region.1, region.2, region.3, &ink), 0);
+}
