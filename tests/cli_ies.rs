@@ -132,6 +132,21 @@ fn plot_refuses_other_formats_and_leaves_no_file() {
 fn svg_plot_is_labelled() {
     let f = data("luxtest/bega_omni002_4777lm.ies");
     let o = tmp("polar.svg");
+    plot_ok(&f, &o);
+    let svg = std::fs::read_to_string(&o).unwrap();
+    assert!(svg.starts_with("<svg"), "{svg}");
+    // title: file name and total lumens; legend; angle labels; a candela scale
+    assert!(svg.contains("bega_omni002_4777lm.ies — 4779 lm"), "{svg}");
+    assert!(svg.contains("C0–C180") && svg.contains("C90–C270"));
+    for a in ["0°", "30°", "90°", "180°"] {
+        assert!(svg.contains(&format!(">{a}<")), "{a}");
+    }
+    assert!(svg.contains(" cd</text>"));
+    assert_eq!(svg.matches("<path").count(), 2);
+}
+
+/// `lux ies plot F -o O`, which must succeed.
+fn plot_ok(f: &std::path::Path, o: &std::path::Path) {
     let out = lux(&[
         "ies",
         "plot",
@@ -144,16 +159,6 @@ fn svg_plot_is_labelled() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let svg = std::fs::read_to_string(&o).unwrap();
-    assert!(svg.starts_with("<svg"), "{svg}");
-    // title: file name and total lumens; legend; angle labels; a candela scale
-    assert!(svg.contains("bega_omni002_4777lm.ies — 4779 lm"), "{svg}");
-    assert!(svg.contains("C0–C180") && svg.contains("C90–C270"));
-    for a in ["0°", "30°", "90°", "180°"] {
-        assert!(svg.contains(&format!(">{a}<")), "{a}");
-    }
-    assert!(svg.contains(" cd</text>"));
-    assert_eq!(svg.matches("<path").count(), 2);
 }
 
 /// The value of attribute `name` in an SVG element's line.
@@ -176,18 +181,7 @@ fn png_plot_is_labelled_where_the_svg_is() {
     let f = data("luxtest/bega_omni002_4777lm.ies");
     let (svg_path, png_path) = (tmp("labels.svg"), tmp("labels.png"));
     for o in [&svg_path, &png_path] {
-        let out = lux(&[
-            "ies",
-            "plot",
-            f.to_str().unwrap(),
-            "-o",
-            o.to_str().unwrap(),
-        ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        plot_ok(&f, o);
     }
     let svg = std::fs::read_to_string(&svg_path).unwrap();
     let img = image::open(&png_path).unwrap().to_rgb8();
