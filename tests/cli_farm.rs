@@ -79,7 +79,10 @@ fn tiles_equal_whole(test: &str, extra: &[&str]) -> ExrBand {
     let d = dir(test);
     let scene = luxtest("sphere.usda");
     let whole = d.join("whole.exr");
-    render(&scene, &whole, extra);
+    let whole_png = d.join("whole.png");
+    let mut e = extra.to_vec();
+    e.extend(["--png", whole_png.to_str().unwrap()]);
+    render(&scene, &whole, &e);
     let mut tiles = Vec::new();
     // Out of order on purpose.
     for i in [2, 0, 1] {
@@ -112,7 +115,13 @@ fn tiles_equal_whole(test: &str, extra: &[&str]) -> ExrBand {
     ]);
     let o = lux(&a);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(png.is_file());
+    // The merged PNG is the single-process render's, byte for byte (opaque RGB, as `render`
+    // writes without --alpha).
+    assert_eq!(
+        std::fs::read(&png).unwrap(),
+        std::fs::read(&whole_png).unwrap(),
+        "merged PNG"
+    );
     let (w, m) = (
         read_exr_band(&whole).unwrap(),
         read_exr_band(&merged).unwrap(),
@@ -261,6 +270,7 @@ fn farm_writes_an_openjd_template_with_render_and_merge_steps() {
         "4",
         "--resolution",
         "48x32",
+        "--alpha",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let y = std::fs::read_to_string(&job).unwrap();
@@ -318,7 +328,13 @@ fn farm_writes_an_openjd_template_with_render_and_merge_steps() {
         assert!(merge_args.contains(&t), "{t} in {merge_args}");
     }
     assert!(merge_args.contains("\"-o\", \"{{Param.OutputDir}}/sphere.{{Task.Param.Frame}}.exr\""));
-    assert!(merge_args.contains("\"--png\""));
+    // --alpha is for the PNG, which the merge writes.
+    assert!(
+        merge_args.contains(
+            "\"--png\", \"{{Param.OutputDir}}/sphere.{{Task.Param.Frame}}.png\", \"--alpha\""
+        ),
+        "{merge_args}"
+    );
     // OpenJD wants default paths relative to the template's directory.
     assert!(has("  default: \"frames\""), "{y}");
     // and none outside it: the scene has no default.

@@ -86,24 +86,34 @@ fn convert_to_2019_and_back() {
     assert_eq!((a.candela, a.header, a.tilt), (b.candela, b.header, b.tilt));
 }
 
-#[test]
-fn plot_writes_a_png_with_both_plane_pairs() {
-    let f = data("luxtest/bega_84659K4.ies");
-    let o = tmp("polar.png");
-    let out = lux(&[
+/// `lux ies plot F -o O [extra…]`.
+fn plot(f: &std::path::Path, o: &std::path::Path, extra: &[&str]) -> std::process::Output {
+    let mut a = vec![
         "ies",
         "plot",
         f.to_str().unwrap(),
         "-o",
         o.to_str().unwrap(),
-        "--size",
-        "400",
-    ]);
+    ];
+    a.extend_from_slice(extra);
+    lux(&a)
+}
+
+/// [`plot`], which must succeed.
+fn plot_ok(f: &std::path::Path, o: &std::path::Path, extra: &[&str]) {
+    let out = plot(f, o, extra);
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+#[test]
+fn plot_writes_a_png_with_both_plane_pairs() {
+    let f = data("luxtest/bega_84659K4.ies");
+    let o = tmp("polar.png");
+    plot_ok(&f, &o, &["--size", "400"]);
     let img = image::open(&o).unwrap().to_rgb8();
     assert_eq!(img.dimensions(), (400, 400));
     let red = img.pixels().filter(|p| p.0 == [220, 30, 30]).count();
@@ -116,13 +126,7 @@ fn plot_refuses_other_formats_and_leaves_no_file() {
     let f = data("luxtest/bega_84659K4.ies");
     let o = tmp("polar.jpg");
     let _ = std::fs::remove_file(&o);
-    let out = lux(&[
-        "ies",
-        "plot",
-        f.to_str().unwrap(),
-        "-o",
-        o.to_str().unwrap(),
-    ]);
+    let out = plot(&f, &o, &[]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains(".png"));
     assert!(!o.exists());
@@ -132,7 +136,7 @@ fn plot_refuses_other_formats_and_leaves_no_file() {
 fn svg_plot_is_labelled() {
     let f = data("luxtest/bega_omni002_4777lm.ies");
     let o = tmp("polar.svg");
-    plot_ok(&f, &o);
+    plot_ok(&f, &o, &[]);
     let svg = std::fs::read_to_string(&o).unwrap();
     assert!(svg.starts_with("<svg"), "{svg}");
     // title: file name and total lumens; legend; angle labels; a candela scale
@@ -143,22 +147,6 @@ fn svg_plot_is_labelled() {
     }
     assert!(svg.contains(" cd</text>"));
     assert_eq!(svg.matches("<path").count(), 2);
-}
-
-/// `lux ies plot F -o O`, which must succeed.
-fn plot_ok(f: &std::path::Path, o: &std::path::Path) {
-    let out = lux(&[
-        "ies",
-        "plot",
-        f.to_str().unwrap(),
-        "-o",
-        o.to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
 }
 
 /// The value of attribute `name` in an SVG element's line.
@@ -181,7 +169,7 @@ fn png_plot_is_labelled_where_the_svg_is() {
     let f = data("luxtest/bega_omni002_4777lm.ies");
     let (svg_path, png_path) = (tmp("labels.svg"), tmp("labels.png"));
     for o in [&svg_path, &png_path] {
-        plot_ok(&f, o);
+        plot_ok(&f, o, &[]);
     }
     let svg = std::fs::read_to_string(&svg_path).unwrap();
     let img = image::open(&png_path).unwrap().to_rgb8();

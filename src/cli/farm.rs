@@ -197,6 +197,10 @@ pub fn template(args: &FarmArgs) -> Result<String, String> {
     merge.extend(["-o".to_owned(), out(".exr")]);
     if args.png {
         merge.extend(["--png".to_owned(), out(".png")]);
+        // `--alpha` among the render options is for the PNG, which the merge writes.
+        if args.render_args.iter().any(|a| a == "--alpha") {
+            merge.push("--alpha".to_owned());
+        }
     }
     // OpenJD joins default paths to the template's directory and refuses absolute ones and
     // ones outside it: a path elsewhere has no default (the job must give it).

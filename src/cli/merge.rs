@@ -6,7 +6,7 @@ use crate::cli::tile::{
     TileSpec, create_parent, parse_tile,
 };
 use clap::Args;
-use lux_render::image_io::{ExrBand, ImageRgba, read_exr_band, stage_png};
+use lux_render::image_io::{ExrBand, ImageRgba, read_exr_band, stage_png, stage_png_opaque};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `lux merge`.
@@ -18,12 +18,15 @@ pub struct MergeArgs {
     /// Output EXR (RGBA float32, linear), equal bit for bit to the single-process render.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Also write an sRGB PNG.
+    /// Also write an sRGB PNG (what `lux render --png` writes for the whole frame).
     #[arg(long)]
     pub png: Option<PathBuf>,
     /// Exposure of the PNG in stops.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub exposure: f64,
+    /// Keep the alpha channel in the PNG (default: opaque RGB, as `lux render`).
+    #[arg(long)]
+    pub alpha: bool,
 }
 
 /// The attributes every tile of a frame must share.
@@ -178,7 +181,12 @@ pub fn run(args: &MergeArgs) -> Result<(), String> {
     let png = match &args.png {
         Some(png) => {
             create_parent(png)?;
-            Some(stage_png(png, &image, args.exposure).map_err(|e| e.to_string())?)
+            let staged = if args.alpha {
+                stage_png(png, &image, args.exposure)
+            } else {
+                stage_png_opaque(png, &image, args.exposure)
+            };
+            Some(staged.map_err(|e| e.to_string())?)
         }
         None => None,
     };
