@@ -76,8 +76,10 @@ fn main() -> ExitCode {
                     seed: 0,
                     output: PathBuf::from("lux-demo.exr"),
                     png: Some(PathBuf::from("lux-demo.png")),
-                    exposure: 0.0,
-                    alpha: false,
+                    png_encoding: cli::render::PngEncoding {
+                        exposure: 0.0,
+                        alpha: false,
+                    },
                     quiet: false,
                     tile: None,
                 })

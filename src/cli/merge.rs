@@ -1,12 +1,13 @@
 //! `lux merge TILE.exr… -o OUT.exr`: assembles the tiles of `lux render --tile I/N` into the
 //! frame, after checking they belong together; the output is written atomically.
 
+use crate::cli::render::PngEncoding;
 use crate::cli::tile::{
     ATTR_FRAME, ATTR_RESOLUTION, ATTR_ROWS, ATTR_SCENE, ATTR_SETTINGS, ATTR_TILE, FrameHeader,
     TileSpec, create_parent, parse_tile,
 };
 use clap::Args;
-use lux_render::image_io::{ExrBand, ImageRgba, read_exr_band, stage_png, stage_png_opaque};
+use lux_render::image_io::{ExrBand, ImageRgba, read_exr_band};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `lux merge`.
@@ -21,12 +22,9 @@ pub struct MergeArgs {
     /// Also write an sRGB PNG (what `lux render --png` writes for the whole frame).
     #[arg(long)]
     pub png: Option<PathBuf>,
-    /// Exposure of the PNG in stops.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    pub exposure: f64,
-    /// Keep the alpha channel in the PNG (default: opaque RGB, as `lux render`).
-    #[arg(long)]
-    pub alpha: bool,
+    /// How the PNG is encoded (as `lux render`'s).
+    #[command(flatten)]
+    pub png_encoding: PngEncoding,
 }
 
 /// The attributes every tile of a frame must share.
@@ -169,24 +167,14 @@ pub fn assemble(paths: &[PathBuf]) -> Result<(ImageRgba, FrameHeader), String> {
 
 /// Merges according to `args`: the EXR (and PNG) appear together or not at all.
 pub fn run(args: &MergeArgs) -> Result<(), String> {
-    if !args.exposure.is_finite() {
-        return Err(format!(
-            "--exposure {}: expected a finite number",
-            args.exposure
-        ));
-    }
+    args.png_encoding.check()?;
     let (image, header) = assemble(&args.tiles)?;
     create_parent(&args.output)?;
     let exr = crate::cli::tile::stage_exr(&args.output, &image, &header, None)?;
     let png = match &args.png {
         Some(png) => {
             create_parent(png)?;
-            let staged = if args.alpha {
-                stage_png(png, &image, args.exposure)
-            } else {
-                stage_png_opaque(png, &image, args.exposure)
-            };
-            Some(staged.map_err(|e| e.to_string())?)
+            Some(args.png_encoding.stage(png, &image)?)
         }
         None => None,
     };

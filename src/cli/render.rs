@@ -159,13 +159,9 @@ pub struct RenderArgs {
     /// Also write an 8-bit sRGB PNG here.
     #[arg(long)]
     pub png: Option<PathBuf>,
-    /// Exposure of PNG outputs in stops.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    pub exposure: f64,
-    /// Keep the alpha channel in PNG outputs (default: opaque RGB, so viewers show the empty
-    /// background black rather than transparent).
-    #[arg(long)]
-    pub alpha: bool,
+    /// How PNG outputs are encoded.
+    #[command(flatten)]
+    pub png_encoding: PngEncoding,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -173,6 +169,43 @@ pub struct RenderArgs {
     /// `lux merge`.
     #[arg(long, value_parser = crate::cli::tile::parse_tile)]
     pub tile: Option<crate::cli::tile::TileSpec>,
+}
+
+/// How `lux render` and `lux merge` encode PNG outputs: 8-bit sRGB of the linear values times
+/// 2^exposure, opaque RGB unless `--alpha`.
+#[derive(Debug, Clone, Args)]
+pub struct PngEncoding {
+    /// Exposure of PNG outputs in stops.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub exposure: f64,
+    /// Keep the alpha channel in PNG outputs (default: opaque RGB, so viewers show the empty
+    /// background black rather than transparent).
+    #[arg(long)]
+    pub alpha: bool,
+}
+
+impl PngEncoding {
+    /// The exposure is a finite number.
+    pub fn check(&self) -> Result<(), String> {
+        if self.exposure.is_finite() {
+            Ok(())
+        } else {
+            Err(format!(
+                "--exposure {}: expected a finite number",
+                self.exposure
+            ))
+        }
+    }
+
+    /// `image` encoded as a PNG at `path`, staged for an atomic rename.
+    pub fn stage(&self, path: &Path, image: &ImageRgba) -> Result<StagedFile, String> {
+        if self.alpha {
+            stage_png(path, image, self.exposure)
+        } else {
+            stage_png_opaque(path, image, self.exposure)
+        }
+        .map_err(|e| e.to_string())
+    }
 }
 
 fn parse_profile(s: &str) -> Result<Profile, String> {
@@ -223,12 +256,7 @@ pub fn load(
 /// Checks what can be checked without the stage: numeric ranges (the renderer's limits), the
 /// output formats and folders. Returns the outputs: `-o` in its format, then `--png`.
 pub fn check_args(args: &RenderArgs) -> Result<Vec<(PathBuf, OutputFormat)>, String> {
-    if !args.exposure.is_finite() {
-        return Err(format!(
-            "--exposure {}: expected a finite number",
-            args.exposure
-        ));
-    }
+    args.png_encoding.check()?;
     for (flag, what, v, max) in [
         ("--spp", "samples per pixel", args.spp, MAX_SPP),
         ("--max-depth", "path depth", args.max_depth, MAX_DEPTH),
@@ -290,11 +318,9 @@ fn stage(
 ) -> Result<StagedFile, String> {
     match format {
         // The EXR records the lux:* header (and, for a tile, only its rows).
-        OutputFormat::Exr => return crate::cli::tile::stage_exr(path, image, header, tile),
-        OutputFormat::Png if args.alpha => stage_png(path, image, args.exposure),
-        OutputFormat::Png => stage_png_opaque(path, image, args.exposure),
+        OutputFormat::Exr => crate::cli::tile::stage_exr(path, image, header, tile),
+        OutputFormat::Png => args.png_encoding.stage(path, image),
     }
-    .map_err(|e| e.to_string())
 }
 
 /// Renders according to `args` and writes the outputs; the summary goes to stderr.
