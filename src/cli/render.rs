@@ -13,7 +13,9 @@ use lux_render::conformance::{PROFILE_ENV, default_config_paths, resolve_profile
 use lux_render::image_io::{ImageRgba, StagedFile, stage_png, stage_png_opaque};
 use lux_render::light::LightSelection;
 use lux_render::render::{RenderOptions, RenderStats, Renderer};
-use lux_render::settings::{MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_SPP, SamplingMode};
+use lux_render::settings::{
+    AdaptiveSampling, MAX_ADAPTIVE_FACTOR, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_SPP, SamplingMode,
+};
 use lux_usd::{LoadOptions, Time, load_stage_with};
 use std::path::{Path, PathBuf};
 
@@ -146,6 +148,17 @@ pub struct RenderArgs {
     /// takes this many times more.
     #[arg(long, default_value_t = 1)]
     pub penumbra_samples: u32,
+    /// Adaptive sampling's noise threshold: after --spp samples, a pixel takes more until the
+    /// standard error of its luminance is about this times the square root of its
+    /// neighbourhood's luminance (from its neighbours' samples, so pixels stay unbiased)
+    #[arg(long, default_value_t = AdaptiveSampling::DEFAULT.threshold)]
+    pub adaptive_threshold: f64,
+    /// Most samples a pixel takes with adaptive sampling, as a multiple of --spp (1 to 1024)
+    #[arg(long, default_value_t = AdaptiveSampling::DEFAULT.max_factor)]
+    pub adaptive_max: u32,
+    /// Every pixel takes exactly --spp samples (no adaptive sampling)
+    #[arg(long)]
+    pub no_adaptive: bool,
     /// Worker threads (default: all cores). The image does not depend on it.
     #[arg(long)]
     pub threads: Option<usize>,
@@ -272,10 +285,22 @@ pub fn check_args(args: &RenderArgs) -> Result<Vec<(PathBuf, OutputFormat)>, Str
             args.penumbra_samples,
             MAX_LIGHT_SAMPLES,
         ),
+        (
+            "--adaptive-max",
+            "the adaptive sample factor",
+            args.adaptive_max,
+            MAX_ADAPTIVE_FACTOR,
+        ),
     ] {
         if v == 0 || v > max {
             return Err(format!("{flag} {v}: {what} must be 1 to {max}"));
         }
+    }
+    if !(args.adaptive_threshold.is_finite() && args.adaptive_threshold > 0.0) {
+        return Err(format!(
+            "--adaptive-threshold {}: expected a finite number > 0",
+            args.adaptive_threshold
+        ));
     }
     if args.threads == Some(0) {
         return Err("--threads 0: expected at least 1".into());
@@ -373,6 +398,10 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         };
     }
     options.penumbra_samples = args.penumbra_samples;
+    options.adaptive = (!args.no_adaptive).then_some(AdaptiveSampling {
+        threshold: args.adaptive_threshold,
+        max_factor: args.adaptive_max,
+    });
     options.sampling = match args.sampling {
         SamplingArg::Lux => SamplingMode::Lux,
         SamplingArg::Reference => SamplingMode::Reference,
@@ -400,15 +429,14 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     for w in renderer.warnings() {
         eprintln!("lux: warning: {w}");
     }
-    let [x0, y0, x1, y1] = renderer.window();
-    let total = (x1 - x0) as u64 * (y1 - y0) as u64;
+    let total = renderer.progress_total();
     let bar = if args.quiet {
         ProgressBar::hidden()
     } else {
         let b = ProgressBar::new(total);
         b.set_style(
             ProgressStyle::with_template(
-                "{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% {pos}/{len} px  eta {eta}",
+                "{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}%  eta {eta}",
             )
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
         );
@@ -459,10 +487,19 @@ fn plural(n: u64, one: &str, many: &str) -> String {
 /// The closing line: time, samples/s, rays/s.
 pub fn summary(stats: &RenderStats, threads: usize) -> String {
     let t = stats.seconds.max(1e-9);
+    let samples = if stats.adaptive_samples > 0 {
+        format!(
+            "{} px × spp + {} adaptive = {} samples ({:.2} a pixel)",
+            stats.pixels,
+            stats.adaptive_samples,
+            stats.samples,
+            stats.samples as f64 / stats.pixels.max(1) as f64
+        )
+    } else {
+        format!("{} px × spp = {} samples", stats.pixels, stats.samples)
+    };
     format!(
-        "lux: {} px × spp = {} samples in {:.3} s on {}: {:.3} M samples/s, {:.3} M rays/s ({} rays, {} shadow)",
-        stats.pixels,
-        stats.samples,
+        "lux: {samples} in {:.3} s on {}: {:.3} M samples/s, {:.3} M rays/s ({} rays, {} shadow)",
         stats.seconds,
         plural(threads as u64, "thread", "threads"),
         stats.samples as f64 / t / 1e6,

@@ -70,10 +70,13 @@ pub fn settings_string(options: &RenderOptions, camera_light: bool) -> String {
         .resolution
         .map_or("default".to_owned(), |[w, h]| format!("{w}x{h}"));
     let lower = |d: &dyn std::fmt::Debug| format!("{d:?}").to_ascii_lowercase();
+    let adaptive = options.adaptive.map_or("off".to_owned(), |a| {
+        format!("{}x{}", a.threshold, a.max_factor)
+    });
     format!(
         "lux={};spp={};resolution={resolution};crop={crop};camera={};camera_light={camera_light};\
          profile={};sampling={};integrator={};max_depth={};surfaces={};light_selection={};\
-         light_samples={};penumbra_samples={};cone_clipping={};seed={};strict={}",
+         light_samples={};penumbra_samples={};adaptive={adaptive};cone_clipping={};seed={};strict={}",
         env!("CARGO_PKG_VERSION"),
         options.spp,
         options.camera.as_deref().unwrap_or("default"),

@@ -1,6 +1,10 @@
 //! The film: the image's pixels, rendered in 16 × 16 tiles on rayon's pool, each pixel the
 //! mean of its camera samples (box filter, stratified jitter), with the render's counters.
 //!
+//! With adaptive sampling ([`AdaptiveSampling`]) a render is two passes: every pixel's `spp`
+//! samples (and, for a band of rows, those of the row beyond each side), then each pixel's
+//! extra samples, counted from its neighbours' first-pass luminances.
+//!
 //! Determinism: every random number is a function of (seed, pixel, sample, dimension)
 //! ([`crate::sampler`]) and pixels are independent, so the image is bit-identical for any
 //! thread count and tile order.
@@ -9,6 +13,7 @@ use crate::camera::Camera;
 use crate::image_io::ImageRgba;
 use crate::integrator::{CameraRay, Integrator};
 use crate::sampler::{Dim, SampleStream};
+use crate::settings::AdaptiveSampling;
 use glam::{DVec3, DVec4};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -26,6 +31,10 @@ const PILOT_LIGHT_SAMPLES: u32 = 4;
 const PILOT_SALT: u64 = 0x1319_8A2E_0370_7344;
 const PENUMBRA_SALT: u64 = 0x243F_6A88_85A3_08D3;
 
+/// Key of a pixel's adaptive extra samples ([`SampleStream::pass`]): a scramble independent of
+/// its first samples' and of the penumbra pilot's.
+const ADAPTIVE_SALT: u64 = 0xA409_3822_299F_31D0;
+
 /// Samples per pixel from which the penumbra pilot runs (below, its cost would outweigh it).
 const PILOT_MIN_SPP: u32 = 8;
 
@@ -34,8 +43,10 @@ const PILOT_MIN_SPP: u32 = 8;
 pub struct RenderStats {
     /// Pixels rendered.
     pub pixels: u64,
-    /// Camera samples (pixels × spp).
+    /// Camera samples (pixels × spp, plus the adaptive extra samples).
     pub samples: u64,
+    /// Adaptive extra samples among them ([`AdaptiveSampling`]).
+    pub adaptive_samples: u64,
     /// Rays traced through the BVH: camera, shadow and BSDF rays.
     pub rays: u64,
     /// Shadow rays among them.
@@ -71,11 +82,16 @@ pub struct Film {
     pub width: u32,
     /// Image height in pixels.
     pub height: u32,
-    /// The pixels to render, `[x0, y0, x1, y1)` (crop ∩ data window); the rest stays 0 with
-    /// alpha 0.
+    /// The pixels to render, `[x0, y0, x1, y1)` (crop ∩ data window, maybe restricted to a band
+    /// of rows); the rest stays 0 with alpha 0.
     pub window: [u32; 4],
-    /// Samples per pixel.
+    /// The rows `[y0, y1)` of the whole frame's window (crop ∩ data window): a band's adaptive
+    /// pass reads its neighbours' first samples up to one row beyond it, within these.
+    pub frame_rows: [u32; 2],
+    /// Samples per pixel (with adaptive sampling, the least a pixel takes).
     pub spp: u32,
+    /// Adaptive sampling, if on.
+    pub adaptive: Option<AdaptiveSampling>,
     /// Seed of every random number.
     pub seed: u64,
     /// The camera's linear exposure scale applied to every sample (UsdGeomCamera
@@ -86,9 +102,101 @@ pub struct Film {
     pub penumbra_samples: u32,
 }
 
+/// A pixel after its first `spp` samples: the mean RGBA, the mean luminance and mean squared
+/// luminance of the samples (what neighbours' adaptive counts read), and the penumbra factor
+/// its extra samples keep.
+#[derive(Clone, Copy, Debug, Default)]
+struct FirstPass {
+    rgba: [f32; 4],
+    y: f32,
+    y2: f32,
+    factor: u32,
+}
+
+/// Sums over a run of a pixel's camera samples: RGB radiance and alpha, luminance and its
+/// square.
+#[derive(Clone, Copy, Debug, Default)]
+struct Sums {
+    rgba: DVec4,
+    y: f64,
+    y2: f64,
+}
+
+/// The render's counters, summed over the workers.
+#[derive(Default)]
+struct Shared {
+    rays: AtomicU64,
+    shadow: AtomicU64,
+    light_samples: AtomicU64,
+    non_finite: AtomicU64,
+    extra: AtomicU64,
+}
+
+impl Shared {
+    fn add(&self, c: &Counters, extra: u64) {
+        self.rays.fetch_add(c.rays, Ordering::Relaxed);
+        self.shadow.fetch_add(c.shadow, Ordering::Relaxed);
+        self.light_samples
+            .fetch_add(c.light_samples, Ordering::Relaxed);
+        self.non_finite.fetch_add(c.non_finite, Ordering::Relaxed);
+        self.extra.fetch_add(extra, Ordering::Relaxed);
+    }
+}
+
+/// Runs `f` over every pixel of `rect` (`[x0, y0, x1, y1)`) in 16 × 16 tiles on rayon's pool;
+/// returns the results row-major over `rect`. `done` is called with each finished tile's
+/// rectangle, after its counters (and the extra samples `f` reports) are added to `shared`.
+fn par_tiles<T: Copy + Default + Send>(
+    rect: [u32; 4],
+    shared: &Shared,
+    f: &(dyn Fn(u32, u32, &mut Counters, &mut u64) -> T + Sync),
+    done: &(dyn Fn([u32; 4]) + Sync),
+) -> Vec<T> {
+    let [x0, y0, x1, y1] = rect;
+    let mut tiles = Vec::new();
+    let mut ty = y0;
+    while ty < y1 {
+        let mut tx = x0;
+        while tx < x1 {
+            tiles.push([tx, ty, (tx + TILE).min(x1), (ty + TILE).min(y1)]);
+            tx += TILE;
+        }
+        ty += TILE;
+    }
+    let results: Vec<(usize, Vec<T>)> = tiles
+        .par_iter()
+        .enumerate()
+        .map(|(ti, &[tx0, ty0, tx1, ty1])| {
+            let mut c = Counters::default();
+            let mut extra = 0;
+            let mut px = Vec::with_capacity(((tx1 - tx0) * (ty1 - ty0)) as usize);
+            for y in ty0..ty1 {
+                for x in tx0..tx1 {
+                    px.push(f(x, y, &mut c, &mut extra));
+                }
+            }
+            shared.add(&c, extra);
+            done([tx0, ty0, tx1, ty1]);
+            (ti, px)
+        })
+        .collect();
+    let w = (x1 - x0) as usize;
+    let mut out = vec![T::default(); w * (y1 - y0) as usize];
+    for (ti, px) in results {
+        let [tx0, ty0, tx1, _] = tiles[ti];
+        let tw = (tx1 - tx0) as usize;
+        for (k, v) in px.into_iter().enumerate() {
+            let (x, y) = ((tx0 - x0) as usize + k % tw, (ty0 - y0) as usize + k / tw);
+            out[y * w + x] = v;
+        }
+    }
+    out
+}
+
 impl Film {
     /// Renders every pixel of the window with `integrator` through `camera`. `progress` is
-    /// called (from worker threads) with the number of pixels finished by each tile.
+    /// called (from worker threads) with the number of pixels finished by each tile of each
+    /// pass ([`Film::passes`] passes in all).
     pub fn render(
         &self,
         camera: &Camera,
@@ -98,57 +206,101 @@ impl Film {
         let [w, h] = [self.width, self.height];
         let [x0, y0, x1, y1] = self.window;
         let start = Instant::now();
-        let mut tiles = Vec::new();
-        let mut ty = y0;
-        while ty < y1 {
-            let mut tx = x0;
-            while tx < x1 {
-                tiles.push([tx, ty, (tx + TILE).min(x1), (ty + TILE).min(y1)]);
-                tx += TILE;
-            }
-            ty += TILE;
-        }
-        let rays = AtomicU64::new(0);
-        let shadow = AtomicU64::new(0);
-        let light_samples = AtomicU64::new(0);
-        let non_finite = AtomicU64::new(0);
-        let results: Vec<(usize, Vec<[f32; 4]>)> = tiles
-            .par_iter()
-            .enumerate()
-            .map(|(ti, &[tx0, ty0, tx1, ty1])| {
-                let mut c = Counters::default();
-                let mut px = Vec::with_capacity(((tx1 - tx0) * (ty1 - ty0)) as usize);
-                for y in ty0..ty1 {
-                    for x in tx0..tx1 {
-                        let v = self.pixel(camera, integrator, x, y, &mut c, &mut |_| {});
-                        px.push([v.x as f32, v.y as f32, v.z as f32, v.w as f32]);
-                    }
-                }
-                rays.fetch_add(c.rays, Ordering::Relaxed);
-                shadow.fetch_add(c.shadow, Ordering::Relaxed);
-                light_samples.fetch_add(c.light_samples, Ordering::Relaxed);
-                non_finite.fetch_add(c.non_finite, Ordering::Relaxed);
-                progress(px.len() as u64);
-                (ti, px)
-            })
-            .collect();
+        let shared = Shared::default();
         let mut pixels = vec![[0.0f32; 4]; w as usize * h as usize];
-        for (ti, px) in results {
-            let [tx0, ty0, tx1, _] = tiles[ti];
-            let tw = (tx1 - tx0) as usize;
-            for (k, v) in px.into_iter().enumerate() {
-                let (x, y) = (tx0 as usize + k % tw, ty0 as usize + k / tw);
-                pixels[y * w as usize + x] = v;
+        let rw = (x1 - x0) as usize;
+        match self.adaptive.filter(|_| self.passes() == 2) {
+            None => {
+                let px = par_tiles(
+                    self.window,
+                    &shared,
+                    &|x, y, c, _| {
+                        let v = self.pixel(camera, integrator, x, y, c, &mut |_| {});
+                        [v.x as f32, v.y as f32, v.z as f32, v.w as f32]
+                    },
+                    &|[a, b, c, d]| progress((c - a) as u64 * (d - b) as u64),
+                );
+                for (k, v) in px.into_iter().enumerate() {
+                    pixels[(y0 as usize + k / rw) * w as usize + x0 as usize + k % rw] = v;
+                }
+            }
+            Some(adaptive) => {
+                // First pass: the window's rows and one row beyond each side (within the
+                // frame's window), so a band reads the neighbours the whole frame reads.
+                let hy0 = y0.saturating_sub(1).max(self.frame_rows[0]).min(y0);
+                let hy1 = (y1 + 1).min(self.frame_rows[1]).max(y1);
+                let first = par_tiles(
+                    [x0, hy0, x1, hy1],
+                    &shared,
+                    &|x, y, c, _| self.first_pass(camera, integrator, x, y, c),
+                    &|[a, b, c, d]| {
+                        let rows = d.min(y1).saturating_sub(b.max(y0));
+                        progress((c - a) as u64 * rows as u64)
+                    },
+                );
+                let at = |x: u32, y: u32| &first[(y - hy0) as usize * rw + (x - x0) as usize];
+                let px = par_tiles(
+                    self.window,
+                    &shared,
+                    &|x, y, c, extra| {
+                        let p = at(x, y);
+                        // Pooled luminance statistics of the neighbours' first samples.
+                        let (mut k, mut sy, mut sy2) = (0u32, 0.0f64, 0.0f64);
+                        for ny in y.saturating_sub(1).max(hy0)..(y + 2).min(hy1) {
+                            for nx in x.saturating_sub(1).max(x0)..(x + 2).min(x1) {
+                                if (nx, ny) != (x, y) {
+                                    let q = at(nx, ny);
+                                    k += 1;
+                                    sy += q.y as f64;
+                                    sy2 += q.y2 as f64;
+                                }
+                            }
+                        }
+                        let m = k * self.spp;
+                        let (mean, var) = if k == 0 {
+                            (0.0, 0.0)
+                        } else {
+                            let mean = sy / k as f64;
+                            let e2 = sy2 / k as f64;
+                            let n = m as f64;
+                            (mean, ((e2 - mean * mean) * n / (n - 1.0).max(1.0)).max(0.0))
+                        };
+                        let n = adaptive.samples(self.spp, m, mean, var);
+                        if n <= self.spp {
+                            return p.rgba;
+                        }
+                        let ne = n - self.spp;
+                        *extra += ne as u64;
+                        let sums = self.samples(
+                            camera,
+                            integrator,
+                            [x, y],
+                            [ne, p.factor],
+                            ADAPTIVE_SALT,
+                            c,
+                            &mut |_| {},
+                        );
+                        let base = DVec4::from_array(p.rgba.map(f64::from)) * self.spp as f64;
+                        let v = (base + sums.rgba) / n as f64;
+                        [v.x as f32, v.y as f32, v.z as f32, v.w as f32]
+                    },
+                    &|[a, b, c, d]| progress((c - a) as u64 * (d - b) as u64),
+                );
+                for (k, v) in px.into_iter().enumerate() {
+                    pixels[(y0 as usize + k / rw) * w as usize + x0 as usize + k % rw] = v;
+                }
             }
         }
         let npx = (x1 - x0) as u64 * (y1 - y0) as u64;
+        let extra = shared.extra.load(Ordering::Relaxed);
         let stats = RenderStats {
             pixels: npx,
-            samples: npx * self.spp as u64,
-            rays: rays.load(Ordering::Relaxed),
-            shadow_rays: shadow.load(Ordering::Relaxed),
-            light_samples: light_samples.load(Ordering::Relaxed),
-            non_finite_samples: non_finite.load(Ordering::Relaxed),
+            samples: npx * self.spp as u64 + extra,
+            adaptive_samples: extra,
+            rays: shared.rays.load(Ordering::Relaxed),
+            shadow_rays: shared.shadow.load(Ordering::Relaxed),
+            light_samples: shared.light_samples.load(Ordering::Relaxed),
+            non_finite_samples: shared.non_finite.load(Ordering::Relaxed),
             seconds: start.elapsed().as_secs_f64(),
         };
         (
@@ -161,8 +313,46 @@ impl Film {
         )
     }
 
-    /// The mean of pixel `(x, y)`'s samples, RGB radiance and alpha; `each` sees every
-    /// sample's (exposed, finite) radiance.
+    /// Passes over the window a render makes: 2 with adaptive sampling that can add samples
+    /// (`max_factor` > 1), else 1. Progress reports every pixel once per pass.
+    pub fn passes(&self) -> u32 {
+        match self.adaptive {
+            Some(a) if a.max_factor > 1 => 2,
+            _ => 1,
+        }
+    }
+
+    /// A pixel's first `spp` samples (adaptive sampling's first pass).
+    fn first_pass(
+        &self,
+        camera: &Camera,
+        integrator: &Integrator,
+        x: u32,
+        y: u32,
+        c: &mut Counters,
+    ) -> FirstPass {
+        let factor = self.penumbra_factor(camera, integrator, x, y, c);
+        let s = self.samples(
+            camera,
+            integrator,
+            [x, y],
+            [self.spp, factor],
+            PENUMBRA_SALT,
+            c,
+            &mut |_| {},
+        );
+        let k = 1.0 / self.spp as f64;
+        let v = s.rgba / self.spp as f64;
+        FirstPass {
+            rgba: [v.x as f32, v.y as f32, v.z as f32, v.w as f32],
+            y: (s.y * k) as f32,
+            y2: (s.y2 * k) as f32,
+            factor,
+        }
+    }
+
+    /// The mean of pixel `(x, y)`'s `spp` samples, RGB radiance and alpha; `each` sees every
+    /// sample's (exposed, finite) radiance. (Without the adaptive extra samples.)
     #[inline]
     pub fn pixel(
         &self,
@@ -173,33 +363,74 @@ impl Film {
         c: &mut Counters,
         each: &mut dyn FnMut(DVec3),
     ) -> DVec4 {
-        let spp = self.spp;
-        let index = y as u64 * self.width as u64 + x as u64;
-        // Penumbrae: before the pixel's samples (at least PILOT_MIN_SPP), a pilot camera
-        // sample with PILOT_LIGHT_SAMPLES light samples per light, drawn from points of its
-        // own and not part of the estimate, looks at the pixel's shadow rays; if some were
-        // blocked, every sample of the pixel takes `penumbra_samples` light samples per light,
-        // its points drawn from another scramble of the pixel's sets (independent of the
-        // pilot's). The choice depends on the pilot's random numbers only, so each sample
-        // stays an unbiased estimate, and the pixel's points stay one stratified set per
-        // dimension.
-        let mut factor = 1;
-        if self.penumbra_samples > 1 && spp >= PILOT_MIN_SPP {
-            let blocked0 = c.blocked;
-            let st =
-                SampleStream::new(self.seed, index, 0, 1).pass(PILOT_SALT, PILOT_LIGHT_SAMPLES);
-            let j = st.get2(Dim::Camera);
-            let (o, d, tmin, tmax) = camera.ray(x as f64 + j[0], y as f64 + j[1]);
-            integrator.li(&CameraRay { o, d, tmin, tmax }, &st, c);
-            if c.blocked > blocked0 {
-                factor = self.penumbra_samples;
-            }
+        let factor = self.penumbra_factor(camera, integrator, x, y, c);
+        let s = self.samples(
+            camera,
+            integrator,
+            [x, y],
+            [self.spp, factor],
+            PENUMBRA_SALT,
+            c,
+            each,
+        );
+        s.rgba / self.spp as f64
+    }
+
+    /// Light samples per light for pixel `(x, y)`'s samples, as a factor: `penumbra_samples`
+    /// where its penumbra pilot met a blocked shadow ray, else 1.
+    ///
+    /// Penumbrae: before the pixel's samples (at least PILOT_MIN_SPP), a pilot camera sample
+    /// with PILOT_LIGHT_SAMPLES light samples per light, drawn from points of its own and not
+    /// part of the estimate, looks at the pixel's shadow rays; if some were blocked, every
+    /// sample of the pixel takes `penumbra_samples` light samples per light, its points drawn
+    /// from another scramble of the pixel's sets (independent of the pilot's). The choice
+    /// depends on the pilot's random numbers only, so each sample stays an unbiased estimate,
+    /// and the pixel's points stay one stratified set per dimension.
+    fn penumbra_factor(
+        &self,
+        camera: &Camera,
+        integrator: &Integrator,
+        x: u32,
+        y: u32,
+        c: &mut Counters,
+    ) -> u32 {
+        if self.penumbra_samples <= 1 || self.spp < PILOT_MIN_SPP {
+            return 1;
         }
-        let mut sum = DVec4::ZERO;
-        for s in 0..spp {
-            let mut st = SampleStream::new(self.seed, index, s, spp);
-            if factor > 1 {
-                st = st.pass(PENUMBRA_SALT, factor);
+        let index = y as u64 * self.width as u64 + x as u64;
+        let blocked0 = c.blocked;
+        let st = SampleStream::new(self.seed, index, 0, 1).pass(PILOT_SALT, PILOT_LIGHT_SAMPLES);
+        let j = st.get2(Dim::Camera);
+        let (o, d, tmin, tmax) = camera.ray(x as f64 + j[0], y as f64 + j[1]);
+        integrator.li(&CameraRay { o, d, tmin, tmax }, &st, c);
+        if c.blocked > blocked0 {
+            self.penumbra_samples
+        } else {
+            1
+        }
+    }
+
+    /// Sums over `n` camera samples of pixel `[x, y]` taking `factor` × the integrator's light
+    /// samples per light: the pixel's stratified set of `n` points, rescrambled under `salt`
+    /// when `factor > 1` or for adaptive extra samples (`salt` = ADAPTIVE_SALT).
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn samples(
+        &self,
+        camera: &Camera,
+        integrator: &Integrator,
+        [x, y]: [u32; 2],
+        [n, factor]: [u32; 2],
+        salt: u64,
+        c: &mut Counters,
+        each: &mut dyn FnMut(DVec3),
+    ) -> Sums {
+        let index = y as u64 * self.width as u64 + x as u64;
+        let mut sums = Sums::default();
+        for s in 0..n {
+            let mut st = SampleStream::new(self.seed, index, s, n);
+            if factor > 1 || salt == ADAPTIVE_SALT {
+                st = st.pass(salt, factor);
             }
             let j = st.get2(Dim::Camera);
             let (o, d, tmin, tmax) = camera.ray(x as f64 + j[0], y as f64 + j[1]);
@@ -211,8 +442,11 @@ impl Film {
                 DVec3::ZERO
             };
             each(rgb);
-            sum += rgb.extend(a);
+            let l = lux_math::luminance(rgb);
+            sums.rgba += rgb.extend(a);
+            sums.y += l;
+            sums.y2 += l * l;
         }
-        sum / spp as f64
+        sums
     }
 }

@@ -47,7 +47,9 @@ impl<'s> Renderer<'s> {
             width: resolved.camera.width,
             height: resolved.camera.height,
             window: resolved.window,
+            frame_rows: [resolved.window[1], resolved.window[3]],
             spp: options.spp,
+            adaptive: options.adaptive,
             seed: options.seed,
             exposure_scale: resolved.exposure_scale,
             penumbra_samples: options.penumbra_samples,
@@ -93,6 +95,13 @@ impl<'s> Renderer<'s> {
         w[3] = w[3].min(y1).max(w[1]);
     }
 
+    /// The units of [`Renderer::render`]'s progress: every pixel of the window once per pass
+    /// (two with adaptive sampling: first samples, then extra samples).
+    pub fn progress_total(&self) -> u64 {
+        let [x0, y0, x1, y1] = self.film.window;
+        (x1 - x0) as u64 * (y1 - y0) as u64 * self.film.passes() as u64
+    }
+
     /// Number of BVH triangles (each instanced prototype's once).
     pub fn triangle_count(&self) -> usize {
         self.geometry.triangle_count()
@@ -130,13 +139,15 @@ impl<'s> Renderer<'s> {
     }
 
     /// Renders the image. `progress` is called (from worker threads) with the number of
-    /// pixels finished by each completed tile.
+    /// pixels finished by each completed tile of each pass (summing to
+    /// [`Renderer::progress_total`]).
     pub fn render(&self, progress: &(dyn Fn(u64) + Sync)) -> (ImageRgba, RenderStats) {
         self.film.render(&self.camera, &self.integrator(), progress)
     }
 
-    /// The mean of the pixel's samples: RGB radiance and alpha (coverage by geometry or a
-    /// visible light).
+    /// The mean of the pixel's `spp` samples: RGB radiance and alpha (coverage by geometry or a
+    /// visible light). Without adaptive sampling's extra samples: the estimator a pixel starts
+    /// from, whose variance [`Renderer::pixel_moments`] gives.
     pub fn pixel_value(&self, x: u32, y: u32) -> DVec4 {
         let integrator = self.integrator();
         self.film.pixel(

@@ -115,6 +115,9 @@ pub struct RenderOptions {
     /// Sample shaped rect and cylinder lights only where their emission cone reaches the
     /// receiver (default); `false` for A/B measurements ([`crate::light::LightOptions`]).
     pub cone_clipping: bool,
+    /// Adaptive sampling: after its `spp` samples, a pixel whose neighbourhood is noisy or
+    /// crosses an edge takes more ([`AdaptiveSampling`]; `None`: every pixel takes `spp`).
+    pub adaptive: Option<AdaptiveSampling>,
     /// Seed of every random number.
     pub seed: u64,
     /// An IES profile or texture that does not resolve or cannot be read is an error instead
@@ -143,8 +146,70 @@ impl RenderOptions {
             light_samples: None,
             penumbra_samples: 1,
             cone_clipping: true,
+            adaptive: Some(AdaptiveSampling::DEFAULT),
             seed: 0,
             strict: false,
+        }
+    }
+}
+
+/// Adaptive sampling: where a pixel's samples go after its first `spp` (film.rs).
+///
+/// Every pixel first takes `spp` samples. From the luminances `Y` of the samples of its (up to
+/// 8) neighbours, `m` of them, pooled — mean `μ`, unbiased variance `v` (pixel noise and edges
+/// across the neighbourhood alike) — the pixel then takes
+///
+/// `n = min(⌈v / (t² · max(μ, μ_min))⌉, max_factor · spp)`
+///
+/// samples in all (more than `spp` only), `t` = [`AdaptiveSampling::threshold`] and
+/// `μ_min` = [`AdaptiveSampling::MIN_MEAN`]: enough for the standard error of its mean,
+/// `√(v / n)`, to fall to `t · √μ`, i.e. to `2t` in a square-root (gamma 2) encoding of the
+/// image, where noise is seen about as the eye sees it (the criterion of Blender Cycles'
+/// adaptive sampling).
+///
+/// The count depends on the neighbours' samples only, never on the pixel's own, and the
+/// extra samples draw from an independent scramble of the pixel's points: each pixel stays
+/// an unbiased estimate. It is a pure function of the scene, settings and seed, so images stay
+/// bit-identical for any thread count, and a band of rows renders its neighbours' first
+/// samples one row beyond it to match the whole frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AdaptiveSampling {
+    /// Noise threshold `t` (> 0): the standard error of a pixel's mean luminance sought,
+    /// relative to the square root of the neighbourhood's mean luminance (after exposure).
+    pub threshold: f64,
+    /// Most samples a pixel takes, as a multiple of `spp` (≥ 1).
+    pub max_factor: u32,
+}
+
+/// Largest [`AdaptiveSampling::max_factor`].
+pub const MAX_ADAPTIVE_FACTOR: u32 = 1024;
+
+impl AdaptiveSampling {
+    /// The default: `t` = 0.01, at most 16 × `spp` samples a pixel.
+    pub const DEFAULT: AdaptiveSampling = AdaptiveSampling {
+        threshold: 0.01,
+        max_factor: 16,
+    };
+
+    /// Mean luminance below which the threshold stops shrinking (`μ_min`): black regions are
+    /// held to the noise allowed at this level, not to 0.
+    pub const MIN_MEAN: f64 = 1e-3;
+
+    /// Samples pixel takes in all given its neighbours' pooled luminance statistics
+    /// (`count` samples, `mean`, unbiased `variance`) and its base `spp`: the formula of the
+    /// type's doc, at least `spp`; `spp` when fewer than 2 samples were pooled.
+    pub fn samples(&self, spp: u32, count: u32, mean: f64, variance: f64) -> u32 {
+        let cap = spp
+            .saturating_mul(self.max_factor.max(1))
+            .min(MAX_SPP)
+            .max(spp);
+        let n = variance / (self.threshold * self.threshold * mean.max(Self::MIN_MEAN));
+        if count < 2 || n.is_nan() || n <= spp as f64 {
+            spp
+        } else if n >= cap as f64 {
+            cap
+        } else {
+            n.ceil() as u32
         }
     }
 }
@@ -205,6 +270,20 @@ pub fn resolve(scene: &Scene, options: &RenderOptions) -> Result<Resolved, Rende
             )));
         }
     }
+    if let Some(a) = options.adaptive {
+        if !(a.threshold.is_finite() && a.threshold > 0.0) {
+            return Err(RenderError::Settings(format!(
+                "adaptive threshold {}: expected a finite number > 0",
+                a.threshold
+            )));
+        }
+        if a.max_factor == 0 || a.max_factor > MAX_ADAPTIVE_FACTOR {
+            return Err(RenderError::Settings(format!(
+                "adaptive max factor {}: expected 1 to {MAX_ADAPTIVE_FACTOR}",
+                a.max_factor
+            )));
+        }
+    }
     let camera = match &options.camera {
         Some(p) => scene.cameras.iter().find(|c| &c.path == p).ok_or_else(|| {
             RenderError::NoCamera(format!("no camera at <{p}> in {}", scene.source.display()))
@@ -259,4 +338,37 @@ pub fn resolve(scene: &Scene, options: &RenderOptions) -> Result<Resolved, Rende
         window,
         exposure_scale: camera.linear_exposure_scale(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn adaptive_sample_counts() {
+        let a = AdaptiveSampling {
+            threshold: 0.1,
+            max_factor: 16,
+        };
+        // n = v / (t² μ): 0.5 / (0.01 · 0.5) = 100, capped at 16 × 4.
+        assert_eq!(a.samples(4, 8, 0.5, 0.5), 64);
+        // 0.002 / (0.01 · 0.02) = 10 → 10 samples in all.
+        assert_eq!(a.samples(4, 8, 0.02, 0.002), 10);
+        // 0.00201 / (0.01 · 0.02) = 10.05 → rounded up.
+        assert_eq!(a.samples(4, 8, 0.02, 0.00201), 11);
+        // Below spp: spp.
+        assert_eq!(a.samples(4, 8, 0.5, 0.01), 4);
+        // Black neighbourhoods are held to μ_min: 1e-5 / (0.01 · 1e-3) = 1.
+        assert_eq!(a.samples(1, 8, 0.0, 1e-5), 1);
+        assert_eq!(a.samples(1, 8, 0.0, 5e-5), 5);
+        // Fewer than 2 pooled samples, no variance, or NaN: spp.
+        assert_eq!(a.samples(4, 1, 0.5, 0.5), 4);
+        assert_eq!(a.samples(4, 8, 0.5, 0.0), 4);
+        assert_eq!(a.samples(4, 8, 0.5, f64::NAN), 4);
+        assert_eq!(a.samples(4, 8, 0.5, f64::INFINITY), 64);
+        // The cap never exceeds MAX_SPP, and never falls below spp.
+        assert_eq!(a.samples(MAX_SPP, 8, 0.5, 1e9), MAX_SPP);
+        let one = AdaptiveSampling { max_factor: 1, ..a };
+        assert_eq!(one.samples(4, 8, 0.5, 0.5), 4);
+    }
 }
