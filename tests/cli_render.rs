@@ -379,6 +379,21 @@ fn arguments_are_checked_before_the_stage_is_read() {
         (vec!["--max-depth", "129"], "--max-depth 129"),
         (vec!["--light-samples", "65"], "--light-samples 65"),
         (vec!["--penumbra-samples", "0"], "--penumbra-samples 0"),
+        (vec!["--adaptive-max", "0"], "--adaptive-max 0"),
+        (vec!["--adaptive-max", "1025"], "--adaptive-max 1025"),
+        (vec!["--adaptive-threshold", "0"], "--adaptive-threshold 0"),
+        (
+            vec!["--adaptive-threshold", "-1"],
+            "--adaptive-threshold -1",
+        ),
+        (
+            vec!["--adaptive-threshold", "inf"],
+            "--adaptive-threshold inf",
+        ),
+        (
+            vec!["--no-adaptive", "--adaptive-max", "4"],
+            "--no-adaptive",
+        ),
         (vec!["--threads", "0"], "--threads 0"),
     ] {
         let mut a = vec!["render", "/no/such/scene.usda", "-o", out.to_str().unwrap()];

@@ -46,10 +46,10 @@ fn edge_scene() -> Scene {
     s
 }
 
-fn opts(spp: u32, seed: u64, adaptive: Option<AdaptiveSampling>) -> RenderOptions {
+fn opts(spp: u32, seed: u64, adaptive: AdaptiveSampling) -> RenderOptions {
     let mut o = options(Profile::HdEmbree, spp, [N, N]);
     o.seed = seed;
-    o.adaptive = adaptive;
+    o.adaptive = Some(adaptive);
     o
 }
 
@@ -65,8 +65,8 @@ fn px(img: &ImageRgba, x: u32, y: u32) -> [f32; 4] {
 fn extra_samples_go_to_the_edge_only() {
     let scene = edge_scene();
     let a = AdaptiveSampling::DEFAULT;
-    let (uniform, us) = render(&scene, opts(2, 1, None));
-    let (adaptive, st) = render(&scene, opts(2, 1, Some(a)));
+    let (uniform, us) = render(&scene, opts(2, 1, AdaptiveSampling::OFF));
+    let (adaptive, st) = render(&scene, opts(2, 1, a));
     assert_eq!(us.adaptive_samples, 0);
     assert_eq!(us.samples, (N * N * 2) as u64);
     assert_eq!(st.samples, (N * N * 2) as u64 + st.adaptive_samples);
@@ -99,14 +99,14 @@ fn extra_samples_go_to_the_edge_only() {
 fn the_edge_column_is_unbiased_and_sharper() {
     let scene = edge_scene();
     // The lit floor's colour, from the fully covered column 8 (every sample sees it).
-    let (reference, _) = render(&scene, opts(4, 99, None));
+    let (reference, _) = render(&scene, opts(4, 99, AdaptiveSampling::OFF));
     let lit = px(&reference, 8, 8)[0] as f64;
     assert!(lit > 0.01);
     let cover = EDGE - EDGE.floor();
     let (mut sum_a, mut sum_r, mut sq, mut sq_uniform, mut n) = (0.0, 0.0, 0.0, 0.0, 0.0);
     for seed in 0..16 {
-        let (img, _) = render(&scene, opts(2, seed, Some(AdaptiveSampling::DEFAULT)));
-        let (uni, _) = render(&scene, opts(2, seed, None));
+        let (img, _) = render(&scene, opts(2, seed, AdaptiveSampling::DEFAULT));
+        let (uni, _) = render(&scene, opts(2, seed, AdaptiveSampling::OFF));
         for y in 0..N {
             let p = px(&img, 16, y);
             sum_a += p[3] as f64;
@@ -189,7 +189,7 @@ fn bands_and_threads_give_the_bits_of_the_whole_frame() {
 #[test]
 fn progress_counts_every_pixel_once_per_pass() {
     let scene = edge_scene();
-    for (adaptive, passes) in [(Some(AdaptiveSampling::DEFAULT), 2), (None, 1)] {
+    for (adaptive, passes) in [(AdaptiveSampling::DEFAULT, 2), (AdaptiveSampling::OFF, 1)] {
         let r = Renderer::new(&scene, opts(2, 0, adaptive)).unwrap();
         assert_eq!(r.progress_total(), (N * N * passes) as u64);
         let done = std::sync::atomic::AtomicU64::new(0);
@@ -204,4 +204,50 @@ fn load_sphere() -> Scene {
     let p = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/luxtest/usd/sphere.usda");
     lux::usd::load_stage(p, 1.0).unwrap()
+}
+
+#[test]
+fn on_by_default_for_direct_lighting_with_lux_sampling_only() {
+    use lux::render::settings::{IntegratorKind, SamplingMode};
+    let mut o = options(Profile::HdEmbree, 4, [N, N]);
+    assert_eq!(o.integrator, IntegratorKind::Direct);
+    assert_eq!(o.adaptive(), AdaptiveSampling::DEFAULT);
+    o.sampling = SamplingMode::Reference;
+    assert_eq!(o.adaptive(), AdaptiveSampling::OFF);
+    let mut p = options(Profile::Spec, 4, [N, N]);
+    assert_eq!(p.integrator, IntegratorKind::Path);
+    assert_eq!(p.adaptive(), AdaptiveSampling::OFF);
+    p.adaptive = Some(AdaptiveSampling::DEFAULT);
+    assert_eq!(p.adaptive(), AdaptiveSampling::DEFAULT);
+    // An invalid threshold or factor is an error naming it.
+    let scene = edge_scene();
+    for (bad, what) in [
+        (
+            AdaptiveSampling {
+                threshold: 0.0,
+                max_factor: 4,
+            },
+            "adaptive threshold 0",
+        ),
+        (
+            AdaptiveSampling {
+                threshold: f64::NAN,
+                max_factor: 4,
+            },
+            "adaptive threshold NaN",
+        ),
+        (
+            AdaptiveSampling {
+                threshold: 0.1,
+                max_factor: 0,
+            },
+            "adaptive max factor 0",
+        ),
+    ] {
+        let e = Renderer::new(&scene, opts(4, 0, bad))
+            .err()
+            .expect(what)
+            .to_string();
+        assert!(e.contains(what), "{e}");
+    }
 }

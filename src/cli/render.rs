@@ -148,16 +148,19 @@ pub struct RenderArgs {
     /// takes this many times more.
     #[arg(long, default_value_t = 1)]
     pub penumbra_samples: u32,
-    /// Adaptive sampling's noise threshold: after --spp samples, a pixel takes more until the
-    /// standard error of its luminance is about this times the square root of its
-    /// neighbourhood's luminance (from its neighbours' samples, so pixels stay unbiased)
-    #[arg(long, default_value_t = AdaptiveSampling::DEFAULT.threshold)]
-    pub adaptive_threshold: f64,
-    /// Most samples a pixel takes with adaptive sampling, as a multiple of --spp (1 to 1024)
-    #[arg(long, default_value_t = AdaptiveSampling::DEFAULT.max_factor)]
-    pub adaptive_max: u32,
-    /// Every pixel takes exactly --spp samples (no adaptive sampling)
+    /// Adaptive sampling's noise threshold (default 0.01): after --spp samples, a pixel takes
+    /// more until the standard error of its luminance is about this times the square root of
+    /// its neighbourhood's luminance (counted from its neighbours' samples, so pixels stay
+    /// unbiased). On by default with the direct integrator and lux sampling; giving this or
+    /// --adaptive-max turns it on for path tracing too.
+    #[arg(long, allow_negative_numbers = true)]
+    pub adaptive_threshold: Option<f64>,
+    /// Most samples a pixel takes with adaptive sampling, as a multiple of --spp (1 to 1024,
+    /// default 16)
     #[arg(long)]
+    pub adaptive_max: Option<u32>,
+    /// Every pixel takes exactly --spp samples (no adaptive sampling)
+    #[arg(long, conflicts_with_all = ["adaptive_threshold", "adaptive_max"])]
     pub no_adaptive: bool,
     /// Worker threads (default: all cores). The image does not depend on it.
     #[arg(long)]
@@ -288,7 +291,7 @@ pub fn check_args(args: &RenderArgs) -> Result<Vec<(PathBuf, OutputFormat)>, Str
         (
             "--adaptive-max",
             "the adaptive sample factor",
-            args.adaptive_max,
+            args.adaptive_max.unwrap_or(1),
             MAX_ADAPTIVE_FACTOR,
         ),
     ] {
@@ -296,10 +299,11 @@ pub fn check_args(args: &RenderArgs) -> Result<Vec<(PathBuf, OutputFormat)>, Str
             return Err(format!("{flag} {v}: {what} must be 1 to {max}"));
         }
     }
-    if !(args.adaptive_threshold.is_finite() && args.adaptive_threshold > 0.0) {
+    if let Some(t) = args.adaptive_threshold
+        && !(t.is_finite() && t > 0.0)
+    {
         return Err(format!(
-            "--adaptive-threshold {}: expected a finite number > 0",
-            args.adaptive_threshold
+            "--adaptive-threshold {t}: expected a finite number > 0"
         ));
     }
     if args.threads == Some(0) {
@@ -398,10 +402,17 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         };
     }
     options.penumbra_samples = args.penumbra_samples;
-    options.adaptive = (!args.no_adaptive).then_some(AdaptiveSampling {
-        threshold: args.adaptive_threshold,
-        max_factor: args.adaptive_max,
-    });
+    options.adaptive = if args.no_adaptive {
+        Some(AdaptiveSampling::OFF)
+    } else if args.adaptive_threshold.is_some() || args.adaptive_max.is_some() {
+        let d = AdaptiveSampling::DEFAULT;
+        Some(AdaptiveSampling {
+            threshold: args.adaptive_threshold.unwrap_or(d.threshold),
+            max_factor: args.adaptive_max.unwrap_or(d.max_factor),
+        })
+    } else {
+        None
+    };
     options.sampling = match args.sampling {
         SamplingArg::Lux => SamplingMode::Lux,
         SamplingArg::Reference => SamplingMode::Reference,

@@ -70,9 +70,10 @@ pub fn settings_string(options: &RenderOptions, camera_light: bool) -> String {
         .resolution
         .map_or("default".to_owned(), |[w, h]| format!("{w}x{h}"));
     let lower = |d: &dyn std::fmt::Debug| format!("{d:?}").to_ascii_lowercase();
-    let adaptive = options.adaptive.map_or("off".to_owned(), |a| {
-        format!("{}x{}", a.threshold, a.max_factor)
-    });
+    let adaptive = match options.adaptive() {
+        a if a.is_on() => format!("{}x{}", a.threshold, a.max_factor),
+        _ => "off".to_owned(),
+    };
     format!(
         "lux={};spp={};resolution={resolution};crop={crop};camera={};camera_light={camera_light};\
          profile={};sampling={};integrator={};max_depth={};surfaces={};light_selection={};\

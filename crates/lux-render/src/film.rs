@@ -90,8 +90,8 @@ pub struct Film {
     pub frame_rows: [u32; 2],
     /// Samples per pixel (with adaptive sampling, the least a pixel takes).
     pub spp: u32,
-    /// Adaptive sampling, if on.
-    pub adaptive: Option<AdaptiveSampling>,
+    /// Adaptive sampling ([`AdaptiveSampling::OFF`]: none).
+    pub adaptive: AdaptiveSampling,
     /// Seed of every random number.
     pub seed: u64,
     /// The camera's linear exposure scale applied to every sample (UsdGeomCamera
@@ -209,7 +209,7 @@ impl Film {
         let shared = Shared::default();
         let mut pixels = vec![[0.0f32; 4]; w as usize * h as usize];
         let rw = (x1 - x0) as usize;
-        match self.adaptive.filter(|_| self.passes() == 2) {
+        match Some(self.adaptive).filter(AdaptiveSampling::is_on) {
             None => {
                 let px = par_tiles(
                     self.window,
@@ -316,10 +316,7 @@ impl Film {
     /// Passes over the window a render makes: 2 with adaptive sampling that can add samples
     /// (`max_factor` > 1), else 1. Progress reports every pixel once per pass.
     pub fn passes(&self) -> u32 {
-        match self.adaptive {
-            Some(a) if a.max_factor > 1 => 2,
-            _ => 1,
-        }
+        if self.adaptive.is_on() { 2 } else { 1 }
     }
 
     /// A pixel's first `spp` samples (adaptive sampling's first pass).

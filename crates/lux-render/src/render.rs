@@ -49,7 +49,7 @@ impl<'s> Renderer<'s> {
             window: resolved.window,
             frame_rows: [resolved.window[1], resolved.window[3]],
             spp: options.spp,
-            adaptive: options.adaptive,
+            adaptive: options.adaptive(),
             seed: options.seed,
             exposure_scale: resolved.exposure_scale,
             penumbra_samples: options.penumbra_samples,

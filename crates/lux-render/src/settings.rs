@@ -116,7 +116,8 @@ pub struct RenderOptions {
     /// receiver (default); `false` for A/B measurements ([`crate::light::LightOptions`]).
     pub cone_clipping: bool,
     /// Adaptive sampling: after its `spp` samples, a pixel whose neighbourhood is noisy or
-    /// crosses an edge takes more ([`AdaptiveSampling`]; `None`: every pixel takes `spp`).
+    /// crosses an edge takes more ([`AdaptiveSampling`]; [`AdaptiveSampling::OFF`]: every pixel
+    /// takes `spp`); `None`: [`RenderOptions::adaptive`] chooses.
     pub adaptive: Option<AdaptiveSampling>,
     /// Seed of every random number.
     pub seed: u64,
@@ -146,7 +147,7 @@ impl RenderOptions {
             light_samples: None,
             penumbra_samples: 1,
             cone_clipping: true,
-            adaptive: Some(AdaptiveSampling::DEFAULT),
+            adaptive: None,
             seed: 0,
             strict: false,
         }
@@ -191,6 +192,17 @@ impl AdaptiveSampling {
         max_factor: 16,
     };
 
+    /// No extra samples: every pixel takes `spp` (`max_factor` 1).
+    pub const OFF: AdaptiveSampling = AdaptiveSampling {
+        threshold: 0.01,
+        max_factor: 1,
+    };
+
+    /// Whether a pixel can take more than `spp` samples (`max_factor` > 1).
+    pub fn is_on(&self) -> bool {
+        self.max_factor > 1
+    }
+
     /// Mean luminance below which the threshold stops shrinking (`μ_min`): black regions are
     /// held to the noise allowed at this level, not to 0.
     pub const MIN_MEAN: f64 = 1e-3;
@@ -211,6 +223,25 @@ impl AdaptiveSampling {
         } else {
             n.ceil() as u32
         }
+    }
+}
+
+impl RenderOptions {
+    /// Adaptive sampling: the asked one, else [`AdaptiveSampling::DEFAULT`] for lux sampling
+    /// with the direct integrator and [`AdaptiveSampling::OFF`] otherwise.
+    ///
+    /// Why not for paths: their noise is everywhere, so at the default threshold nearly every
+    /// pixel of a path-traced Cornell box took the 16 × cap (240 samples a pixel for
+    /// `--spp 16`), a uniform multiplier rather than an allocation; and the reference
+    /// estimator is for A/B comparisons at a fixed sample count.
+    pub fn adaptive(&self) -> AdaptiveSampling {
+        self.adaptive.unwrap_or(
+            if self.sampling == SamplingMode::Lux && self.integrator == IntegratorKind::Direct {
+                AdaptiveSampling::DEFAULT
+            } else {
+                AdaptiveSampling::OFF
+            },
+        )
     }
 }
 
@@ -270,7 +301,8 @@ pub fn resolve(scene: &Scene, options: &RenderOptions) -> Result<Resolved, Rende
             )));
         }
     }
-    if let Some(a) = options.adaptive {
+    {
+        let a = options.adaptive();
         if !(a.threshold.is_finite() && a.threshold > 0.0) {
             return Err(RenderError::Settings(format!(
                 "adaptive threshold {}: expected a finite number > 0",
