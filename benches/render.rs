@@ -15,7 +15,7 @@ use lux::render::conformance::{ProfileSource, ResolvedProfile};
 use lux::render::geometry::{Geometry, offset_scale, shadow_tmax};
 use lux::render::light::{LightOptions, LightSelection, LightSet};
 use lux::render::render::{RenderOptions, Renderer};
-use lux::render::settings::SamplingMode;
+use lux::render::settings::{AdaptiveSampling, SamplingMode};
 use lux::sample::{Reference, SplitMix64, Strategy};
 use lux::usd::{Scene, load_stage};
 use std::hint::black_box;
@@ -40,6 +40,8 @@ fn render_luxtest_64spp(c: &mut Criterion) {
             });
             o.spp = 64;
             o.sampling = mode;
+            // Per-sample cost: every pixel takes exactly 64 samples.
+            o.adaptive = Some(AdaptiveSampling::OFF);
             o.crop = Some([224, 192, 288, 256]);
             let r = Renderer::new(&scene, o).expect("scene prepares");
             g.throughput(Throughput::Elements(64 * 64 * 64));

@@ -17,6 +17,7 @@ use lux::math::Profile;
 use lux::render::conformance::{ProfileSource, ResolvedProfile};
 use lux::render::image_io::ImageRgba;
 use lux::render::render::{RenderOptions, Renderer};
+use lux::render::settings::AdaptiveSampling;
 use lux::usd::load_stage;
 use std::path::PathBuf;
 
@@ -35,6 +36,8 @@ fn render(
     o.resolution = Some([256, 256]);
     o.cone_clipping = clip;
     o.light_samples = Some(light_samples);
+    // The light sampling itself is measured: every pixel takes exactly `spp` samples.
+    o.adaptive = Some(AdaptiveSampling::OFF);
     o.seed = seed;
     let r = Renderer::new(scene, o).expect("scene prepares");
     let (img, stats) = r.render(&|_| {});
