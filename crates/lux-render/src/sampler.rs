@@ -197,6 +197,16 @@ impl SampleStream {
         }
     }
 
+    /// The 2D points of the named dimension `dim` of the `k` sub-samples of this sample:
+    /// [`SampleStream::split`]`(j, k)`[`.get2(dim)`](SampleStream::get2) for `j` in `0..k`,
+    /// with the dimension's hashes computed once.
+    #[inline(always)]
+    pub fn split_get2(&self, dim: Dim, k: u32) -> impl Iterator<Item = [f64; 2]> + use<> {
+        let (p, s0, s1) = Self::hashes(self.key, dim.id());
+        let (first, spp) = (self.sample * k, self.spp * k);
+        (0..k).map(move |j| point2_of(first + j, spp, p, s0, s1))
+    }
+
     /// The permutation seed and the two scrambling seeds of dimension (pair) `dim` under `key`.
     #[inline(always)]
     fn hashes(key: u64, dim: u32) -> (u32, u32, u32) {
@@ -235,6 +245,13 @@ impl SampleStream {
 #[inline(always)]
 fn point2(key: u64, sample: u32, spp: u32, dim: u32) -> [f64; 2] {
     let (p, s0, s1) = SampleStream::hashes(key, dim);
+    point2_of(sample, spp, p, s0, s1)
+}
+
+/// Point `sample` of `spp` of the 2D dimension whose permutation and scrambling seeds are
+/// `p`, `s0` and `s1`.
+#[inline(always)]
+fn point2_of(sample: u32, spp: u32, p: u32, s0: u32, s1: u32) -> [f64; 2] {
     let i = permute(sample, spp, p);
     [unit(owen_rev(i, s0)), unit(owen_rev(sobol1_rev(i), s1))]
 }
@@ -541,6 +558,21 @@ mod tests {
         // Independent sampling: σ(xy)/8 = 0.2205/8 ≈ 0.0276.
         assert!(rms < 0.0276 / 8.0, "rms error {rms}");
         assert!(rms > 0.0, "a scrambled estimate is random");
+    }
+
+    /// `split_get2` is `split(j, k).get2(dim)` for every sub-sample.
+    #[test]
+    fn split_points_are_the_split_streams() {
+        for (sample, spp, k) in [(0, 1, 1), (3, 4, 4), (2, 3, 5), (7, 16, 2)] {
+            let st = SampleStream::new(9, 4321, sample, spp);
+            let dim = Dim::Light {
+                bounce: 1,
+                index: 2,
+            };
+            let got: Vec<[f64; 2]> = st.split_get2(dim, k).collect();
+            let want: Vec<[f64; 2]> = (0..k).map(|j| st.split(j, k).get2(dim)).collect();
+            assert_eq!(got, want, "sample {sample} of {spp}, k {k}");
+        }
     }
 
     /// The bounce-0 names are the numbers images were rendered with before the layout had

@@ -4,6 +4,7 @@
 //! | question | method |
 //! |---|---|
 //! | a sample towards a receiver: radiance, direction, density, distance | [`Light::sample_li`] |
+//! | the same, k times from one receiver (its setup done once) | [`Light::seen_from`] |
 //! | the density of a direction, for MIS | [`Light::pdf_li`] |
 //! | the radiance leaving a point of the light's surface | [`Light::le`] |
 //! | the radiance arriving from an infinitely distant light | [`Light::le_escape`] |
@@ -216,6 +217,32 @@ impl LiSample {
     }
 }
 
+/// A light seen from one receiver ([`Light::seen_from`]).
+#[derive(Clone, Copy, Debug)]
+pub enum LightFrom<'a> {
+    /// A rect light and its sampler's view from the receiver.
+    Rect(&'a RectLight, &'a lux_sample::RectFrom<'a>),
+    /// A disk light and its sampler's view from the receiver.
+    Disk(&'a DiskLight, &'a lux_sample::DiskFrom<'a>),
+    /// A sphere light and its sampler's view from the receiver.
+    Sphere(&'a SphereLight, &'a lux_sample::SphereFrom<'a>),
+    /// Any other kind, sampled from the receiver each time.
+    Other(&'a Light, Reference, Strategy),
+}
+
+impl LightFrom<'_> {
+    /// A light sample with `u ∈ [0,1)²`: [`Light::sample_li`] from the receiver.
+    #[inline]
+    pub fn sample_li(&self, u: [f64; 2]) -> Option<LiSample> {
+        match self {
+            LightFrom::Rect(l, from) => l.sample_li_from(from, u),
+            LightFrom::Disk(l, from) => l.sample_li_from(from, u),
+            LightFrom::Sphere(l, from) => l.sample_li_from(from, u),
+            LightFrom::Other(l, r, strategy) => l.sample_li(r, u, *strategy),
+        }
+    }
+}
+
 /// What a ray crossing a light's surface found.
 #[derive(Clone, Copy, Debug)]
 pub struct LightHit {
@@ -312,6 +339,26 @@ impl Light {
     #[inline]
     pub fn sample_li(&self, r: &Reference, u: [f64; 2], strategy: Strategy) -> Option<LiSample> {
         dispatch!(self, l => l.sample_li(r, u, strategy))
+    }
+
+    /// Calls `f` with the light seen from the receiver `r` with the techniques of `strategy`:
+    /// what its sampler computes from the receiver alone (a rect's spherical rectangle, a
+    /// disk's cone, a sphere's projected cap), done once for the light samples of a shading
+    /// point. [`LightFrom::sample_li`] equals [`Light::sample_li`]`(r, u, strategy)`, bit for
+    /// bit.
+    #[inline(always)]
+    pub fn seen_from<R>(
+        &self,
+        r: &Reference,
+        strategy: Strategy,
+        f: impl FnOnce(&LightFrom<'_>) -> R,
+    ) -> R {
+        match self {
+            Light::Rect(l) => l.seen_from(r, strategy, |from| f(&LightFrom::Rect(l, from))),
+            Light::Disk(l) => l.seen_from(r, strategy, |from| f(&LightFrom::Disk(l, from))),
+            Light::Sphere(l) => l.seen_from(r, strategy, |from| f(&LightFrom::Sphere(l, from))),
+            l => f(&LightFrom::Other(l, *r, strategy)),
+        }
     }
 
     /// Solid-angle density with which [`Light::sample_li`] (lux strategy) produces the
