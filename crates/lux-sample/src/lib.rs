@@ -43,7 +43,7 @@ pub mod warp;
 pub use alias::AliasTable;
 pub use bounds::{EmissionCone, LightBounds};
 pub use bvh::LightBvh;
-pub use cylinder::{CylinderLight, CylinderTechnique};
+pub use cylinder::{CylinderFrom, CylinderLight, CylinderTechnique};
 pub use disk::{DiskFrom, DiskLight, DiskTechnique};
 pub use distant::DistantLight;
 pub use distribution::{Distribution1D, Distribution2D};

@@ -1,4 +1,4 @@
-//! `seen_from`: a rect, disk or sphere light seen from one receiver (the setup its samples
+//! `seen_from`: a rect, disk, sphere or cylinder light seen from one receiver (the setup its samples
 //! share, done once for the k light samples of a shading point) samples exactly as
 //! `sample_with` from that receiver, bit for bit, for every technique and both strategies,
 //! and whichever of its samples is drawn first.
@@ -104,6 +104,22 @@ fn seen_from_samples_as_sample_with() {
                 |r, u, s| l.sample_with(r, u, s),
                 |r, s, f| l.seen_from(r, s, |from| f(&|u| from.sample(u))),
             );
+        }
+        for t in [
+            CylinderTechnique::Area,
+            CylinderTechnique::VisibleArea,
+            CylinderTechnique::SolidAngle,
+        ] {
+            for cone in [core::f64::consts::PI, 0.6] {
+                let l = CylinderLight::new(0.2, 1.5, xf, t)
+                    .unwrap()
+                    .with_emission_cone(cone);
+                check(
+                    &format!("cylinder {t:?} cone {cone}"),
+                    |r, u, s| l.sample_with(r, u, s),
+                    |r, s, f| l.seen_from(r, s, |from| f(&|u| from.sample(u))),
+                );
+            }
         }
         for t in [
             SphereTechnique::Area,

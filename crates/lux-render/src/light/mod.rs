@@ -226,6 +226,8 @@ pub enum LightFrom<'a> {
     Disk(&'a DiskLight, &'a lux_sample::DiskFrom<'a>),
     /// A sphere light and its sampler's view from the receiver.
     Sphere(&'a SphereLight, &'a lux_sample::SphereFrom<'a>),
+    /// A cylinder light and its sampler's view from the receiver.
+    Cylinder(&'a CylinderLight, &'a lux_sample::CylinderFrom<'a>),
     /// Any other kind, sampled from the receiver each time.
     Other(&'a Light, Reference, Strategy),
 }
@@ -238,6 +240,7 @@ impl LightFrom<'_> {
             LightFrom::Rect(l, from) => l.sample_li_from(from, u),
             LightFrom::Disk(l, from) => l.sample_li_from(from, u),
             LightFrom::Sphere(l, from) => l.sample_li_from(from, u),
+            LightFrom::Cylinder(l, from) => l.sample_li_from(from, u),
             LightFrom::Other(l, r, strategy) => l.sample_li(r, u, *strategy),
         }
     }
@@ -343,8 +346,8 @@ impl Light {
 
     /// Calls `f` with the light seen from the receiver `r` with the techniques of `strategy`:
     /// what its sampler computes from the receiver alone (a rect's spherical rectangle, a
-    /// disk's cone, a sphere's projected cap), done once for the light samples of a shading
-    /// point. [`LightFrom::sample_li`] equals [`Light::sample_li`]`(r, u, strategy)`, bit for
+    /// disk's cone, a sphere's projected cap, a cylinder's angles), done once for the light
+    /// samples of a shading point. [`LightFrom::sample_li`] equals [`Light::sample_li`]`(r, u, strategy)`, bit for
     /// bit.
     #[inline(always)]
     pub fn seen_from<R>(
@@ -357,6 +360,7 @@ impl Light {
             Light::Rect(l) => l.seen_from(r, strategy, |from| f(&LightFrom::Rect(l, from))),
             Light::Disk(l) => l.seen_from(r, strategy, |from| f(&LightFrom::Disk(l, from))),
             Light::Sphere(l) => l.seen_from(r, strategy, |from| f(&LightFrom::Sphere(l, from))),
+            Light::Cylinder(l) => l.seen_from(r, strategy, |from| f(&LightFrom::Cylinder(l, from))),
             l => f(&LightFrom::Other(l, *r, strategy)),
         }
     }
