@@ -29,6 +29,9 @@ pub struct Camera {
     /// The pixels to render, `[x0, y0, x1, y1)` (from `dataWindowNDC`; y from the top).
     pub pixel_window: [u32; 4],
     cam_to_world: DMat4,
+    /// The perspective camera's centre of projection in the world (the camera-space origin
+    /// mapped by `cam_to_world`, as for every ray).
+    eye: DVec3,
     ortho: bool,
     /// Film window (left, right, bottom, top): tangent units for perspective, scene units for
     /// orthographic.
@@ -134,6 +137,7 @@ impl Camera {
             height: h,
             pixel_window: pixel_window(w, h, data_window_ndc),
             cam_to_world: m,
+            eye: m.transform_point3(DVec3::ZERO),
             ortho,
             window: [l, r, b, t],
             near,
@@ -149,12 +153,12 @@ impl Camera {
         let [l, r, b, t] = self.window;
         let x = l + (px / self.width as f64) * (r - l);
         let y = t - (py / self.height as f64) * (t - b);
-        let (o_cam, d_cam) = if self.ortho {
-            (DVec3::new(x, y, 0.0), DVec3::NEG_Z)
+        let (o, d_cam) = if self.ortho {
+            let o_cam = DVec3::new(x, y, 0.0);
+            (self.cam_to_world.transform_point3(o_cam), DVec3::NEG_Z)
         } else {
-            (DVec3::ZERO, DVec3::new(x, y, -1.0))
+            (self.eye, DVec3::new(x, y, -1.0))
         };
-        let o = self.cam_to_world.transform_point3(o_cam);
         let dw = self.cam_to_world.transform_vector3(d_cam);
         let len = dw.length();
         let d = dw / len;

@@ -31,30 +31,26 @@ fn mix64(mut x: u64) -> u64 {
     x ^ (x >> 31)
 }
 
-/// van der Corput radical inverse in base 2 (the first Sobol dimension), 32 bits.
-#[inline(always)]
-fn sobol0(i: u32) -> u32 {
-    i.reverse_bits()
-}
-
-/// Direction numbers of the second Sobol dimension: v₀ = 2³¹, vₖ = vₖ₋₁ ⊕ (vₖ₋₁ >> 1).
-const SOBOL1_V: [u32; 32] = {
-    let mut v = [0u32; 32];
-    v[0] = 1 << 31;
+/// Direction numbers of the second Sobol dimension, bit-reversed: vₖ = vₖ₋₁ ⊕ (vₖ₋₁ >> 1)
+/// from v₀ = 2³¹ becomes rₖ = rₖ₋₁ ⊕ (rₖ₋₁ << 1) from r₀ = 1.
+const SOBOL1_R: [u32; 32] = {
+    let mut r = [0u32; 32];
+    r[0] = 1;
     let mut k = 1;
     while k < 32 {
-        v[k] = v[k - 1] ^ (v[k - 1] >> 1);
+        r[k] = r[k - 1] ^ (r[k - 1] << 1);
         k += 1;
     }
-    v
+    r
 };
 
-/// The second Sobol dimension: the XOR of the direction numbers of the set bits of `i`.
+/// The second Sobol dimension of point `i`, bit-reversed (the XOR of the reversed direction
+/// numbers of the set bits of `i`; reversal distributes over XOR).
 #[inline(always)]
-fn sobol1(mut i: u32) -> u32 {
+fn sobol1_rev(mut i: u32) -> u32 {
     let mut r = 0u32;
     while i != 0 {
-        r ^= SOBOL1_V[i.trailing_zeros() as usize];
+        r ^= SOBOL1_R[i.trailing_zeros() as usize];
         i &= i - 1;
     }
     r
@@ -72,9 +68,11 @@ fn hash32(mut x: u32) -> u32 {
 
 /// Owen scrambling of a 32-bit fraction (Burley 2020): each bit is flipped by a hash of the
 /// bits above it, applied in the bit-reversed domain as a Laine–Karras style permutation.
+/// Takes the fraction bit-reversed (`v = x.reverse_bits()`) and returns the scrambled
+/// fraction: the first Sobol dimension (van der Corput, `i.reverse_bits()`) enters as `i`
+/// itself, the second as [`sobol1_rev`], so no reversal is done twice.
 #[inline(always)]
-fn owen(x: u32, seed: u32) -> u32 {
-    let mut v = x.reverse_bits();
+fn owen_rev(mut v: u32, seed: u32) -> u32 {
     v ^= v.wrapping_mul(0x3D20_ADEA);
     v = v.wrapping_add(seed);
     v = v.wrapping_mul((seed >> 16) | 1);
@@ -83,46 +81,57 @@ fn owen(x: u32, seed: u32) -> u32 {
     v.reverse_bits()
 }
 
+/// One round of Kensler's hash over the bits of `mask` (a power of two minus one).
+#[inline(always)]
+fn permute_round(mut i: u32, mask: u32, p: u32) -> u32 {
+    i ^= p;
+    i = i.wrapping_mul(0xE170_893D);
+    i ^= p >> 16;
+    i ^= (i & mask) >> 4;
+    i ^= p >> 8;
+    i = i.wrapping_mul(0x0929_EB3F);
+    i ^= p >> 23;
+    i ^= (i & mask) >> 1;
+    i = i.wrapping_mul(1 | (p >> 27));
+    i = i.wrapping_mul(0x6935_FA69);
+    i ^= (i & mask) >> 11;
+    i = i.wrapping_mul(0x74DC_B303);
+    i ^= (i & mask) >> 2;
+    i = i.wrapping_mul(0x9E50_1CC3);
+    i ^= (i & mask) >> 2;
+    i = i.wrapping_mul(0xC860_A3DF);
+    i &= mask;
+    i ^ (i >> 5)
+}
+
 /// A hash-based bijection of `[0, n)` (Kensler's `permute`, by cycle walking over the next
 /// power of two). `n ≥ 1`.
-#[inline]
-fn permute(mut i: u32, n: u32, p: u32) -> u32 {
+#[inline(always)]
+fn permute(i: u32, n: u32, p: u32) -> u32 {
     if n <= 1 {
         return 0;
     }
     let w = n - 1;
-    let mut mask = w;
-    mask |= mask >> 1;
-    mask |= mask >> 2;
-    mask |= mask >> 4;
-    mask |= mask >> 8;
-    mask |= mask >> 16;
+    if n & w == 0 {
+        // A power of two, the usual sample count: the round stays below n (it keeps the top
+        // bit of `i & w`), so no cycle walking, and a mask instead of a division.
+        return permute_round(i, w, p).wrapping_add(p) & w;
+    }
+    permute_walk(i, n, p)
+}
+
+/// [`permute`] for `n ≥ 3` not a power of two: rounds until the index falls below `n`.
+#[inline(never)]
+fn permute_walk(mut i: u32, n: u32, p: u32) -> u32 {
+    let w = n - 1;
+    let mask = u32::MAX >> w.leading_zeros();
     loop {
-        i ^= p;
-        i = i.wrapping_mul(0xE170_893D);
-        i ^= p >> 16;
-        i ^= (i & mask) >> 4;
-        i ^= p >> 8;
-        i = i.wrapping_mul(0x0929_EB3F);
-        i ^= p >> 23;
-        i ^= (i & mask) >> 1;
-        i = i.wrapping_mul(1 | (p >> 27));
-        i = i.wrapping_mul(0x6935_FA69);
-        i ^= (i & mask) >> 11;
-        i = i.wrapping_mul(0x74DC_B303);
-        i ^= (i & mask) >> 2;
-        i = i.wrapping_mul(0x9E50_1CC3);
-        i ^= (i & mask) >> 2;
-        i = i.wrapping_mul(0xC860_A3DF);
-        i &= mask;
-        i ^= i >> 5;
+        i = permute_round(i, mask, p);
         if i <= w {
             break;
         }
     }
-    let j = i.wrapping_add(p);
-    // (a power of two, the usual sample count: a mask, not a division)
-    if n.is_power_of_two() { j & w } else { j % n }
+    i.wrapping_add(p) % n
 }
 
 /// Unit fraction of a 32-bit integer, in \[0, 1).
@@ -188,6 +197,16 @@ impl SampleStream {
         }
     }
 
+    /// The 2D points of the named dimension `dim` of the `k` sub-samples of this sample:
+    /// [`SampleStream::split`]`(j, k)`[`.get2(dim)`](SampleStream::get2) for `j` in `0..k`,
+    /// with the dimension's hashes computed once.
+    #[inline(always)]
+    pub fn split_get2(&self, dim: Dim, k: u32) -> impl Iterator<Item = [f64; 2]> + use<> {
+        let (p, s0, s1) = Self::hashes(self.key, dim.id());
+        let (first, spp) = (self.sample * k, self.spp * k);
+        (0..k).map(move |j| point2_of(first + j, spp, p, s0, s1))
+    }
+
     /// The permutation seed and the two scrambling seeds of dimension (pair) `dim` under `key`.
     #[inline(always)]
     fn hashes(key: u64, dim: u32) -> (u32, u32, u32) {
@@ -198,25 +217,25 @@ impl SampleStream {
 
     /// The 2D point of dimension pair `dim` (any number identifying the pair): both
     /// coordinates uniform in \[0, 1), stratified across the pixel's samples.
-    #[inline]
+    #[inline(always)]
     pub fn u2(&self, dim: u32) -> [f64; 2] {
         point2(self.key, self.sample, self.spp, dim)
     }
 
     /// The 2D point of the named dimension `dim`.
-    #[inline]
+    #[inline(always)]
     pub fn get2(&self, dim: Dim) -> [f64; 2] {
         self.u2(dim.id())
     }
 
     /// The 1D number of the named dimension `dim`.
-    #[inline]
+    #[inline(always)]
     pub fn get1(&self, dim: Dim) -> f64 {
         self.u(dim.id())
     }
 
     /// A 1D number of dimension `dim`, uniform in \[0, 1), stratified across the samples.
-    #[inline]
+    #[inline(always)]
     pub fn u(&self, dim: u32) -> f64 {
         point1(self.key, self.sample, self.spp, dim)
     }
@@ -226,8 +245,15 @@ impl SampleStream {
 #[inline(always)]
 fn point2(key: u64, sample: u32, spp: u32, dim: u32) -> [f64; 2] {
     let (p, s0, s1) = SampleStream::hashes(key, dim);
+    point2_of(sample, spp, p, s0, s1)
+}
+
+/// Point `sample` of `spp` of the 2D dimension whose permutation and scrambling seeds are
+/// `p`, `s0` and `s1`.
+#[inline(always)]
+fn point2_of(sample: u32, spp: u32, p: u32, s0: u32, s1: u32) -> [f64; 2] {
     let i = permute(sample, spp, p);
-    [unit(owen(sobol0(i), s0)), unit(owen(sobol1(i), s1))]
+    [unit(owen_rev(i, s0)), unit(owen_rev(sobol1_rev(i), s1))]
 }
 
 /// Point `sample` of `spp` of the 1D dimension `dim` under `key`.
@@ -235,7 +261,7 @@ fn point2(key: u64, sample: u32, spp: u32, dim: u32) -> [f64; 2] {
 fn point1(key: u64, sample: u32, spp: u32, dim: u32) -> f64 {
     let (p, s0, _) = SampleStream::hashes(key, dim ^ 0x8000_0000);
     let i = permute(sample, spp, p);
-    unit(owen(sobol0(i), s0))
+    unit(owen_rev(i, s0))
 }
 
 /// The named dimensions of a camera sample (see the module doc). Bounce 0 is the first
@@ -312,7 +338,131 @@ mod tests {
         // The first points of Sobol's second dimension: 0, 1/2, 3/4, 1/4, 5/8, 1/8, 3/8, 7/8.
         let want = [0.0, 0.5, 0.75, 0.25, 0.625, 0.125, 0.375, 0.875];
         for (i, w) in want.iter().enumerate() {
-            assert_eq!(unit(sobol1(i as u32)), *w, "point {i}");
+            assert_eq!(unit(sobol1_rev(i as u32).reverse_bits()), *w, "point {i}");
+        }
+    }
+
+    /// The construction as the module doc states it, without the shortcuts of `point2` and
+    /// `point1` (bit reversals done once, the power-of-two permutation without cycle walking).
+    mod reference {
+        use super::super::{SampleStream, unit};
+
+        const SOBOL1_V: [u32; 32] = {
+            let mut v = [0u32; 32];
+            v[0] = 1 << 31;
+            let mut k = 1;
+            while k < 32 {
+                v[k] = v[k - 1] ^ (v[k - 1] >> 1);
+                k += 1;
+            }
+            v
+        };
+
+        fn sobol0(i: u32) -> u32 {
+            i.reverse_bits()
+        }
+
+        fn sobol1(mut i: u32) -> u32 {
+            let mut r = 0u32;
+            while i != 0 {
+                r ^= SOBOL1_V[i.trailing_zeros() as usize];
+                i &= i - 1;
+            }
+            r
+        }
+
+        fn owen(x: u32, seed: u32) -> u32 {
+            let mut v = x.reverse_bits();
+            v ^= v.wrapping_mul(0x3D20_ADEA);
+            v = v.wrapping_add(seed);
+            v = v.wrapping_mul((seed >> 16) | 1);
+            v ^= v.wrapping_mul(0x0552_6C56);
+            v ^= v.wrapping_mul(0x53A2_2864);
+            v.reverse_bits()
+        }
+
+        pub fn permute(mut i: u32, n: u32, p: u32) -> u32 {
+            if n <= 1 {
+                return 0;
+            }
+            let w = n - 1;
+            let mut mask = w;
+            mask |= mask >> 1;
+            mask |= mask >> 2;
+            mask |= mask >> 4;
+            mask |= mask >> 8;
+            mask |= mask >> 16;
+            loop {
+                i ^= p;
+                i = i.wrapping_mul(0xE170_893D);
+                i ^= p >> 16;
+                i ^= (i & mask) >> 4;
+                i ^= p >> 8;
+                i = i.wrapping_mul(0x0929_EB3F);
+                i ^= p >> 23;
+                i ^= (i & mask) >> 1;
+                i = i.wrapping_mul(1 | (p >> 27));
+                i = i.wrapping_mul(0x6935_FA69);
+                i ^= (i & mask) >> 11;
+                i = i.wrapping_mul(0x74DC_B303);
+                i ^= (i & mask) >> 2;
+                i = i.wrapping_mul(0x9E50_1CC3);
+                i ^= (i & mask) >> 2;
+                i = i.wrapping_mul(0xC860_A3DF);
+                i &= mask;
+                i ^= i >> 5;
+                if i <= w {
+                    break;
+                }
+            }
+            (i.wrapping_add(p)) % n
+        }
+
+        pub fn point2(key: u64, sample: u32, spp: u32, dim: u32) -> [f64; 2] {
+            let (p, s0, s1) = SampleStream::hashes(key, dim);
+            let i = permute(sample, spp, p);
+            [unit(owen(sobol0(i), s0)), unit(owen(sobol1(i), s1))]
+        }
+
+        pub fn point1(key: u64, sample: u32, spp: u32, dim: u32) -> f64 {
+            let (p, s0, _) = SampleStream::hashes(key, dim ^ 0x8000_0000);
+            let i = permute(sample, spp, p);
+            unit(owen(sobol0(i), s0))
+        }
+    }
+
+    /// The points are those of the construction itself, bit for bit: every sample count from
+    /// 1 to 70 and some larger ones (powers of two and not), both 2D and 1D streams.
+    #[test]
+    fn points_equal_the_reference_construction() {
+        let mut counts: Vec<u32> = (1..=70).collect();
+        counts.extend([96, 128, 255, 256, 1000, 1024, 4096]);
+        for (k, &spp) in counts.iter().enumerate() {
+            for pixel in [0u64, 1, 77, 65_535, 1 << 40] {
+                let key = SampleStream::new(k as u64 ^ 0x5EED, pixel, 0, spp).key;
+                for dim in [0u32, 2, 5, 11, 0x0100_0003, 0x7F00_0005] {
+                    let samples = spp.min(300);
+                    for s in (0..samples).chain([spp - 1]) {
+                        assert_eq!(
+                            point2(key, s, spp, dim).map(f64::to_bits),
+                            reference::point2(key, s, spp, dim).map(f64::to_bits),
+                            "spp {spp} pixel {pixel} dim {dim} sample {s}"
+                        );
+                        assert_eq!(
+                            point1(key, s, spp, dim).to_bits(),
+                            reference::point1(key, s, spp, dim).to_bits(),
+                            "spp {spp} pixel {pixel} dim {dim} sample {s}"
+                        );
+                    }
+                }
+            }
+        }
+        for n in [2u32, 3, 5, 8, 100, 1 << 20, (1 << 20) + 1, u32::MAX] {
+            for i in [0u32, 1, n / 2, n - 1] {
+                for p in [0u32, 1, 0xDEAD_BEEF, u32::MAX] {
+                    assert_eq!(permute(i, n, p), reference::permute(i, n, p), "{n} {i} {p}");
+                }
+            }
         }
     }
 
@@ -408,6 +558,21 @@ mod tests {
         // Independent sampling: σ(xy)/8 = 0.2205/8 ≈ 0.0276.
         assert!(rms < 0.0276 / 8.0, "rms error {rms}");
         assert!(rms > 0.0, "a scrambled estimate is random");
+    }
+
+    /// `split_get2` is `split(j, k).get2(dim)` for every sub-sample.
+    #[test]
+    fn split_points_are_the_split_streams() {
+        for (sample, spp, k) in [(0, 1, 1), (3, 4, 4), (2, 3, 5), (7, 16, 2)] {
+            let st = SampleStream::new(9, 4321, sample, spp);
+            let dim = Dim::Light {
+                bounce: 1,
+                index: 2,
+            };
+            let got: Vec<[f64; 2]> = st.split_get2(dim, k).collect();
+            let want: Vec<[f64; 2]> = (0..k).map(|j| st.split(j, k).get2(dim)).collect();
+            assert_eq!(got, want, "sample {sample} of {spp}, k {k}");
+        }
     }
 
     /// The bounce-0 names are the numbers images were rendered with before the layout had

@@ -36,6 +36,108 @@ pub struct CylinderLight {
     cut: f64,
 }
 
+/// A [`CylinderLight`] seen from one receiver ([`CylinderLight::seen_from`]): the part of
+/// sampling that depends on the receiver alone, done once for the light samples of a shading
+/// point.
+#[derive(Clone, Copy, Debug)]
+pub struct CylinderFrom<'a> {
+    light: &'a CylinderLight,
+    /// The receiver (world).
+    p: DVec3,
+    /// The receiver in light space.
+    pl: DVec3,
+    plan: CylinderPlan,
+}
+
+/// How a [`CylinderFrom`] draws its points.
+#[derive(Clone, Copy, Debug)]
+enum CylinderPlan {
+    /// No point: the receiver is inside the tube's radius (or no angle reaches it).
+    Nothing,
+    /// [`CylinderTechnique::Area`].
+    Area,
+    /// [`CylinderTechnique::VisibleArea`]: the azimuths `psi0 ± g`.
+    VisibleArea { psi0: f64, g: f64 },
+    /// [`CylinderTechnique::SolidAngle`] from the cross-section point `p2` at distance `rho`
+    /// from the axis, towards it along `toward`, over the angles `[b0, b1]` (`±beta_max`
+    /// without an emission cone).
+    SolidAngle {
+        p2: DVec2,
+        rho: f64,
+        beta_max: f64,
+        toward: DVec2,
+        b0: f64,
+        b1: f64,
+    },
+}
+
+impl CylinderFrom<'_> {
+    /// Samples a point with `u ∈ [0,1)²`: [`CylinderLight::sample_with`] from this receiver.
+    #[inline(always)]
+    pub fn sample(&self, u: [f64; 2]) -> Option<LightSample> {
+        let light = self.light;
+        let pl = self.pl;
+        let rad = light.radius;
+        let area_point = |psi: f64, x: f64| {
+            let (s, c) = psi.sin_cos();
+            let n = DVec3::new(0.0, c, s);
+            (DVec3::new(x, rad * c, rad * s), n)
+        };
+        let (q, n, pdf) = match self.plan {
+            CylinderPlan::Nothing => return None,
+            CylinderPlan::Area | CylinderPlan::VisibleArea { .. } => {
+                let (psi, width) = match self.plan {
+                    CylinderPlan::VisibleArea { psi0, g } => {
+                        (psi0 + (2.0 * u[1] - 1.0) * g, 2.0 * g)
+                    }
+                    _ => (TAU * u[1], TAU),
+                };
+                let (q, n) = area_point(psi, (u[0] - 0.5) * light.length);
+                let v = pl - q;
+                let d2 = v.length_squared();
+                let cos = n.dot(v) / d2.sqrt();
+                if not_positive(cos) {
+                    return None;
+                }
+                (q, n, d2 / (cos * width * rad * light.length))
+            }
+            CylinderPlan::SolidAngle {
+                p2,
+                rho,
+                beta_max,
+                toward,
+                b0,
+                b1,
+            } => {
+                let (sb, cb) = if light.tan_cut == f64::INFINITY {
+                    ((2.0 * u[1] - 1.0) * beta_max).sin_cos()
+                } else {
+                    (b0 + u[1] * (b1 - b0)).sin_cos()
+                };
+                let e = DVec2::new(toward.x * cb - toward.y * sb, toward.x * sb + toward.y * cb);
+                // Near intersection of the 2D ray with the circle: s = ρ cos β − √(r² − ρ² sin² β).
+                let s = (rho * cb - (rad * rad - rho * rho * sb * sb).max(0.0).sqrt()).max(0.0);
+                let q2 = p2 + s * e;
+                let (xa, xb) = light.stretch(pl, q2)?;
+                let ta = ((xa - pl.x) / s).atan();
+                let tb = ((xb - pl.x) / s).atan();
+                let theta = ta + u[0] * (tb - ta);
+                let (st, ct) = theta.sin_cos();
+                let x = (pl.x + s * st / ct).clamp(xa, xb);
+                let q = DVec3::new(x, q2.x, q2.y);
+                let n = DVec3::new(0.0, q2.x, q2.y) / rad;
+                let width = if light.tan_cut == f64::INFINITY {
+                    2.0 * beta_max
+                } else {
+                    b1 - b0
+                };
+                (q, n, 1.0 / (width * (tb - ta) * ct))
+            }
+        };
+        finish_sample(&light.xf, self.p, pl, q, n, pdf)
+    }
+}
+
 impl CylinderLight {
     /// A cylinder of `radius` and `length` (both > 0) placed by `xf`.
     pub fn new(
@@ -176,6 +278,66 @@ impl CylinderLight {
         }
     }
 
+    /// Calls `f` with the light seen from the receiver `r` with the techniques of `strategy`:
+    /// what every sample drawn from there shares (the receiver in light space, its distance to
+    /// the axis and the range of angles sampled), computed once, so that `k` samples from one
+    /// receiver cost one setup. [`CylinderFrom::sample`] equals
+    /// [`Self::sample_with`]`(r, u, strategy)` for every `u`, bit for bit.
+    #[inline(always)]
+    pub fn seen_from<R>(
+        &self,
+        r: &Reference,
+        strategy: Strategy,
+        f: impl FnOnce(&CylinderFrom<'_>) -> R,
+    ) -> R {
+        self.seen_by(r, self.technique_of(strategy), f)
+    }
+
+    #[inline(always)]
+    fn seen_by<R>(
+        &self,
+        r: &Reference,
+        technique: CylinderTechnique,
+        f: impl FnOnce(&CylinderFrom<'_>) -> R,
+    ) -> R {
+        let pl = self.xf.inv_point(r.p);
+        let p2 = DVec2::new(pl.y, pl.z);
+        let rho = p2.length();
+        let rad = self.radius;
+        let plan = if rho.is_nan() || rho <= rad {
+            CylinderPlan::Nothing
+        } else {
+            match technique {
+                CylinderTechnique::Area => CylinderPlan::Area,
+                CylinderTechnique::VisibleArea => CylinderPlan::VisibleArea {
+                    psi0: p2.y.atan2(p2.x),
+                    g: (rad / rho).acos(),
+                },
+                CylinderTechnique::SolidAngle => {
+                    let beta_max = (rad / rho).min(1.0).asin();
+                    let toward = -p2 / rho;
+                    match self.beta_range(toward, beta_max) {
+                        Some((b0, b1)) => CylinderPlan::SolidAngle {
+                            p2,
+                            rho,
+                            beta_max,
+                            toward,
+                            b0,
+                            b1,
+                        },
+                        None => CylinderPlan::Nothing,
+                    }
+                }
+            }
+        };
+        f(&CylinderFrom {
+            light: self,
+            p: r.p,
+            pl,
+            plan,
+        })
+    }
+
     #[inline]
     fn sample_by(
         &self,
@@ -183,66 +345,7 @@ impl CylinderLight {
         u: [f64; 2],
         technique: CylinderTechnique,
     ) -> Option<LightSample> {
-        let pl = self.xf.inv_point(r.p);
-        let p2 = DVec2::new(pl.y, pl.z);
-        let rho = p2.length();
-        let rad = self.radius;
-        if rho.is_nan() || rho <= rad {
-            return None;
-        }
-        let psi0 = p2.y.atan2(p2.x);
-        let area_point = |psi: f64, x: f64| {
-            let (s, c) = psi.sin_cos();
-            let n = DVec3::new(0.0, c, s);
-            (DVec3::new(x, rad * c, rad * s), n)
-        };
-        let (q, n, pdf) = match technique {
-            CylinderTechnique::Area | CylinderTechnique::VisibleArea => {
-                let (psi, width) = if technique == CylinderTechnique::Area {
-                    (TAU * u[1], TAU)
-                } else {
-                    let g = (rad / rho).acos();
-                    (psi0 + (2.0 * u[1] - 1.0) * g, 2.0 * g)
-                };
-                let (q, n) = area_point(psi, (u[0] - 0.5) * self.length);
-                let v = pl - q;
-                let d2 = v.length_squared();
-                let cos = n.dot(v) / d2.sqrt();
-                if not_positive(cos) {
-                    return None;
-                }
-                (q, n, d2 / (cos * width * rad * self.length))
-            }
-            CylinderTechnique::SolidAngle => {
-                let beta_max = (rad / rho).min(1.0).asin();
-                let toward = -p2 / rho;
-                let (b0, b1) = self.beta_range(toward, beta_max)?;
-                let (sb, cb) = if self.tan_cut == f64::INFINITY {
-                    ((2.0 * u[1] - 1.0) * beta_max).sin_cos()
-                } else {
-                    (b0 + u[1] * (b1 - b0)).sin_cos()
-                };
-                let e = DVec2::new(toward.x * cb - toward.y * sb, toward.x * sb + toward.y * cb);
-                // Near intersection of the 2D ray with the circle: s = ρ cos β − √(r² − ρ² sin² β).
-                let s = (rho * cb - (rad * rad - rho * rho * sb * sb).max(0.0).sqrt()).max(0.0);
-                let q2 = p2 + s * e;
-                let (xa, xb) = self.stretch(pl, q2)?;
-                let ta = ((xa - pl.x) / s).atan();
-                let tb = ((xb - pl.x) / s).atan();
-                let theta = ta + u[0] * (tb - ta);
-                let (st, ct) = theta.sin_cos();
-                let x = (pl.x + s * st / ct).clamp(xa, xb);
-                let q = DVec3::new(x, q2.x, q2.y);
-                let n = DVec3::new(0.0, q2.x, q2.y) / rad;
-                let width = if self.tan_cut == f64::INFINITY {
-                    2.0 * beta_max
-                } else {
-                    b1 - b0
-                };
-                (q, n, 1.0 / (width * (tb - ta) * ct))
-            }
-        };
-        finish_sample(&self.xf, r.p, pl, q, n, pdf)
+        self.seen_by(r, technique, |from| from.sample(u))
     }
 
     /// Solid-angle density of [`Self::sample`] producing `wi` from `r`.

@@ -58,6 +58,8 @@ struct EllipticCone {
     ey: DVec3,
     a_semi: f64,
     b_semi: f64,
+    /// The primed semi-axes A′, B′ (see [`EllipticCone::primed`]).
+    primed: (f64, f64),
 }
 
 impl EllipticCone {
@@ -94,14 +96,14 @@ impl EllipticCone {
             ey,
             a_semi,
             b_semi,
+            primed: Self::primed(a_semi, b_semi),
         })
     }
 
     /// Semi-axes A′ = A/√(1 + A²), B′ = B/√(1 + B²) of the ellipse whose radius is
     /// R′² = R²/(1 + R²) (the azimuth proposal).
     #[inline]
-    fn primed(&self) -> (f64, f64) {
-        let (a, b) = (self.a_semi, self.b_semi);
+    fn primed(a: f64, b: f64) -> (f64, f64) {
         (a / (1.0 + a * a).sqrt(), b / (1.0 + b * b).sqrt())
     }
 
@@ -109,14 +111,14 @@ impl EllipticCone {
     /// (1 + 1/√(1 + R²)) / (2π·A′·B′).
     #[inline]
     fn density(&self, r2: f64) -> f64 {
-        let (ap, bp) = self.primed();
+        let (ap, bp) = self.primed;
         (1.0 + 1.0 / (1.0 + r2).sqrt()) / (TAU * ap * bp)
     }
 
     /// A unit local direction inside the cone, and its density.
     #[inline]
     fn sample(&self, u: [f64; 2]) -> (DVec3, f64) {
-        let (ap, bp) = self.primed();
+        let (ap, bp) = self.primed;
         let (s, c) = (TAU * u[0]).sin_cos();
         // Direction ψ of the gnomonic ray: parametric angle of the primed ellipse.
         let (px, py) = (ap * c, bp * s);
@@ -162,6 +164,82 @@ pub struct DiskLight {
     radius: f64,
     xf: LightTransform,
     technique: DiskTechnique,
+}
+
+/// A [`DiskLight`] seen from one receiver ([`DiskLight::seen_from`]): the part of sampling
+/// that depends on the receiver alone, done once for the light samples of a shading point.
+#[derive(Clone, Copy, Debug)]
+pub struct DiskFrom<'a> {
+    light: &'a DiskLight,
+    /// The receiver (world).
+    p: DVec3,
+    /// The receiver in light space.
+    pl: DVec3,
+    plan: DiskPlan<'a>,
+}
+
+/// How a [`DiskFrom`] draws its points.
+#[derive(Clone, Copy, Debug)]
+enum DiskPlan<'a> {
+    /// No point: the receiver is behind the disk (or its cone is degenerate).
+    Nothing,
+    /// Uniform over the disk's area.
+    Area,
+    /// [`DiskTechnique::EllipticCone`] in this cone.
+    Cone(&'a EllipticCone),
+    /// [`DiskTechnique::PolarChord`] from the foot point `f` over the azimuths
+    /// `[phi0, phi0 + width]`.
+    Chord { f: DVec2, phi0: f64, width: f64 },
+}
+
+impl DiskFrom<'_> {
+    /// Samples a point with `u ∈ [0,1)²`: [`DiskLight::sample_with`] from this receiver.
+    #[inline(always)]
+    pub fn sample(&self, u: [f64; 2]) -> Option<LightSample> {
+        let light = self.light;
+        let pl = self.pl;
+        let h = -pl.z;
+        let (q, pdf) = match &self.plan {
+            DiskPlan::Nothing => return None,
+            DiskPlan::Area => {
+                let d = sample_concentric_disk(u) * light.radius;
+                let q = DVec3::new(d.x, d.y, 0.0);
+                let d2 = (q - pl).length_squared();
+                (q, d2 * d2.sqrt() / (h * PI * light.radius * light.radius))
+            }
+            DiskPlan::Cone(cone) => {
+                let (w, pdf) = cone.sample(u);
+                if not_positive(w.z) {
+                    return None;
+                }
+                let t = h / w.z;
+                let p2 = DVec2::new(pl.x + t * w.x, pl.y + t * w.y);
+                // Round-off can put a silhouette sample a hair outside the rim.
+                let len = p2.length();
+                let p2 = if len > light.radius {
+                    p2 * (light.radius / len)
+                } else {
+                    p2
+                };
+                (DVec3::new(p2.x, p2.y, 0.0), pdf)
+            }
+            &DiskPlan::Chord { f, phi0, width } => {
+                let (s, c) = (phi0 + u[0] * width).sin_cos();
+                let dir = DVec2::new(c, s);
+                let (t1, t2) = chord(f, dir, light.radius).unwrap_or((0.0, 0.0));
+                let gap = cos_gap(t1, t2, h);
+                if not_positive(gap) {
+                    return None;
+                }
+                let cos1 = h / (t1 * t1 + h * h).sqrt();
+                let cos_a = (cos1 - u[1] * gap).max(1e-300);
+                let rho = (h * (1.0 - cos_a * cos_a).max(0.0).sqrt() / cos_a).clamp(t1, t2);
+                let p2 = f + rho * dir;
+                (DVec3::new(p2.x, p2.y, 0.0), 1.0 / (width * gap))
+            }
+        };
+        finish_sample(&light.xf, self.p, pl, q, DVec3::NEG_Z, pdf)
+    }
 }
 
 /// The chord of the disk along azimuth `dir` from foot point `f`: in-plane distances (t1, t2).
@@ -259,6 +337,58 @@ impl DiskLight {
         }
     }
 
+    /// Calls `f` with the light seen from the receiver `r` with the techniques of `strategy`:
+    /// what every sample drawn from there shares (the receiver in light space, the elliptic
+    /// cone or the angular extent), computed once, so that `k` samples from one receiver cost
+    /// one setup. [`DiskFrom::sample`] equals [`Self::sample_with`]`(r, u, strategy)` for every
+    /// `u`, bit for bit.
+    #[inline(always)]
+    pub fn seen_from<R>(
+        &self,
+        r: &Reference,
+        strategy: Strategy,
+        f: impl FnOnce(&DiskFrom<'_>) -> R,
+    ) -> R {
+        self.seen_by(r, self.technique_of(strategy), f)
+    }
+
+    #[inline(always)]
+    fn seen_by<R>(
+        &self,
+        r: &Reference,
+        technique: DiskTechnique,
+        f: impl FnOnce(&DiskFrom<'_>) -> R,
+    ) -> R {
+        let pl = self.xf.inv_point(r.p);
+        // (the cone stays where it is built: `DiskFrom` borrows it)
+        let cone;
+        let plan = if pl.z.is_nan() || pl.z >= 0.0 {
+            DiskPlan::Nothing
+        } else {
+            match technique {
+                DiskTechnique::Area => DiskPlan::Area,
+                DiskTechnique::EllipticCone => match EllipticCone::new(-pl, self.radius) {
+                    Some(c) => {
+                        cone = c;
+                        DiskPlan::Cone(&cone)
+                    }
+                    None => DiskPlan::Nothing,
+                },
+                DiskTechnique::PolarChord => {
+                    let f = DVec2::new(pl.x, pl.y);
+                    let (phi0, width) = self.extent(f);
+                    DiskPlan::Chord { f, phi0, width }
+                }
+            }
+        };
+        f(&DiskFrom {
+            light: self,
+            p: r.p,
+            pl,
+            plan,
+        })
+    }
+
     #[inline]
     fn sample_by(
         &self,
@@ -266,53 +396,7 @@ impl DiskLight {
         u: [f64; 2],
         technique: DiskTechnique,
     ) -> Option<LightSample> {
-        let pl = self.xf.inv_point(r.p);
-        if pl.z.is_nan() || pl.z >= 0.0 {
-            return None;
-        }
-        let h = -pl.z;
-        let (q, pdf) = match technique {
-            DiskTechnique::Area => {
-                let d = sample_concentric_disk(u) * self.radius;
-                let q = DVec3::new(d.x, d.y, 0.0);
-                let d2 = (q - pl).length_squared();
-                (q, d2 * d2.sqrt() / (h * PI * self.radius * self.radius))
-            }
-            DiskTechnique::EllipticCone => {
-                let cone = EllipticCone::new(-pl, self.radius)?;
-                let (w, pdf) = cone.sample(u);
-                if not_positive(w.z) {
-                    return None;
-                }
-                let t = h / w.z;
-                let p2 = DVec2::new(pl.x + t * w.x, pl.y + t * w.y);
-                // Round-off can put a silhouette sample a hair outside the rim.
-                let len = p2.length();
-                let p2 = if len > self.radius {
-                    p2 * (self.radius / len)
-                } else {
-                    p2
-                };
-                (DVec3::new(p2.x, p2.y, 0.0), pdf)
-            }
-            DiskTechnique::PolarChord => {
-                let f = DVec2::new(pl.x, pl.y);
-                let (phi0, width) = self.extent(f);
-                let (s, c) = (phi0 + u[0] * width).sin_cos();
-                let dir = DVec2::new(c, s);
-                let (t1, t2) = chord(f, dir, self.radius).unwrap_or((0.0, 0.0));
-                let gap = cos_gap(t1, t2, h);
-                if not_positive(gap) {
-                    return None;
-                }
-                let cos1 = h / (t1 * t1 + h * h).sqrt();
-                let cos_a = (cos1 - u[1] * gap).max(1e-300);
-                let rho = (h * (1.0 - cos_a * cos_a).max(0.0).sqrt() / cos_a).clamp(t1, t2);
-                let p2 = f + rho * dir;
-                (DVec3::new(p2.x, p2.y, 0.0), 1.0 / (width * gap))
-            }
-        };
-        finish_sample(&self.xf, r.p, pl, q, DVec3::NEG_Z, pdf)
+        self.seen_by(r, technique, |from| from.sample(u))
     }
 
     /// Solid-angle density of [`Self::sample`] producing `wi` from `r`.

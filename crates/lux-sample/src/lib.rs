@@ -43,8 +43,8 @@ pub mod warp;
 pub use alias::AliasTable;
 pub use bounds::{EmissionCone, LightBounds};
 pub use bvh::LightBvh;
-pub use cylinder::{CylinderLight, CylinderTechnique};
-pub use disk::{DiskLight, DiskTechnique};
+pub use cylinder::{CylinderFrom, CylinderLight, CylinderTechnique};
+pub use disk::{DiskFrom, DiskLight, DiskTechnique};
 pub use distant::DistantLight;
 pub use distribution::{Distribution1D, Distribution2D};
 pub use dome::{DomeLight, DomeTechnique, LatLongMap};
@@ -54,11 +54,11 @@ pub use light::Light;
 /// here for the samplers' callers.
 pub use lux_math::{latlong_direction, latlong_uv};
 pub use mesh::{MeshLight, MeshTechnique};
-pub use rect::{RectLight, RectTechnique};
+pub use rect::{RectFrom, RectLight, RectTechnique};
 pub use rng::SplitMix64;
 pub use sample::{LightSample, Reference};
 pub use select::LightSelector;
-pub use sphere::{SphereLight, SphereTechnique};
+pub use sphere::{SphereFrom, SphereLight, SphereTechnique};
 pub use strategy::Strategy;
 pub use transform::LightTransform;
 

@@ -36,6 +36,74 @@ pub struct RectLight {
     tan_cut: f64,
 }
 
+/// A [`RectLight`] seen from one receiver ([`RectLight::seen_from`]): the part of sampling
+/// that depends on the receiver alone, done once for the light samples of a shading point.
+#[derive(Clone, Copy, Debug)]
+pub struct RectFrom<'a> {
+    light: &'a RectLight,
+    /// The receiver (world).
+    p: DVec3,
+    /// The receiver in light space.
+    pl: DVec3,
+    plan: RectPlan<'a>,
+}
+
+/// How a [`RectFrom`] draws its points.
+#[derive(Clone, Copy, Debug)]
+enum RectPlan<'a> {
+    /// No point: the receiver is behind the light, or the emission cone misses the rect.
+    Nothing,
+    /// Uniform over the rect's area.
+    Area,
+    /// Uniform over the area of the window `[x0, y0, x1, y1]` (its solid angle is too small).
+    WindowArea([f64; 4]),
+    /// The spherical rectangle `sr` of solid angle `s`, warped by the cosine weights `cw`.
+    Spherical {
+        sr: &'a SphericalRectangle,
+        s: f64,
+        cw: Option<[f64; 4]>,
+    },
+}
+
+impl RectFrom<'_> {
+    /// Samples a point with `u ∈ [0,1)²`: [`RectLight::sample_with`] from this receiver.
+    #[inline(always)]
+    pub fn sample(&self, u: [f64; 2]) -> Option<LightSample> {
+        let light = self.light;
+        let pl = self.pl;
+        let (q, pdf) = match &self.plan {
+            RectPlan::Nothing => return None,
+            RectPlan::Area => {
+                let area = light.width * light.height;
+                let q = DVec3::new((u[0] - 0.5) * light.width, (u[1] - 0.5) * light.height, 0.0);
+                let d2 = (q - pl).length_squared();
+                let cos = -pl.z / d2.sqrt();
+                (q, d2 / (cos * area))
+            }
+            RectPlan::WindowArea(w) => {
+                let q = DVec3::new(
+                    w[0] + u[0] * (w[2] - w[0]),
+                    w[1] + u[1] * (w[3] - w[1]),
+                    0.0,
+                );
+                let d2 = (q - pl).length_squared();
+                let cos = -pl.z / d2.sqrt();
+                (q, d2 / (cos * (w[2] - w[0]) * (w[3] - w[1])))
+            }
+            RectPlan::Spherical {
+                sr,
+                s,
+                cw: Some(cw),
+            } => {
+                let uv = sample_bilinear(u, *cw);
+                (sr.sample(uv), bilinear_pdf(uv, *cw) / s)
+            }
+            RectPlan::Spherical { sr, s, cw: None } => (sr.sample(u), 1.0 / s),
+        };
+        finish_sample_with_normal(&light.xf, self.p, pl, q, light.normal, pdf)
+    }
+}
+
 impl RectLight {
     /// A `width × height` rectangle (UsdLux `inputs:width`, `inputs:height`, both > 0) placed
     /// by `xf`.
@@ -165,6 +233,69 @@ impl RectLight {
         }
     }
 
+    /// Calls `f` with the light seen from the receiver `r` with the techniques of `strategy`:
+    /// what every sample drawn from there shares (the receiver in light space, the spherical
+    /// rectangle and its cosine weights), computed once, so that `k` samples from one receiver
+    /// cost one setup. [`RectFrom::sample`] equals [`Self::sample_with`]`(r, u, strategy)` for
+    /// every `u`, bit for bit.
+    #[inline(always)]
+    pub fn seen_from<R>(
+        &self,
+        r: &Reference,
+        strategy: Strategy,
+        f: impl FnOnce(&RectFrom<'_>) -> R,
+    ) -> R {
+        self.seen_by(r, self.technique_of(strategy), f)
+    }
+
+    #[inline(always)]
+    fn seen_by<R>(
+        &self,
+        r: &Reference,
+        technique: RectTechnique,
+        f: impl FnOnce(&RectFrom<'_>) -> R,
+    ) -> R {
+        let pl = self.xf.inv_point(r.p);
+        // (the spherical rectangle stays where it is built: `RectFrom` borrows it)
+        let sr;
+        let plan = if pl.z.is_nan() || pl.z >= 0.0 {
+            RectPlan::Nothing
+        } else {
+            match technique {
+                RectTechnique::Area => RectPlan::Area,
+                _ if self.tan_cut < f64::INFINITY => match self.window(pl) {
+                    None => RectPlan::Nothing,
+                    Some(w) => {
+                        sr = SphericalRectangle::window(pl, w);
+                        let s = sr.solid_angle();
+                        if s.is_nan() || s < MIN_SOLID_ANGLE {
+                            RectPlan::WindowArea(w)
+                        } else {
+                            let cw = self.cosine_weights(&sr, self.xf.inv_normal(r.n), technique);
+                            RectPlan::Spherical { sr: &sr, s, cw }
+                        }
+                    }
+                },
+                _ => {
+                    sr = self.spherical(pl);
+                    let s = sr.solid_angle();
+                    if s.is_nan() || s < MIN_SOLID_ANGLE {
+                        RectPlan::Area
+                    } else {
+                        let cw = self.cosine_weights(&sr, self.xf.inv_normal(r.n), technique);
+                        RectPlan::Spherical { sr: &sr, s, cw }
+                    }
+                }
+            }
+        };
+        f(&RectFrom {
+            light: self,
+            p: r.p,
+            pl,
+            plan,
+        })
+    }
+
     #[inline]
     fn sample_by(
         &self,
@@ -172,57 +303,7 @@ impl RectLight {
         u: [f64; 2],
         technique: RectTechnique,
     ) -> Option<LightSample> {
-        let pl = self.xf.inv_point(r.p);
-        if pl.z.is_nan() || pl.z >= 0.0 {
-            return None;
-        }
-        let area = self.width * self.height;
-        let area_sample = |u: [f64; 2]| {
-            let q = DVec3::new((u[0] - 0.5) * self.width, (u[1] - 0.5) * self.height, 0.0);
-            let d2 = (q - pl).length_squared();
-            let cos = -pl.z / d2.sqrt();
-            (q, d2 / (cos * area))
-        };
-        let (q, pdf) = match technique {
-            RectTechnique::Area => area_sample(u),
-            _ if self.tan_cut < f64::INFINITY => {
-                let w = self.window(pl)?;
-                let sr = SphericalRectangle::window(pl, w);
-                let s = sr.solid_angle();
-                if s.is_nan() || s < MIN_SOLID_ANGLE {
-                    // uniform over the window's area
-                    let q = DVec3::new(
-                        w[0] + u[0] * (w[2] - w[0]),
-                        w[1] + u[1] * (w[3] - w[1]),
-                        0.0,
-                    );
-                    let d2 = (q - pl).length_squared();
-                    let cos = -pl.z / d2.sqrt();
-                    (q, d2 / (cos * (w[2] - w[0]) * (w[3] - w[1])))
-                } else if let Some(cw) =
-                    self.cosine_weights(&sr, self.xf.inv_normal(r.n), technique)
-                {
-                    let uv = sample_bilinear(u, cw);
-                    (sr.sample(uv), bilinear_pdf(uv, cw) / s)
-                } else {
-                    (sr.sample(u), 1.0 / s)
-                }
-            }
-            _ => {
-                let sr = self.spherical(pl);
-                let s = sr.solid_angle();
-                if s.is_nan() || s < MIN_SOLID_ANGLE {
-                    area_sample(u)
-                } else if let Some(w) = self.cosine_weights(&sr, self.xf.inv_normal(r.n), technique)
-                {
-                    let uv = sample_bilinear(u, w);
-                    (sr.sample(uv), bilinear_pdf(uv, w) / s)
-                } else {
-                    (sr.sample(u), 1.0 / s)
-                }
-            }
-        };
-        finish_sample_with_normal(&self.xf, r.p, pl, q, self.normal, pdf)
+        self.seen_by(r, technique, |from| from.sample(u))
     }
 
     /// Solid-angle density with which [`Self::sample`] produces direction `wi` (unit, world)

@@ -73,56 +73,102 @@ struct ConeSample {
 /// 1/(2π·rad²).
 #[inline(always)]
 fn sample_cone(p: DVec3, d2: f64, rad: f64, inv_tau_r2: f64, u: [f64; 2]) -> ConeSample {
-    // With e = √(d² − r²) (so cos α = e/d): 1 − cos α = r²/(d·(d + e)), whose reciprocal also
-    // gives the density 1/(2π(1 − cos α)) = d·(d + e)/(2π r²). Square root and division share
-    // one unit on current CPUs and their latency dominates this sampler, so every square root
-    // below is taken of an expression free of that division (see the direction), and the
-    // division only scales the results.
-    let d = d2.sqrt();
-    let e = (d2 - rad * rad).max(0.0).sqrt();
-    let dpe = d + e;
-    let dde = d * dpe;
-    let inv_dde = 1.0 / dde;
-    let pdf = dde * inv_tau_r2;
-    // The cone's frame around the unit axis n = v/d, v = −p, as `Frame::from_normal(n)`
-    // (Duff et al. 2017) but from v and d: with σ = sign(v.z) and k = −1/(d·(σd + v.z)),
-    // its a/d² is k and 1/d = −k·(σd + v.z). That division needs only d, so it runs beside the
-    // one above instead of after it. (σd + v.z has no cancellation: both terms share a sign.)
-    let v = -p;
-    let sgn = 1.0f64.copysign(v.z);
-    let sdz = sgn * d + v.z;
-    let k = -1.0 / (d * sdz);
-    let n = v * (-k * sdz);
-    let bxy = v.x * v.y * k;
-    let frame = Frame {
-        t: DVec3::new(1.0 + sgn * v.x * v.x * k, sgn * bxy, -sgn * n.x),
-        b: DVec3::new(bxy, sgn + v.y * v.y * k, -n.y),
-        n,
-    };
-    // The direction of `warp::sample_uniform_cone(u, 1 − cos α)`: cos θ = 1 − u₀·(1 − cos α)
-    // = 1 − u₀r²/dde (dde = d(d + e)), and sin²θ = (1 − cos θ)(1 + cos θ)
-    // = u₀r²·(2·dde − u₀r²)/dde², so sin θ = √(u₀r²·(2·dde − u₀r²))·(1/dde): the root needs
-    // dde only (2·dde − u₀r² ≥ dde since dde > r²: no cancellation).
-    let ur2 = u[0] * (rad * rad);
-    let cos_t = 1.0 - ur2 * inv_dde;
-    let sin_t = (ur2 * (2.0 * dde - ur2)).max(0.0).sqrt() * inv_dde;
-    let sin2_t = sin_t * sin_t;
-    let (sp, cp) = (TAU * u[1]).sin_cos();
-    let wc = DVec3::new(sin_t * cp, sin_t * sp, cos_t);
-    // Nearest hit along wc from the reference point, which sits at (0, 0, −d) in the cone
-    // frame: t = d·(cos θ − g) with g² = sin²α − sin²θ = cos²θ − cos²α
-    // = (1 − u₀)(1 − cos α)·(cos θ + cos α) = (1 − u₀)r²·((d + e)² − u₀r²)/dde², a product
-    // without cancellation (g = 0 on the silhouette) whose root again needs dde only. The hit
-    // point relative to the centre, (t·wc.x, t·wc.y, −d + t·cos θ), has
-    // −d + t·cos θ = −d·(sin²θ + cos θ·g): no cancellation, unlike p + t·w.
-    let g = (((rad * rad) - ur2) * (dpe * dpe - ur2)).max(0.0).sqrt() * inv_dde;
-    let t = d * (cos_t - g);
-    let qc = DVec3::new(t * wc.x, t * wc.y, -d * (sin2_t + cos_t * g));
-    ConeSample {
-        q: frame.to_world(qc),
-        w: frame.to_world(wc),
-        t,
-        pdf,
+    Cone::new(p, d2, rad, inv_tau_r2).sample(u)
+}
+
+/// The cone of directions towards the sphere |x| = `rad` from a point outside it: what
+/// [`sample_cone`] computes from the point alone.
+#[derive(Clone, Copy, Debug)]
+struct Cone {
+    rad: f64,
+    d: f64,
+    dpe: f64,
+    dde: f64,
+    inv_dde: f64,
+    pdf: f64,
+    frame: Frame,
+}
+
+impl Cone {
+    /// The cone from `p` (relative to the centre, |p|² = `d2` > rad²); `inv_tau_r2` is
+    /// 1/(2π·rad²).
+    #[inline(always)]
+    fn new(p: DVec3, d2: f64, rad: f64, inv_tau_r2: f64) -> Cone {
+        // With e = √(d² − r²) (so cos α = e/d): 1 − cos α = r²/(d·(d + e)), whose reciprocal
+        // also gives the density 1/(2π(1 − cos α)) = d·(d + e)/(2π r²). Square root and
+        // division share one unit on current CPUs and their latency dominates this sampler, so
+        // every square root below is taken of an expression free of that division (see the
+        // direction), and the division only scales the results.
+        let d = d2.sqrt();
+        let e = (d2 - rad * rad).max(0.0).sqrt();
+        let dpe = d + e;
+        let dde = d * dpe;
+        let inv_dde = 1.0 / dde;
+        let pdf = dde * inv_tau_r2;
+        // The cone's frame around the unit axis n = v/d, v = −p, as `Frame::from_normal(n)`
+        // (Duff et al. 2017) but from v and d: with σ = sign(v.z) and k = −1/(d·(σd + v.z)),
+        // its a/d² is k and 1/d = −k·(σd + v.z). That division needs only d, so it runs beside
+        // the one above instead of after it. (σd + v.z has no cancellation: both terms share a
+        // sign.)
+        let v = -p;
+        let sgn = 1.0f64.copysign(v.z);
+        let sdz = sgn * d + v.z;
+        let k = -1.0 / (d * sdz);
+        let n = v * (-k * sdz);
+        let bxy = v.x * v.y * k;
+        let frame = Frame {
+            t: DVec3::new(1.0 + sgn * v.x * v.x * k, sgn * bxy, -sgn * n.x),
+            b: DVec3::new(bxy, sgn + v.y * v.y * k, -n.y),
+            n,
+        };
+        Cone {
+            rad,
+            d,
+            dpe,
+            dde,
+            inv_dde,
+            pdf,
+            frame,
+        }
+    }
+
+    /// The point and direction of `u ∈ [0,1)²`.
+    #[inline(always)]
+    fn sample(&self, u: [f64; 2]) -> ConeSample {
+        let Cone {
+            rad,
+            d,
+            dpe,
+            dde,
+            inv_dde,
+            pdf,
+            frame,
+        } = *self;
+        // The direction of `warp::sample_uniform_cone(u, 1 − cos α)`: cos θ = 1 − u₀·(1 − cos α)
+        // = 1 − u₀r²/dde (dde = d(d + e)), and sin²θ = (1 − cos θ)(1 + cos θ)
+        // = u₀r²·(2·dde − u₀r²)/dde², so sin θ = √(u₀r²·(2·dde − u₀r²))·(1/dde): the root needs
+        // dde only (2·dde − u₀r² ≥ dde since dde > r²: no cancellation).
+        let ur2 = u[0] * (rad * rad);
+        let cos_t = 1.0 - ur2 * inv_dde;
+        let sin_t = (ur2 * (2.0 * dde - ur2)).max(0.0).sqrt() * inv_dde;
+        let sin2_t = sin_t * sin_t;
+        let (sp, cp) = (TAU * u[1]).sin_cos();
+        let wc = DVec3::new(sin_t * cp, sin_t * sp, cos_t);
+        // Nearest hit along wc from the reference point, which sits at (0, 0, −d) in the cone
+        // frame: t = d·(cos θ − g) with g² = sin²α − sin²θ = cos²θ − cos²α
+        // = (1 − u₀)(1 − cos α)·(cos θ + cos α) = (1 − u₀)r²·((d + e)² − u₀r²)/dde², a product
+        // without cancellation (g = 0 on the silhouette) whose root again needs dde only. The
+        // hit point relative to the centre, (t·wc.x, t·wc.y, −d + t·cos θ), has
+        // −d + t·cos θ = −d·(sin²θ + cos θ·g): no cancellation, unlike p + t·w.
+        let g = (((rad * rad) - ur2) * (dpe * dpe - ur2)).max(0.0).sqrt() * inv_dde;
+        let t = d * (cos_t - g);
+        let qc = DVec3::new(t * wc.x, t * wc.y, -d * (sin2_t + cos_t * g));
+        ConeSample {
+            q: frame.to_world(qc),
+            w: frame.to_world(wc),
+            t,
+            pdf,
+        }
     }
 }
 
@@ -178,6 +224,81 @@ fn hit(p: DVec3, w: DVec3, r: f64) -> Option<(f64, f64)> {
     }
     let s = disc.sqrt();
     Some((-b - s, -b + s))
+}
+
+/// A [`SphereLight`] seen from one receiver ([`SphereLight::seen_from`]): the part of sampling
+/// that depends on the receiver alone, done once for the light samples of a shading point.
+#[derive(Clone, Copy, Debug)]
+pub struct SphereFrom<'a> {
+    light: &'a SphereLight,
+    r: Reference,
+    plan: SpherePlan<'a>,
+}
+
+/// How a [`SphereFrom`] draws its points.
+#[derive(Clone, Copy, Debug)]
+enum SpherePlan<'a> {
+    /// [`SphereTechnique::ProjectedCap`]: the world sphere, the receiver relative to its centre
+    /// and the cap's ellipse.
+    Cap {
+        ws: &'a WorldSphere,
+        p: DVec3,
+        cap: &'a CapEllipse,
+    },
+    /// [`SphereTechnique::Cone`] around the world sphere.
+    WorldCone { ws: &'a WorldSphere, cone: &'a Cone },
+    /// Light-space sampling by this technique, from the receiver each time.
+    Local(SphereTechnique),
+}
+
+impl SphereFrom<'_> {
+    /// Samples a point with `u ∈ [0,1)²`: [`SphereLight::sample_with`] from this receiver.
+    #[inline(always)]
+    pub fn sample(&self, u: [f64; 2]) -> Option<LightSample> {
+        match self.plan {
+            SpherePlan::Cap {
+                ws,
+                p,
+                cap: &(f, cx, ax, ay, area),
+            } => {
+                let e = sample_concentric_disk(u);
+                let (x, y) = (cx + ax * e.x, ay * e.y);
+                let z = (1.0 - x * x - y * y).max(0.0).sqrt();
+                let w = f.to_world(DVec3::new(x, y, z)).normalize();
+                // The nearest hit; on the silhouette (numerically just outside) the tangent
+                // point.
+                let t = hit(p, w, ws.radius).map_or(-p.dot(w), |(t0, _)| t0);
+                let q = p + t * w;
+                let pdf = z / area;
+                if !(t > 0.0 && pdf > 0.0 && pdf.is_finite()) {
+                    return None;
+                }
+                Some(LightSample {
+                    point: ws.centre + q,
+                    normal: q * ws.inv_radius,
+                    wi: w,
+                    distance: t,
+                    pdf,
+                    delta: false,
+                })
+            }
+            SpherePlan::WorldCone { ws, cone } => {
+                let c = cone.sample(u);
+                if !(c.t > 0.0 && c.pdf.is_finite()) {
+                    return None;
+                }
+                Some(LightSample {
+                    point: ws.centre + c.q,
+                    normal: c.q * ws.inv_radius,
+                    wi: c.w,
+                    distance: c.t,
+                    pdf: c.pdf,
+                    delta: false,
+                })
+            }
+            SpherePlan::Local(technique) => self.light.sample_local(&self.r, u, technique),
+        }
+    }
 }
 
 impl SphereLight {
@@ -261,6 +382,61 @@ impl SphereLight {
         Some((ws, p, projected_cap(-p, d2, ws.radius, r.n)?))
     }
 
+    /// Calls `f` with the light seen from the receiver `r` with the techniques of `strategy`:
+    /// what every sample drawn from there shares (the projected cap's ellipse, or the cone's
+    /// frame), computed once, so that `k` samples from one receiver cost one setup.
+    /// [`SphereFrom::sample`] equals [`Self::sample_with`]`(r, u, strategy)` for every `u`, bit
+    /// for bit.
+    #[inline(always)]
+    pub fn seen_from<R>(
+        &self,
+        r: &Reference,
+        strategy: Strategy,
+        f: impl FnOnce(&SphereFrom<'_>) -> R,
+    ) -> R {
+        self.seen_by(r, self.technique_of(strategy), f)
+    }
+
+    #[inline(always)]
+    fn seen_by<R>(
+        &self,
+        r: &Reference,
+        technique: SphereTechnique,
+        f: impl FnOnce(&SphereFrom<'_>) -> R,
+    ) -> R {
+        // (the cap's ellipse and the cone stay where they are built: `SphereFrom` borrows them)
+        let (cap, cone);
+        let plan = 'plan: {
+            if technique == SphereTechnique::ProjectedCap
+                && let Some((ws, p, c)) = self.projected_cap_from(r)
+            {
+                cap = c;
+                break 'plan SpherePlan::Cap { ws, p, cap: &cap };
+            }
+            let technique = if technique == SphereTechnique::ProjectedCap {
+                SphereTechnique::Cone
+            } else {
+                technique
+            };
+            if technique == SphereTechnique::Cone
+                && let Some(ws) = &self.world
+            {
+                let p = r.p - ws.centre;
+                let d2 = p.length_squared();
+                if d2 > ws.radius * ws.radius {
+                    cone = Cone::new(p, d2, ws.radius, ws.inv_tau_r2);
+                    break 'plan SpherePlan::WorldCone { ws, cone: &cone };
+                }
+            }
+            SpherePlan::Local(technique)
+        };
+        f(&SphereFrom {
+            light: self,
+            r: *r,
+            plan,
+        })
+    }
+
     #[inline]
     fn sample_by(
         &self,
@@ -268,54 +444,18 @@ impl SphereLight {
         u: [f64; 2],
         technique: SphereTechnique,
     ) -> Option<LightSample> {
-        if technique == SphereTechnique::ProjectedCap
-            && let Some((ws, p, (f, cx, ax, ay, area))) = self.projected_cap_from(r)
-        {
-            let e = sample_concentric_disk(u);
-            let (x, y) = (cx + ax * e.x, ay * e.y);
-            let z = (1.0 - x * x - y * y).max(0.0).sqrt();
-            let w = f.to_world(DVec3::new(x, y, z)).normalize();
-            // The nearest hit; on the silhouette (numerically just outside) the tangent point.
-            let t = hit(p, w, ws.radius).map_or(-p.dot(w), |(t0, _)| t0);
-            let q = p + t * w;
-            let pdf = z / area;
-            if !(t > 0.0 && pdf > 0.0 && pdf.is_finite()) {
-                return None;
-            }
-            return Some(LightSample {
-                point: ws.centre + q,
-                normal: q * ws.inv_radius,
-                wi: w,
-                distance: t,
-                pdf,
-                delta: false,
-            });
-        }
-        let technique = if technique == SphereTechnique::ProjectedCap {
-            SphereTechnique::Cone
-        } else {
-            technique
-        };
-        if technique == SphereTechnique::Cone
-            && let Some(ws) = &self.world
-        {
-            let p = r.p - ws.centre;
-            let d2 = p.length_squared();
-            if d2 > ws.radius * ws.radius {
-                let c = sample_cone(p, d2, ws.radius, ws.inv_tau_r2, u);
-                if !(c.t > 0.0 && c.pdf.is_finite()) {
-                    return None;
-                }
-                return Some(LightSample {
-                    point: ws.centre + c.q,
-                    normal: c.q * ws.inv_radius,
-                    wi: c.w,
-                    distance: c.t,
-                    pdf: c.pdf,
-                    delta: false,
-                });
-            }
-        }
+        self.seen_by(r, technique, |from| from.sample(u))
+    }
+
+    /// [`SphereTechnique::Area`] or [`SphereTechnique::Cone`] in light space (receivers inside
+    /// the sphere are sampled by area).
+    #[inline]
+    fn sample_local(
+        &self,
+        r: &Reference,
+        u: [f64; 2],
+        technique: SphereTechnique,
+    ) -> Option<LightSample> {
         let pl = self.xf.inv_point(r.p);
         let rad = self.radius;
         let d2 = pl.length_squared();

@@ -141,7 +141,7 @@ struct ExactHit {
 /// `t = n·(a − o) / n·d` with `n = ±(b − a) × (c − a)` the front normal (`−` when `mirror`),
 /// falling back to the traversal's `t_approx` when that is not a positive finite number;
 /// barycentrics of `p = o + t·d` in the corner order `(a, b, c)`.
-#[inline]
+#[inline(always)]
 fn exact_hit(
     a: DVec3,
     b: DVec3,
@@ -153,7 +153,9 @@ fn exact_hit(
 ) -> ExactHit {
     let n = (b - a).cross(c - a);
     let front = if mirror { -n } else { n };
-    let ng = front.normalize();
+    // |n|², which `normalize` (the same value for ±n) and the barycentrics share.
+    let len2 = n.length_squared();
+    let ng = front * (1.0 / len2.sqrt());
     let denom = front.dot(dir);
     let t = if denom != 0.0 {
         front.dot(a - origin) / denom
@@ -169,7 +171,7 @@ fn exact_hit(
     ExactHit {
         t,
         p,
-        bary: barycentric(p, a, b, c, n),
+        bary: barycentric(p, a, b, c, n, len2),
         ng,
         back: denom > 0.0,
     }
@@ -492,10 +494,11 @@ impl Geometry {
     }
 }
 
-/// Barycentric coordinates (b1, b2) of `p` in triangle (a, b, c) with unnormalised normal `n`.
+/// Barycentric coordinates (b1, b2) of `p` in triangle (a, b, c) with unnormalised normal `n`
+/// of squared length `len2`.
 #[inline]
-fn barycentric(p: DVec3, a: DVec3, b: DVec3, c: DVec3, n: DVec3) -> DVec2 {
-    let inv = 1.0 / n.length_squared();
+fn barycentric(p: DVec3, a: DVec3, b: DVec3, c: DVec3, n: DVec3, len2: f64) -> DVec2 {
+    let inv = 1.0 / len2;
     let b1 = (c - a).cross(p - a).dot(n) * -inv;
     let b2 = (b - a).cross(p - a).dot(n) * inv;
     DVec2::new(b1, b2)
@@ -574,6 +577,36 @@ mod tests {
             g.intersect(&scene, DVec3::new(0.25, 5.0, 0.5), DVec3::NEG_Y, 0.0, 3.5)
                 .is_none()
         );
+    }
+
+    /// The exact hit's normal is `normalize(±(b − a) × (c − a))` and its barycentrics use
+    /// `1/|n|²`, bit for bit, with the squared length computed once for both.
+    #[test]
+    fn exact_hit_normal_and_barycentrics() {
+        let mut rng = lux_sample::SplitMix64::new(11);
+        let mut v = || DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) * 7.0 - 3.0;
+        for i in 0..500 {
+            let (a, b, c, o) = (v(), v(), v(), v() * 4.0);
+            let target = (a + b + c) / 3.0;
+            let dir = (target - o).normalize();
+            let mirror = i % 2 == 1;
+            let e = exact_hit(a, b, c, mirror, o, dir, 1.0);
+            let n = (b - a).cross(c - a);
+            let ng = if mirror { -n } else { n }.normalize();
+            assert_eq!(
+                e.ng.to_array().map(f64::to_bits),
+                ng.to_array().map(f64::to_bits)
+            );
+            let inv = 1.0 / n.length_squared();
+            let want = DVec2::new(
+                (c - a).cross(e.p - a).dot(n) * -inv,
+                (b - a).cross(e.p - a).dot(n) * inv,
+            );
+            assert_eq!(
+                e.bary.to_array().map(f64::to_bits),
+                want.to_array().map(f64::to_bits)
+            );
+        }
     }
 
     #[test]

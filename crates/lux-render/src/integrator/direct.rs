@@ -21,7 +21,7 @@ use super::{CameraRay, World, closest, power_heuristic, visibility};
 use crate::film::Counters;
 use crate::geometry::Hit;
 use crate::geometry::{shadow_ray_to, shadow_tmax};
-use crate::light::{Light, LightBase, Seen};
+use crate::light::{LiSample, Light, LightBase, Seen};
 use crate::material::{Bsdf, SurfacePoint};
 use crate::sampler::{Dim, SampleStream};
 use crate::settings::SamplingMode;
@@ -172,64 +172,62 @@ impl<'a> DirectIntegrator<'a> {
         // technique's density is k·pdf in the MIS weights.
         let k = self.light_samples * st.light_factor();
         let kf = k as f64;
-        // Light sampling: the contribution of light `li` chosen with probability `pmf`
-        // (times k), with MIS against BSDF sampling unless `alone`.
-        let sample_light = |li: usize, pmf: f64, u: [f64; 2], alone: bool, c: &mut Counters| {
-            let l = &lights[li];
-            // Light linking: an unlinked light adds nothing here (nor by BSDF sampling).
-            if !l.base().illuminates(sp.mesh, sp.instance) {
-                return DVec3::ZERO;
-            }
-            let Some(ls) = l.sample_li(&r, u, self.strategy) else {
-                return DVec3::ZERO;
+        // Light sampling: the contribution of the sample `ls` of the light `l` chosen with
+        // probability `pmf` (times k), with MIS against BSDF sampling unless `alone`. (Light
+        // linking: an unlinked light adds nothing here, nor by BSDF sampling; the callers skip
+        // it.)
+        let sample_light =
+            |l: &Light, ls: Option<LiSample>, pmf: f64, alone: bool, c: &mut Counters| {
+                let Some(ls) = ls else {
+                    return DVec3::ZERO;
+                };
+                c.light_samples += 1;
+                let cos = sp.ns.dot(ls.wi);
+                if cos <= 0.0 || sp.ng.dot(ls.wi) <= 0.0 || ls.pdf.is_nan() || ls.pdf <= 0.0 {
+                    return DVec3::ZERO;
+                }
+                if ls.l == DVec3::ZERO {
+                    return DVec3::ZERO;
+                }
+                // A mesh light is geometry: its shadow ray aims at the sampled point from `origin`
+                // (`shadow_ray_to`); other lights are not occluders.
+                let (dir, tmax) = match l {
+                    Light::Mesh(_) => match shadow_ray_to(origin, ls.point) {
+                        Some(ray) => ray,
+                        None => return DVec3::ZERO,
+                    },
+                    _ if ls.dist.is_finite() => (ls.wi, shadow_tmax(ls.dist, ls.point)),
+                    _ => (ls.wi, f64::INFINITY),
+                };
+                if tmax <= 0.0 {
+                    return DVec3::ZERO;
+                }
+                let base = l.base();
+                let Some(vis) = visibility(w, base, origin, dir, tmax, c) else {
+                    return DVec3::ZERO;
+                };
+                let pdf = pmf * ls.pdf;
+                let weight = if alone || ls.delta || !self.mis || !base.plain_shadows() {
+                    1.0
+                } else {
+                    power_heuristic(pdf, sp.bsdf.pdf(ls.wi))
+                };
+                // The light's inputs:diffuse and inputs:specular scale the two parts of f; one
+                // scale for a Lambertian surface or equal multipliers.
+                let contrib = if one_scale(&sp.bsdf, base) {
+                    sp.bsdf.f(ls.wi) * ls.l * vis * (base.diffuse * cos * weight / pdf)
+                } else {
+                    sp.bsdf.f_scaled(ls.wi, base.diffuse, base.specular)
+                        * ls.l
+                        * vis
+                        * (cos * weight / pdf)
+                };
+                if contrib.is_finite() {
+                    contrib
+                } else {
+                    DVec3::ZERO
+                }
             };
-            c.light_samples += 1;
-            let cos = sp.ns.dot(ls.wi);
-            if cos <= 0.0 || sp.ng.dot(ls.wi) <= 0.0 || ls.pdf.is_nan() || ls.pdf <= 0.0 {
-                return DVec3::ZERO;
-            }
-            if ls.l == DVec3::ZERO {
-                return DVec3::ZERO;
-            }
-            // A mesh light is geometry: its shadow ray aims at the sampled point from `origin`
-            // (`shadow_ray_to`); other lights are not occluders.
-            let (dir, tmax) = match l {
-                Light::Mesh(_) => match shadow_ray_to(origin, ls.point) {
-                    Some(ray) => ray,
-                    None => return DVec3::ZERO,
-                },
-                _ if ls.dist.is_finite() => (ls.wi, shadow_tmax(ls.dist, ls.point)),
-                _ => (ls.wi, f64::INFINITY),
-            };
-            if tmax <= 0.0 {
-                return DVec3::ZERO;
-            }
-            let base = l.base();
-            let Some(vis) = visibility(w, base, origin, dir, tmax, c) else {
-                return DVec3::ZERO;
-            };
-            let pdf = pmf * ls.pdf;
-            let weight = if alone || ls.delta || !self.mis || !base.plain_shadows() {
-                1.0
-            } else {
-                power_heuristic(pdf, sp.bsdf.pdf(ls.wi))
-            };
-            // The light's inputs:diffuse and inputs:specular scale the two parts of f; one
-            // scale for a Lambertian surface or equal multipliers.
-            let contrib = if one_scale(&sp.bsdf, base) {
-                sp.bsdf.f(ls.wi) * ls.l * vis * (base.diffuse * cos * weight / pdf)
-            } else {
-                sp.bsdf.f_scaled(ls.wi, base.diffuse, base.specular)
-                    * ls.l
-                    * vis
-                    * (cos * weight / pdf)
-            };
-            if contrib.is_finite() {
-                contrib
-            } else {
-                DVec3::ZERO
-            }
-        };
         match selector {
             None => {
                 for (li, light) in lights.iter().enumerate() {
@@ -237,13 +235,24 @@ impl<'a> DirectIntegrator<'a> {
                     if alone {
                         light_only |= 1 << li;
                     }
-                    for j in 0..k {
-                        let u = st.split(j, k).get2(Dim::Light {
-                            bounce,
-                            index: li as u32,
-                        });
-                        out += sample_light(li, kf, u, alone, c);
+                    if !light.base().illuminates(sp.mesh, sp.instance) {
+                        continue;
                     }
+                    let dim = Dim::Light {
+                        bounce,
+                        index: li as u32,
+                    };
+                    if k == 1 {
+                        let ls = light.sample_li(&r, st.get2(dim), self.strategy);
+                        out += sample_light(light, ls, kf, alone, c);
+                        continue;
+                    }
+                    // What the light's k samples share, computed once.
+                    light.seen_from(&r, self.strategy, |from| {
+                        for u in st.split_get2(dim, k) {
+                            out += sample_light(light, from.sample_li(u), kf, alone, c);
+                        }
+                    });
                 }
             }
             Some(sel) => {
@@ -251,9 +260,12 @@ impl<'a> DirectIntegrator<'a> {
                     let sj = st.split(j, k);
                     if let Some((li, pmf)) = sel.sample(&r, sj.get1(Dim::LightChoice { bounce }))
                         && pmf > 0.0
+                        && lights[li].base().illuminates(sp.mesh, sp.instance)
                     {
+                        let l = &lights[li];
                         let u = sj.get2(Dim::Light { bounce, index: 0 });
-                        out += sample_light(li, pmf * kf, u, false, c);
+                        out +=
+                            sample_light(l, l.sample_li(&r, u, self.strategy), pmf * kf, false, c);
                     }
                 }
             }

@@ -49,7 +49,24 @@ impl CylinderLight {
     /// See [`super::Light::sample_li`].
     #[inline]
     pub fn sample_li(&self, r: &Reference, u: [f64; 2], strategy: Strategy) -> Option<LiSample> {
-        let s = self.sampler.sample_with(r, u, strategy)?;
+        self.seen_from(r, strategy, |from| self.sample_li_from(from, u))
+    }
+
+    /// Calls `f` with the light seen from the receiver `r` ([`super::Light::seen_from`]).
+    #[inline(always)]
+    pub fn seen_from<R>(
+        &self,
+        r: &Reference,
+        strategy: Strategy,
+        f: impl FnOnce(&lux_sample::CylinderFrom<'_>) -> R,
+    ) -> R {
+        self.sampler.seen_from(r, strategy, f)
+    }
+
+    /// [`Self::sample_li`] from the receiver `from` was made for.
+    #[inline(always)]
+    pub fn sample_li_from(&self, from: &lux_sample::CylinderFrom, u: [f64; 2]) -> Option<LiSample> {
+        let s = from.sample(u)?;
         let l = self.le(self.base.to_local(s.point), -s.wi, Seen::Lit);
         Some(LiSample::new(s, l))
     }

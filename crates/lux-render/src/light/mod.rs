@@ -4,6 +4,7 @@
 //! | question | method |
 //! |---|---|
 //! | a sample towards a receiver: radiance, direction, density, distance | [`Light::sample_li`] |
+//! | the same, k times from one receiver (its setup done once) | [`Light::seen_from`] |
 //! | the density of a direction, for MIS | [`Light::pdf_li`] |
 //! | the radiance leaving a point of the light's surface | [`Light::le`] |
 //! | the radiance arriving from an infinitely distant light | [`Light::le_escape`] |
@@ -155,6 +156,10 @@ impl LightBase {
     /// `base · shapingFactor(wl)` for the unit light-space emission direction `wl`.
     #[inline]
     pub fn shaped(&self, wl: DVec3) -> DVec3 {
+        // Without shaping the factor of every unit direction is exactly 1.
+        if self.shaping.is_identity() {
+            return self.radiance;
+        }
         let f = self.shaping.factor(wl);
         self.radiance * DVec3::new(f[0] as f64, f[1] as f64, f[2] as f64)
     }
@@ -212,6 +217,35 @@ impl LiSample {
             dist: s.distance,
             point: s.point,
             delta: s.delta,
+        }
+    }
+}
+
+/// A light seen from one receiver ([`Light::seen_from`]).
+#[derive(Clone, Copy, Debug)]
+pub enum LightFrom<'a> {
+    /// A rect light and its sampler's view from the receiver.
+    Rect(&'a RectLight, &'a lux_sample::RectFrom<'a>),
+    /// A disk light and its sampler's view from the receiver.
+    Disk(&'a DiskLight, &'a lux_sample::DiskFrom<'a>),
+    /// A sphere light and its sampler's view from the receiver.
+    Sphere(&'a SphereLight, &'a lux_sample::SphereFrom<'a>),
+    /// A cylinder light and its sampler's view from the receiver.
+    Cylinder(&'a CylinderLight, &'a lux_sample::CylinderFrom<'a>),
+    /// Any other kind, sampled from the receiver each time.
+    Other(&'a Light, Reference, Strategy),
+}
+
+impl LightFrom<'_> {
+    /// A light sample with `u ∈ [0,1)²`: [`Light::sample_li`] from the receiver.
+    #[inline]
+    pub fn sample_li(&self, u: [f64; 2]) -> Option<LiSample> {
+        match self {
+            LightFrom::Rect(l, from) => l.sample_li_from(from, u),
+            LightFrom::Disk(l, from) => l.sample_li_from(from, u),
+            LightFrom::Sphere(l, from) => l.sample_li_from(from, u),
+            LightFrom::Cylinder(l, from) => l.sample_li_from(from, u),
+            LightFrom::Other(l, r, strategy) => l.sample_li(r, u, *strategy),
         }
     }
 }
@@ -312,6 +346,27 @@ impl Light {
     #[inline]
     pub fn sample_li(&self, r: &Reference, u: [f64; 2], strategy: Strategy) -> Option<LiSample> {
         dispatch!(self, l => l.sample_li(r, u, strategy))
+    }
+
+    /// Calls `f` with the light seen from the receiver `r` with the techniques of `strategy`:
+    /// what its sampler computes from the receiver alone (a rect's spherical rectangle, a
+    /// disk's cone, a sphere's projected cap, a cylinder's angles), done once for the light
+    /// samples of a shading point. [`LightFrom::sample_li`] equals [`Light::sample_li`]`(r, u, strategy)`, bit for
+    /// bit.
+    #[inline(always)]
+    pub fn seen_from<R>(
+        &self,
+        r: &Reference,
+        strategy: Strategy,
+        f: impl FnOnce(&LightFrom<'_>) -> R,
+    ) -> R {
+        match self {
+            Light::Rect(l) => l.seen_from(r, strategy, |from| f(&LightFrom::Rect(l, from))),
+            Light::Disk(l) => l.seen_from(r, strategy, |from| f(&LightFrom::Disk(l, from))),
+            Light::Sphere(l) => l.seen_from(r, strategy, |from| f(&LightFrom::Sphere(l, from))),
+            Light::Cylinder(l) => l.seen_from(r, strategy, |from| f(&LightFrom::Cylinder(l, from))),
+            l => f(&LightFrom::Other(l, *r, strategy)),
+        }
     }
 
     /// Solid-angle density with which [`Light::sample_li`] (lux strategy) produces the
@@ -460,6 +515,29 @@ fn planar_emission_half_angle(base: &LightBase) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Without ShapingAPI `shaped` is the base radiance, as the factor's 1 makes it, for unit
+    /// directions all round (bit for bit).
+    #[test]
+    fn unshaped_radiance_is_the_base() {
+        let mut base = LightBase::new(
+            "/l",
+            LightTransform::default(),
+            Shaping::identity(),
+            ShadowInputs::default(),
+        );
+        base.radiance = DVec3::new(5.0, 0.1 + 0.2, 1e-300);
+        for i in 0..200 {
+            let (t, p) = (i as f64 * 0.0157, i as f64 * 2.399);
+            let wl = DVec3::new(t.sin() * p.cos(), t.sin() * p.sin(), (3.0 * t).cos()).normalize();
+            let f = base.shaping.factor(wl);
+            let want = base.radiance * DVec3::new(f[0] as f64, f[1] as f64, f[2] as f64);
+            assert_eq!(
+                base.shaped(wl).to_array().map(f64::to_bits),
+                want.to_array().map(f64::to_bits)
+            );
+        }
+    }
 
     #[test]
     fn quadratic_roots() {

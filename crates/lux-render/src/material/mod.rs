@@ -503,12 +503,26 @@ impl Materials {
         } else {
             DVec3::ZERO
         };
-        let bsdf = match shader.and_then(|m| m.preview.as_deref()) {
-            _ if self.no_response[hit.mesh] => Bsdf::Diffuse(DiffuseBsdf {
-                albedo: DVec3::ZERO,
+        // Each arm builds the point in place (moving a `Bsdf` out of a `match` copies all of
+        // it, the UsdPreviewSurface variant's size, whatever the variant).
+        let point = |ns: DVec3, bsdf: Bsdf| SurfacePoint {
+            p: hit.p,
+            ng,
+            ns,
+            offset: hit.offset,
+            bsdf,
+            mesh: hit.mesh,
+            instance: hit.instance,
+        };
+        match shader.and_then(|m| m.preview.as_deref()) {
+            _ if self.no_response[hit.mesh] => point(
                 ns,
-            }),
-            None => Bsdf::Diffuse(DiffuseBsdf { albedo, ns }),
+                Bsdf::Diffuse(DiffuseBsdf {
+                    albedo: DVec3::ZERO,
+                    ns,
+                }),
+            ),
+            None => point(ns, Bsdf::Diffuse(DiffuseBsdf { albedo, ns })),
             Some(p) => {
                 if let Some(map) = &p.normal {
                     ns = self.normal_mapped(scene, hit, map, st, ns, ng);
@@ -529,17 +543,8 @@ impl Materials {
                     clearcoat_roughness: p.clearcoat_roughness.eval1(st),
                     ior: p.ior.eval1(st),
                 };
-                Bsdf::Preview(PreviewBsdf::new(&params, ns, -d))
+                point(ns, Bsdf::Preview(PreviewBsdf::new(&params, ns, -d)))
             }
-        };
-        SurfacePoint {
-            p: hit.p,
-            ng,
-            ns,
-            offset: hit.offset,
-            bsdf,
-            mesh: hit.mesh,
-            instance: hit.instance,
         }
     }
 
