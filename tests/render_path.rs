@@ -9,7 +9,7 @@ use glam::{DMat4, DVec3};
 use lux::math::{LightShape, Profile};
 use lux::render::material::{PreviewBsdf, PreviewParams};
 use lux::render::render::Renderer;
-use lux::render::settings::IntegratorKind;
+use lux::render::settings::{AdaptiveSampling, IntegratorKind};
 use lux::usd::{Input, Light, Material, Mesh, Scene, load_stage};
 use std::path::PathBuf;
 
@@ -276,6 +276,8 @@ fn one_vertex_is_the_direct_integrator_bit_for_bit() {
             o.integrator = kind;
             o.max_depth = 1;
             o.light_samples = Some(1);
+            // The same samples for both (adaptive sampling is on by default for direct only).
+            o.adaptive = Some(AdaptiveSampling::OFF);
             Renderer::new(&scene, o).unwrap().render(&|_| {}).0.pixels
         };
         assert_eq!(
