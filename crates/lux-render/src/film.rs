@@ -163,8 +163,11 @@ fn par_tiles<T: Copy + Default + Send>(
         }
         ty += TILE;
     }
+    // One tile per job: the adaptive pass's work sits in a few tiles (edges, penumbrae), and
+    // rayon's default splitting leaves whole runs of them to one thread.
     let results: Vec<(usize, Vec<T>)> = tiles
         .par_iter()
+        .with_max_len(1)
         .enumerate()
         .map(|(ti, &[tx0, ty0, tx1, ty1])| {
             let mut c = Counters::default();
