@@ -143,6 +143,12 @@ impl Shared {
     }
 }
 
+/// A pixel's RGBA as stored in the image.
+#[inline]
+fn to_f32(v: DVec4) -> [f32; 4] {
+    [v.x as f32, v.y as f32, v.z as f32, v.w as f32]
+}
+
 /// Runs `f` over every pixel of `rect` (`[x0, y0, x1, y1)`) in 16 × 16 tiles on rayon's pool;
 /// returns the results row-major over `rect`. `done` is called with each finished tile's
 /// rectangle, after its counters (and the extra samples `f` reports) are added to `shared`.
@@ -217,10 +223,7 @@ impl Film {
                 let px = par_tiles(
                     self.window,
                     &shared,
-                    &|x, y, c, _| {
-                        let v = self.pixel(camera, integrator, x, y, c, &mut |_| {});
-                        [v.x as f32, v.y as f32, v.z as f32, v.w as f32]
-                    },
+                    &|x, y, c, _| to_f32(self.pixel(camera, integrator, x, y, c, &mut |_| {})),
                     &|[a, b, c, d]| progress((c - a) as u64 * (d - b) as u64),
                 );
                 for (k, v) in px.into_iter().enumerate() {
@@ -284,8 +287,7 @@ impl Film {
                             &mut |_| {},
                         );
                         let base = DVec4::from_array(p.rgba.map(f64::from)) * self.spp as f64;
-                        let v = (base + sums.rgba) / n as f64;
-                        [v.x as f32, v.y as f32, v.z as f32, v.w as f32]
+                        to_f32((base + sums.rgba) / n as f64)
                     },
                     &|[a, b, c, d]| progress((c - a) as u64 * (d - b) as u64),
                 );
@@ -331,20 +333,10 @@ impl Film {
         y: u32,
         c: &mut Counters,
     ) -> FirstPass {
-        let factor = self.penumbra_factor(camera, integrator, x, y, c);
-        let s = self.samples(
-            camera,
-            integrator,
-            [x, y],
-            [self.spp, factor],
-            PENUMBRA_SALT,
-            c,
-            &mut |_| {},
-        );
+        let (factor, s) = self.first_samples(camera, integrator, [x, y], c, &mut |_| {});
         let k = 1.0 / self.spp as f64;
-        let v = s.rgba / self.spp as f64;
         FirstPass {
-            rgba: [v.x as f32, v.y as f32, v.z as f32, v.w as f32],
+            rgba: to_f32(s.rgba / self.spp as f64),
             y: (s.y * k) as f32,
             y2: (s.y2 * k) as f32,
             factor,
@@ -363,6 +355,20 @@ impl Film {
         c: &mut Counters,
         each: &mut dyn FnMut(DVec3),
     ) -> DVec4 {
+        let (_, s) = self.first_samples(camera, integrator, [x, y], c, each);
+        s.rgba / self.spp as f64
+    }
+
+    /// The penumbra factor of pixel `[x, y]` and the sums over its `spp` samples.
+    #[inline]
+    fn first_samples(
+        &self,
+        camera: &Camera,
+        integrator: &Integrator,
+        [x, y]: [u32; 2],
+        c: &mut Counters,
+        each: &mut dyn FnMut(DVec3),
+    ) -> (u32, Sums) {
         let factor = self.penumbra_factor(camera, integrator, x, y, c);
         let s = self.samples(
             camera,
@@ -373,7 +379,7 @@ impl Film {
             c,
             each,
         );
-        s.rgba / self.spp as f64
+        (factor, s)
     }
 
     /// Light samples per light for pixel `(x, y)`'s samples, as a factor: `penumbra_samples`
