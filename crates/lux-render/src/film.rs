@@ -218,7 +218,7 @@ impl Film {
         let shared = Shared::default();
         let mut pixels = vec![[0.0f32; 4]; w as usize * h as usize];
         let rw = (x1 - x0) as usize;
-        match Some(self.adaptive).filter(AdaptiveSampling::is_on) {
+        match Some(self.adaptive).filter(|a| a.is_on() && x0 < x1 && y0 < y1) {
             None => {
                 let px = par_tiles(
                     self.window,
