@@ -97,7 +97,7 @@ pub struct RenderArgs {
     /// Time code to render (default: the stage's startTimeCode, as usdrecord).
     #[arg(long, allow_hyphen_values = true)]
     pub frame: Option<f64>,
-    /// Samples per pixel, 1 to 1048576.
+    /// Samples per pixel, 1 to 1048576 (with adaptive sampling, the least a pixel takes).
     #[arg(long, default_value_t = 64)]
     pub spp: u32,
     /// Output resolution WxH (default: the stage's RenderSettings, else usdrecord's 960 wide at
@@ -148,11 +148,11 @@ pub struct RenderArgs {
     /// takes this many times more.
     #[arg(long, default_value_t = 1)]
     pub penumbra_samples: u32,
-    /// Adaptive sampling's noise threshold (default 0.01): after --spp samples, a pixel takes
-    /// more until the standard error of its luminance is about this times the square root of
-    /// its neighbourhood's luminance (counted from its neighbours' samples, so pixels stay
-    /// unbiased). On by default with the direct integrator and lux sampling; giving this or
-    /// --adaptive-max turns it on for path tracing too.
+    /// Adaptive sampling's noise threshold t (default 0.01): after --spp samples, a pixel takes
+    /// spp·σ/(t·√μ) in all, σ the luminance noise of one sample and μ the mean luminance of its
+    /// neighbours (counted from its neighbours' samples only, so pixels stay unbiased). On by
+    /// default with the direct integrator and lux sampling; giving this or --adaptive-max turns
+    /// it on for path tracing too.
     #[arg(long, allow_negative_numbers = true)]
     pub adaptive_threshold: Option<f64>,
     /// Most samples a pixel takes with adaptive sampling, as a multiple of --spp (1 to 1024,

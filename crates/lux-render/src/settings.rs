@@ -82,7 +82,7 @@ pub enum SamplingMode {
 /// Everything a render depends on besides the scene.
 #[derive(Clone, Debug)]
 pub struct RenderOptions {
-    /// Samples per pixel (≥ 1).
+    /// Samples per pixel (≥ 1); with adaptive sampling, the least a pixel takes.
     pub spp: u32,
     /// Output resolution; `None` = the RenderSettings' (or its product's) resolution.
     pub resolution: Option<[u32; 2]>,
