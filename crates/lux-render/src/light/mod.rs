@@ -156,10 +156,6 @@ impl LightBase {
     /// `base · shapingFactor(wl)` for the unit light-space emission direction `wl`.
     #[inline]
     pub fn shaped(&self, wl: DVec3) -> DVec3 {
-        // Without shaping the factor of every unit direction is exactly 1.
-        if self.shaping.is_identity() {
-            return self.radiance;
-        }
         let f = self.shaping.factor(wl);
         self.radiance * DVec3::new(f[0] as f64, f[1] as f64, f[2] as f64)
     }
@@ -515,29 +511,6 @@ fn planar_emission_half_angle(base: &LightBase) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Without ShapingAPI `shaped` is the base radiance, as the factor's 1 makes it, for unit
-    /// directions all round (bit for bit).
-    #[test]
-    fn unshaped_radiance_is_the_base() {
-        let mut base = LightBase::new(
-            "/l",
-            LightTransform::default(),
-            Shaping::identity(),
-            ShadowInputs::default(),
-        );
-        base.radiance = DVec3::new(5.0, 0.1 + 0.2, 1e-300);
-        for i in 0..200 {
-            let (t, p) = (i as f64 * 0.0157, i as f64 * 2.399);
-            let wl = DVec3::new(t.sin() * p.cos(), t.sin() * p.sin(), (3.0 * t).cos()).normalize();
-            let f = base.shaping.factor(wl);
-            let want = base.radiance * DVec3::new(f[0] as f64, f[1] as f64, f[2] as f64);
-            assert_eq!(
-                base.shaped(wl).to_array().map(f64::to_bits),
-                want.to_array().map(f64::to_bits)
-            );
-        }
-    }
 
     #[test]
     fn quadratic_roots() {
