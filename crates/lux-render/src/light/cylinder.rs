@@ -12,7 +12,8 @@ pub struct CylinderLight {
     pub base: LightBase,
     radius: f64,
     half_length: f64,
-    sampler: lux_sample::CylinderLight,
+    /// lux-sample's sampler of the shape ([`super::Light::seen_from`] reads it).
+    pub(super) sampler: lux_sample::CylinderLight,
 }
 
 impl CylinderLight {
@@ -49,18 +50,8 @@ impl CylinderLight {
     /// See [`super::Light::sample_li`].
     #[inline]
     pub fn sample_li(&self, r: &Reference, u: [f64; 2], strategy: Strategy) -> Option<LiSample> {
-        self.seen_from(r, strategy, |from| self.sample_li_from(from, u))
-    }
-
-    /// Calls `f` with the light seen from the receiver `r` ([`super::Light::seen_from`]).
-    #[inline(always)]
-    pub fn seen_from<R>(
-        &self,
-        r: &Reference,
-        strategy: Strategy,
-        f: impl FnOnce(&lux_sample::CylinderFrom<'_>) -> R,
-    ) -> R {
-        self.sampler.seen_from(r, strategy, f)
+        self.sampler
+            .seen_from(r, strategy, |from| self.sample_li_from(from, u))
     }
 
     /// [`Self::sample_li`] from the receiver `from` was made for.

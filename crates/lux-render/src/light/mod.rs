@@ -357,10 +357,18 @@ impl Light {
         f: impl FnOnce(&LightFrom<'_>) -> R,
     ) -> R {
         match self {
-            Light::Rect(l) => l.seen_from(r, strategy, |from| f(&LightFrom::Rect(l, from))),
-            Light::Disk(l) => l.seen_from(r, strategy, |from| f(&LightFrom::Disk(l, from))),
-            Light::Sphere(l) => l.seen_from(r, strategy, |from| f(&LightFrom::Sphere(l, from))),
-            Light::Cylinder(l) => l.seen_from(r, strategy, |from| f(&LightFrom::Cylinder(l, from))),
+            Light::Rect(l) => l
+                .sampler
+                .seen_from(r, strategy, |from| f(&LightFrom::Rect(l, from))),
+            Light::Disk(l) => l
+                .sampler
+                .seen_from(r, strategy, |from| f(&LightFrom::Disk(l, from))),
+            Light::Sphere(l) => l
+                .sampler
+                .seen_from(r, strategy, |from| f(&LightFrom::Sphere(l, from))),
+            Light::Cylinder(l) => l
+                .sampler
+                .seen_from(r, strategy, |from| f(&LightFrom::Cylinder(l, from))),
             l => f(&LightFrom::Other(l, *r, strategy)),
         }
     }

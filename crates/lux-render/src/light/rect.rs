@@ -17,7 +17,8 @@ pub struct RectLight {
     texture: Option<LightTexture>,
     /// The `HdEmbree` profile's mirrored texture u on the lit path.
     mirror_u: bool,
-    sampler: lux_sample::RectLight,
+    /// lux-sample's sampler of the shape ([`super::Light::seen_from`] reads it).
+    pub(super) sampler: lux_sample::RectLight,
 }
 
 impl RectLight {
@@ -58,18 +59,8 @@ impl RectLight {
     /// See [`super::Light::sample_li`].
     #[inline]
     pub fn sample_li(&self, r: &Reference, u: [f64; 2], strategy: Strategy) -> Option<LiSample> {
-        self.seen_from(r, strategy, |from| self.sample_li_from(from, u))
-    }
-
-    /// Calls `f` with the light seen from the receiver `r` ([`super::Light::seen_from`]).
-    #[inline(always)]
-    pub fn seen_from<R>(
-        &self,
-        r: &Reference,
-        strategy: Strategy,
-        f: impl FnOnce(&lux_sample::RectFrom<'_>) -> R,
-    ) -> R {
-        self.sampler.seen_from(r, strategy, f)
+        self.sampler
+            .seen_from(r, strategy, |from| self.sample_li_from(from, u))
     }
 
     /// [`Self::sample_li`] from the receiver `from` was made for.
