@@ -468,10 +468,13 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     // Every output is encoded to a temporary file before any replaces its target: a failed
     // encode or write leaves none (and no temporary file).
     let tile = args.tile.zip(rows);
-    let staged = outputs
-        .iter()
-        .map(|(path, format)| stage(path, *format, &image, args, &header, tile))
-        .collect::<Result<Vec<_>, _>>()?;
+    // (On the render's pool: the EXR's blocks are compressed in parallel.)
+    let staged = pool.install(|| {
+        outputs
+            .iter()
+            .map(|(path, format)| stage(path, *format, &image, args, &header, tile))
+            .collect::<Result<Vec<_>, _>>()
+    })?;
     for file in staged {
         file.commit().map_err(|e| e.to_string())?;
     }

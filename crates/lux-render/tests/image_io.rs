@@ -243,6 +243,59 @@ fn exr_round_trip_is_bit_exact() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
+/// lux writes the ZIP blocks itself (its own deflate level): 16-line blocks, the last one
+/// partial, both the compressed form (smooth rows) and the raw fallback (rows of random bits,
+/// which deflate cannot shrink) must read back bit for bit through the exr crate's decoder.
+#[test]
+fn exr_zip_blocks_round_trip_compressed_and_raw() {
+    let dir = scratch("exr_zip_blocks");
+    let path = dir.join("zip.exr");
+    let (width, height) = (37, 50); // blocks of rows 0–15, 16–31, 32–47, 48–49
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let mut random_bits = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        f32::from_bits(state as u32)
+    };
+    let pixels: Vec<[f32; 4]> = (0..width * height)
+        .map(|i| {
+            let (x, y) = ((i % width) as f32, (i / width) as f32);
+            if (16..32).contains(&(i / width)) {
+                [random_bits(), random_bits(), random_bits(), random_bits()]
+            } else {
+                [x / 37.0, y / 50.0, 0.25, 1.0]
+            }
+        })
+        .collect();
+    let image = ImageRgba {
+        width,
+        height,
+        pixels: pixels.clone(),
+    };
+    write_exr(&path, &image).unwrap();
+    let meta = exr::meta::MetaData::read_from_file(&path, false).unwrap();
+    assert_eq!(
+        meta.headers[0].compression,
+        exr::compression::Compression::ZIP16
+    );
+    // Smaller than the raw data (3 of the 4 blocks compress).
+    assert!(fs::metadata(&path).unwrap().len() < (width * height * 16) as u64);
+    let flat = exr::prelude::read_first_flat_layer_from_file(&path).unwrap();
+    let channels = &flat.layer_data.channel_data.list;
+    for (k, name) in ["R", "G", "B", "A"].iter().enumerate() {
+        let ch = channels
+            .iter()
+            .find(|c| c.name.to_string() == *name)
+            .unwrap();
+        for (i, px) in pixels.iter().enumerate() {
+            let v = ch.sample_data.value_by_flat_index(i).to_f32();
+            assert_eq!(v.to_bits(), px[k].to_bits(), "{name} at {i}");
+        }
+    }
+    fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn exr_non_finite_becomes_zero_on_load() {
     let dir = scratch("exr_non_finite");

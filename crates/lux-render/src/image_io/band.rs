@@ -6,12 +6,17 @@ use std::fs::File;
 use std::io::BufReader;
 use std::path::Path;
 
+use exr::block::chunk::{Chunk, CompressedBlock, CompressedScanLineBlock};
+use exr::block::writer::ChunksWriter;
+use exr::block::{BlockIndex, UncompressedBlock};
+use exr::image::write::layers::WritableLayers;
 use exr::meta::attribute::{AttributeValue, IntegerBounds, Text};
 use exr::meta::header::LayerAttributes;
 use exr::prelude::{
-    Encoding, Image, ImageAttributes, Layer, ReadChannels, ReadLayers, RgbaChannels,
-    SpecificChannels, Vec2, WritableImage,
+    Encoding, ImageAttributes, Layer, ReadChannels, ReadLayers, RgbaChannels, SpecificChannels,
+    Vec2,
 };
+use rayon::prelude::*;
 
 use super::read::exr_error;
 use super::{ImageError, ImageRgba, StagedFile, check_buffer, check_dimensions, stage_atomically};
@@ -51,7 +56,8 @@ pub fn stage_exr_band(
     }
     let width = image.width;
     let pixels = &image.pixels;
-    // Positions are relative to the data window.
+    // The layer describes the header (channels, ZIP16 scan-line blocks, attributes); the
+    // blocks themselves are assembled below straight from `pixels`.
     let channels = SpecificChannels::rgba(|pos: Vec2<usize>| {
         let p = pixels[pos.y() * width + pos.x()];
         (p[0], p[1], p[2], p[3])
@@ -73,21 +79,123 @@ pub fn stage_exr_band(
         channels,
     );
     let display = IntegerBounds::new(Vec2(0, 0), Vec2(image.width, frame_height));
-    let exr_image = Image::new(ImageAttributes::new(display), layer);
-    stage_atomically(path, |writer| {
-        exr_image.write().to_buffered(writer).map_err(|e| match e {
-            exr::error::Error::Io(source) => ImageError::Io {
-                path: path.to_path_buf(),
-                action: "write",
-                source,
-            },
-            other => ImageError::Encode {
-                path: path.to_path_buf(),
-                format: "OpenEXR",
-                message: other.to_string(),
-            },
+    let headers = layer.infer_headers(&ImageAttributes::new(display));
+    let encode_error = |e: exr::error::Error| match e {
+        exr::error::Error::Io(source) => ImageError::Io {
+            path: path.to_path_buf(),
+            action: "write",
+            source,
+        },
+        other => ImageError::Encode {
+            path: path.to_path_buf(),
+            format: "OpenEXR",
+            message: other.to_string(),
+        },
+    };
+    // Which of our RGBA components each of the header's channels (sorted by name) holds.
+    let order: Vec<usize> = headers[0]
+        .channels
+        .list
+        .iter()
+        .map(|c| match c.name.to_string().as_str() {
+            "R" => 0,
+            "G" => 1,
+            "B" => 2,
+            _ => 3,
         })
+        .collect();
+    stage_atomically(path, |writer| {
+        exr::block::write(writer, headers, true, |meta, chunks| {
+            let blocks: Vec<(usize, BlockIndex)> = meta
+                .collect_ordered_blocks(|index| UncompressedBlock {
+                    index,
+                    data: Vec::new(),
+                })
+                .map(|(i, b)| (i, b.index))
+                .collect();
+            // Each block encoded on the current rayon pool; written in file order.
+            let encoded: Vec<(usize, Chunk)> = blocks
+                .into_par_iter()
+                .map_init(ZipScratch::default, |scratch, (i, index)| {
+                    block_bytes(pixels, width, &order, &index, &mut scratch.raw);
+                    let y = (y0 + index.pixel_position.y()) as i32;
+                    (i, scratch.chunk(y))
+                })
+                .collect();
+            for (i, chunk) in encoded {
+                chunks.write_chunk(i, chunk)?;
+            }
+            Ok(())
+        })
+        .map_err(encode_error)
     })
+}
+
+/// deflate level of the ZIP blocks: miniz's fastest (1). On a 512² render's blocks it takes a
+/// third of the time of level 4 (what the exr crate uses) for 2.5 % more bytes.
+const ZIP_LEVEL: u8 = 1;
+
+/// A worker's buffers for ZIP-compressing scan-line blocks (OpenEXR `ZIP_COMPRESSION`, 16
+/// lines), reused from block to block. The OpenEXR scheme: the even-indexed bytes,
+/// then the odd-indexed ones; each byte replaced by its difference to the previous one plus
+/// 128 (mod 256); zlib. Kept raw when that is not smaller (the format's rule: a block of the
+/// uncompressed size is read as uncompressed). Written here, rather than by
+/// `UncompressedBlock::compress_to_chunk`, for the level: the exr crate fixes it at 4.
+#[derive(Default)]
+struct ZipScratch {
+    /// The block's little-endian bytes.
+    raw: Vec<u8>,
+    /// Even-indexed bytes, then odd-indexed.
+    split: Vec<u8>,
+    /// Differences (+128) of `split`.
+    delta: Vec<u8>,
+}
+
+impl ZipScratch {
+    /// The chunk of the block in `self.raw`, first line at frame row `y`.
+    fn chunk(&mut self, y: i32) -> Chunk {
+        let Self { raw, split, delta } = self;
+        split.clear();
+        split.extend(raw.iter().step_by(2));
+        split.extend(raw.iter().skip(1).step_by(2));
+        delta.clear();
+        delta.extend(split.first());
+        delta.extend(
+            split
+                .windows(2)
+                .map(|w| w[1].wrapping_sub(w[0]).wrapping_add(128)),
+        );
+        let z = miniz_oxide::deflate::compress_to_vec_zlib(delta, ZIP_LEVEL);
+        Chunk {
+            layer_index: 0,
+            compressed_block: CompressedBlock::ScanLine(CompressedScanLineBlock {
+                y_coordinate: y,
+                compressed_pixels_le: if z.len() < raw.len() { z } else { raw.clone() },
+            }),
+        }
+    }
+}
+
+/// A scan-line block's uncompressed bytes as OpenEXR lays them out: for each line, each
+/// channel's row of little-endian `f32` values, channels in the header's order.
+fn block_bytes(
+    pixels: &[[f32; 4]],
+    width: usize,
+    order: &[usize],
+    index: &BlockIndex,
+    out: &mut Vec<u8>,
+) {
+    let (x0, y0) = (index.pixel_position.x(), index.pixel_position.y());
+    let (w, h) = (index.pixel_size.width(), index.pixel_size.height());
+    out.clear();
+    for y in y0..y0 + h {
+        let row = &pixels[y * width + x0..y * width + x0 + w];
+        for &c in order {
+            for p in row {
+                out.extend_from_slice(&p[c].to_le_bytes());
+            }
+        }
+    }
 }
 
 /// Reads an EXR's first RGBA layer exactly (`f32` bits unchanged), its data window's top row,
