@@ -94,6 +94,60 @@ fn unoccluded_spheres_are_exact_at_a_few_samples() {
     );
 }
 
+/// Where nothing can block a sphere light (no geometry in the cone from the shading point to
+/// it: `geometry/cone.rs`), its light-only estimate is the closed form itself, drawn without a
+/// sample or a shadow ray; with a blocker in the cone it is sampled, and agrees with MIS.
+#[test]
+fn a_sphere_nothing_can_block_takes_its_closed_form_without_shadow_rays() {
+    let (rad, c) = (0.3, DVec3::new(0.8, 1.1, -0.4));
+    let mut sph = Light::with_defaults(
+        "/Sphere",
+        LightShape::Sphere { radius: rad },
+        DMat4::from_translation(c),
+    );
+    sph.params.intensity = 3.0;
+    let want = 3.0 * rad * rad / c.length_squared() * (c.y / c.length());
+    let render = |s: &Scene, spp: u32, selection: LightSelection| {
+        let mut o = options(Profile::Spec, spp, [1, 1]);
+        o.integrator = IntegratorKind::Direct;
+        o.selection = selection;
+        o.adaptive = Some(lux::render::settings::AdaptiveSampling::OFF);
+        Renderer::new(s, o).unwrap().render(&|_| {})
+    };
+    let clear = probe_scene(vec![sph.clone()], 0.0, 0.0);
+    let (img, stats) = render(&clear, 4, LightSelection::All);
+    assert_eq!(
+        stats.shadow_rays, 0,
+        "no shadow ray where nothing can block"
+    );
+    assert_eq!(stats.light_samples, 0);
+    close(img.pixels[0][0] as f64, want, 1e-5, "closed form");
+
+    // A small square halfway to the light, in the cone: sampled, shadowed, and converging to
+    // what MIS (one light chosen by power, light and BSDF samples: no closed form) gives.
+    let mut blocked = clear;
+    let m = c * 0.5;
+    blocked.meshes.push(Mesh::new(
+        "/Blocker",
+        vec![
+            m + DVec3::new(-0.06, 0.0, -0.06),
+            m + DVec3::new(-0.06, 0.0, 0.06),
+            m + DVec3::new(0.06, 0.0, 0.06),
+            m + DVec3::new(0.06, 0.0, -0.06),
+        ],
+        vec![[0, 1, 2], [0, 2, 3]],
+    ));
+    let (img, stats) = render(&blocked, 1 << 14, LightSelection::All);
+    assert!(stats.shadow_rays > 0);
+    let alone = img.pixels[0][0] as f64;
+    assert!(
+        alone < 0.95 * want && alone > 0.3 * want,
+        "partly shadowed: {alone} of {want}"
+    );
+    let mis = read(&blocked, 1 << 16, LightSelection::Power, 2);
+    close(alone, mis, 3e-3, "light sampling alone vs MIS");
+}
+
 /// A 1 × 0.6 rect light above and beside the probed point, partly hidden from it by a small
 /// opaque square between them (beside the camera's view of the point).
 fn occluded_rect() -> Scene {

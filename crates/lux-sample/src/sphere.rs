@@ -252,6 +252,21 @@ enum SpherePlan<'a> {
 }
 
 impl SphereFrom<'_> {
+    /// With [`SphereTechnique::ProjectedCap`] drawing (the whole cap above the receiver's
+    /// horizon): the world sphere's centre and radius and the cap's projected solid angle
+    /// Π = π sin²α cos β = ∫ cos θ dω over the cap. For a uniform radiance L, `L·Π` is the
+    /// unoccluded cosine-weighted integral, the value every sample of the technique returns.
+    pub fn projected_cap(&self) -> Option<(DVec3, f64, f64)> {
+        match self.plan {
+            SpherePlan::Cap {
+                ws,
+                cap: &(.., area),
+                ..
+            } => Some((ws.centre, ws.radius, area)),
+            _ => None,
+        }
+    }
+
     /// Samples a point with `u ∈ [0,1)²`: [`SphereLight::sample_with`] from this receiver.
     #[inline(always)]
     pub fn sample(&self, u: [f64; 2]) -> Option<LightSample> {

@@ -5,7 +5,9 @@
 //! mesh and triangle so that hits are re-intersected in `f64` against the scene's own vertices.
 
 use super::MAX_TRIANGLES;
+use super::cone::ShadowCone;
 use glam::DVec3;
+use glam::UVec2;
 use lux_usd::Scene;
 use obvhs::BvhBuildParams;
 use obvhs::cwbvh::CwBvh;
@@ -109,6 +111,18 @@ impl Blas {
         })
     }
 
+    /// The BVH's nodes (tests of node-level queries).
+    #[cfg(test)]
+    pub(super) fn nodes(&self) -> &[obvhs::cwbvh::node::CwBvhNode] {
+        &self.bvh.nodes
+    }
+
+    /// The `f32` triangles in BVH order (tests).
+    #[cfg(test)]
+    pub(super) fn triangles(&self) -> &[Triangle] {
+        &self.tris
+    }
+
     /// Number of stored triangles.
     pub fn len(&self) -> usize {
         self.tris.len()
@@ -145,6 +159,29 @@ impl Blas {
     pub fn nearest(&self, ray: Ray, hit: &mut RayHit) -> bool {
         self.bvh
             .ray_traverse(ray, hit, |r, id| self.tris[id].intersect(r))
+    }
+
+    /// True when no triangle can stop a shadow ray inside `cone` (conservative: false when
+    /// unsure); stops at the first triangle that might.
+    pub fn cone_clear(&self, cone: &ShadowCone) -> bool {
+        let mut state = self.bvh.new_traversal(cone.axis().as_vec3a());
+        let mut node;
+        let mut clear = true;
+        'outer: {
+            obvhs::traverse!(
+                self.bvh,
+                node,
+                state,
+                cone.node_mask(node, state.oct_inv4),
+                {
+                    if !cone.culls_triangle(&self.tris[state.primitive_id as usize]) {
+                        clear = false;
+                        break 'outer;
+                    }
+                }
+            );
+        }
+        clear
     }
 
     /// True when any triangle (either side) lies on `ray`; stops at the first one found.

@@ -21,11 +21,13 @@
 //! occludes shadow rays from both sides, so a one-sided wall still casts a shadow.
 
 mod blas;
+mod cone;
 mod instances;
 mod lights;
 
 use crate::light::{Light, LightHit};
 use blas::Blas;
+pub use cone::ShadowCone;
 use glam::{DVec2, DVec3, Vec3A};
 use instances::Instances;
 pub(crate) use instances::drawable_transform;
@@ -476,6 +478,12 @@ impl Geometry {
         })
     }
 
+    /// True when no triangle can stop a shadow ray inside `cone` ([`ShadowCone`]); false
+    /// when unsure, and always with instances (their prototypes are not searched).
+    pub fn cone_clear(&self, cone: &ShadowCone) -> bool {
+        self.instances.is_none() && self.world.as_ref().is_none_or(|w| w.cone_clear(cone))
+    }
+
     /// True when any triangle (either side) lies on `origin + t·dir`, `t ∈ (tmin, tmax)`.
     pub fn occluded(&self, origin: DVec3, dir: DVec3, tmin: f64, tmax: f64) -> bool {
         let Some(ray) = Self::ray(origin, dir, tmin, tmax) else {
@@ -505,7 +513,7 @@ fn barycentric(p: DVec3, a: DVec3, b: DVec3, c: DVec3, n: DVec3, len2: f64) -> D
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use lux_usd::{Mesh, Scene};
 

@@ -19,7 +19,7 @@
 
 use super::{CameraRay, World, closest, power_heuristic, visibility};
 use crate::film::Counters;
-use crate::geometry::Hit;
+use crate::geometry::{Hit, ShadowCone};
 use crate::geometry::{shadow_ray_to, shadow_tmax};
 use crate::light::{LiSample, Light, LightBase, Seen};
 use crate::material::{Bsdf, SurfacePoint};
@@ -249,6 +249,24 @@ impl<'a> DirectIntegrator<'a> {
                     }
                     // What the light's k samples share, computed once.
                     light.seen_from(&r, self.strategy, |from| {
+                        // Light-only estimation whose samples would all return L·Π where
+                        // nothing blocks them, and nothing can (geometry/cone.rs): the sum of
+                        // the k samples is that closed form, without drawing them.
+                        if alone
+                            && let Some((le_pi, centre, radius)) = from.unoccluded(sp.p)
+                            && let Some(cone) =
+                                ShadowCone::towards_sphere(sp.p, sp.ng, sp.offset, centre, radius)
+                            && w.geometry.cone_clear(&cone)
+                        {
+                            let base = light.base();
+                            let wi = cone.axis();
+                            out += if one_scale(&sp.bsdf, base) {
+                                sp.bsdf.f(wi) * le_pi * base.diffuse
+                            } else {
+                                sp.bsdf.f_scaled(wi, base.diffuse, base.specular) * le_pi
+                            };
+                            return;
+                        }
                         for u in st.split_get2(dim, k) {
                             out += sample_light(light, from.sample_li(u), kf, alone, c);
                         }

@@ -233,6 +233,25 @@ pub enum LightFrom<'a> {
 }
 
 impl LightFrom<'_> {
+    /// Where the light's samples from the receiver at `p` all return one value when nothing
+    /// blocks them: that value's integral `L·Π` (radiance times the projected solid angle
+    /// ∫ cos θ dω) and the sphere (centre, radius) the shadow rays end on. Today a sphere light
+    /// of uniform radiance (no shaping) drawn from its projected cap, whose cosine-weighted
+    /// samples each return exactly `L·Π` ([`lux_sample::SphereTechnique::ProjectedCap`]).
+    #[inline]
+    pub fn unoccluded(&self, p: DVec3) -> Option<(DVec3, DVec3, f64)> {
+        match self {
+            LightFrom::Sphere(l, from) if l.uniform_area() => {
+                let (centre, radius, pi) = from.projected_cap()?;
+                // The radiance of the point nearest p, leaving towards p (uniform: any point).
+                let out = (p - centre).normalize_or_zero();
+                let le = l.le(l.base.to_local(centre + out * radius), out, Seen::Lit);
+                Some((le * pi, centre, radius))
+            }
+            _ => None,
+        }
+    }
+
     /// A light sample with `u ∈ [0,1)²`: [`Light::sample_li`] from the receiver.
     #[inline]
     pub fn sample_li(&self, u: [f64; 2]) -> Option<LiSample> {

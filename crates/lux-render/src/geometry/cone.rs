@@ -1,0 +1,484 @@
+//! Proving that nothing can shadow a light: the cone of a sphere light seen from a shading
+//! point, and a conservative test of the BVH's boxes and triangles against it.
+//!
+//! The shadow rays of a sphere light sampled from `p` all run from the ray origin `o = p + ng·δ`
+//! (δ the hit's offset) along a direction `w` inside the cone that the sphere subtends from `p`
+//! — apex `o`, unit axis `a` towards the centre, half-angle α with sin α = r/d — and end on the
+//! sphere's near side, so `a·(x − o) ≤ d` along every segment. When the cone lies above the
+//! geometric horizon (`ng·a > sin α`), every segment also stays above the tangent plane at `p`.
+//! A triangle outside that region cannot stop any of them: if every triangle is, each shadow
+//! ray is unblocked and the light's direct contribution is its unshadowed closed form
+//! (`integrator/direct.rs`).
+//!
+//! The test only ever answers "clear" when it is certain: a box or triangle is dismissed when
+//! it lies wholly below the tangent plane at `p` (the surface the rays leave: what the offset
+//! δ keeps them clear of), wholly behind the apex or beyond the far plane, or when its
+//! bounding sphere misses the cone by a margin that covers the `f32` rounding of the traversal.
+
+use glam::{DVec3, Vec3A, Vec4};
+use obvhs::cwbvh::node::{CwBvhNode, extract_byte64};
+use obvhs::triangle::Triangle;
+
+/// The region every shadow ray towards a sphere light stays in, from one shading point.
+#[derive(Clone, Copy, Debug)]
+pub struct ShadowCone {
+    /// Its unit geometric normal (the rays leave on its side).
+    ng: DVec3,
+    /// Height along `ng`, relative to the apex, below which geometry is the surface the rays
+    /// leave: half the ray origin's offset below it.
+    floor: f64,
+    /// `ng·apex` and `axis·apex`.
+    ng_apex: f64,
+    axis_apex: f64,
+    /// The square of sin_e = cos(β + α) > 0, the least `ng·w` over the cone's directions:
+    /// every ray point x satisfies `ng·(x − apex) ≥ sin_e·|x − apex|`.
+    sin_e2: f64,
+    /// The rays' origin, `p + ng·offset`: the cone's apex.
+    apex: DVec3,
+    /// Unit axis, towards the sphere's centre.
+    axis: DVec3,
+    sin_a: f64,
+    cos_a: f64,
+    /// Largest `axis·(x − apex)` on a ray.
+    far: f64,
+    /// Distance by which a bounding sphere must miss the cone.
+    margin: f64,
+}
+
+impl ShadowCone {
+    /// The cone of the sphere (`centre`, `radius`) seen from the surface point `p` with unit
+    /// geometric normal `ng`, its rays leaving from `p + ng·offset`. `None` unless the sphere is
+    /// wholly in front of the tangent plane (`ng·a > sin α`) and outside `p`.
+    pub fn towards_sphere(
+        p: DVec3,
+        ng: DVec3,
+        offset: f64,
+        centre: DVec3,
+        radius: f64,
+    ) -> Option<ShadowCone> {
+        let v = centre - p;
+        let d = v.length();
+        if !(d > radius && d.is_finite() && radius > 0.0) {
+            return None;
+        }
+        let axis = v / d;
+        let sin_a = radius / d;
+        let cos_a = (1.0 - sin_a * sin_a).max(0.0).sqrt();
+        // (NaN fails too)
+        if ng.dot(axis).partial_cmp(&sin_a) != Some(std::cmp::Ordering::Greater) {
+            return None;
+        }
+        let cos_b = ng.dot(axis);
+        let sin_b = (1.0 - cos_b * cos_b).max(0.0).sqrt();
+        let sin_e = cos_b * cos_a - sin_b * sin_a;
+        let scale = p.abs().max_element() + d;
+        let apex = p + ng * offset;
+        Some(ShadowCone {
+            ng,
+            floor: -0.5 * offset,
+            ng_apex: ng.dot(apex),
+            axis_apex: axis.dot(apex),
+            sin_e2: sin_e * sin_e,
+            apex,
+            axis,
+            sin_a,
+            cos_a,
+            far: d,
+            margin: 1e-5 * scale + offset,
+        })
+    }
+
+    /// The axis (a traversal order for the BVH).
+    pub fn axis(&self) -> DVec3 {
+        self.axis
+    }
+
+    /// True when the sphere (`c`, `rho`) is certainly outside the cone.
+    #[inline]
+    fn misses_sphere(&self, c: DVec3, rho: f64) -> bool {
+        let v = c - self.apex;
+        let t = v.dot(self.axis);
+        let h = (v.length_squared() - t * t).max(0.0).sqrt();
+        // Distance from c to the cone: to its surface line when the foot falls in front of the
+        // apex, else to the apex.
+        let dist = if t * self.cos_a + h * self.sin_a >= 0.0 {
+            h * self.cos_a - t * self.sin_a
+        } else {
+            v.length()
+        };
+        dist > rho + self.margin
+    }
+
+    /// True when the triangle cannot stop a shadow ray.
+    #[inline]
+    pub fn culls_triangle(&self, t: &Triangle) -> bool {
+        let v = [t.v0, t.v1, t.v2].map(|x: Vec3A| x.as_dvec3());
+        let up = |x: DVec3| x.dot(self.ng) - self.ng_apex;
+        let along = |x: DVec3| (x - self.apex).dot(self.axis);
+        if v.iter().all(|&x| up(x) < self.floor)
+            || v.iter().all(|&x| along(x) < -self.margin)
+            || v.iter().all(|&x| along(x) > self.far + self.margin)
+        {
+            return true;
+        }
+        let c = (v[0] + v[1] + v[2]) / 3.0;
+        let rho = v.iter().map(|&x| x.distance(c)).fold(0.0, f64::max);
+        self.misses_sphere(c, rho)
+    }
+
+    /// The CWBVH hit mask of the node's children the cone may reach (what
+    /// `CwBvhNode::intersect_ray` returns for a ray), in the traversal order of `oct_inv4`.
+    ///
+    /// The children's boxes are tested in the node's quantized frame (`x = origin + e ⊙ q`,
+    /// `q ∈ [0, 255]³`), in `f32`: the projections onto `ng` and the axis, and the distance to
+    /// the apex, are a few multiply-adds per child there. Their rounding (a few ulps of the
+    /// coordinates) is far inside the margins (1e-5 of the scene scale, the offset).
+    #[inline]
+    pub fn node_mask(&self, node: &CwBvhNode, oct_inv4: u32) -> u32 {
+        let e = node.compute_extent();
+        let origin = Vec3A::from(node.p);
+        let ng = self.ng.as_vec3a();
+        let axis = self.axis.as_vec3a();
+        let (ng_q, axis_q) = (ng * e, axis * e);
+        let rise0 = ng.dot(origin) - self.ng_apex as f32;
+        let along0 = axis.dot(origin) - self.axis_apex as f32;
+        let a = ((self.apex.as_vec3a() - origin) / e).to_array();
+        let ee = (e * e).to_array();
+        let (floor, margin) = (self.floor as f32, self.margin as f32);
+        let (far, sin_e2) = (self.far as f32, self.sin_e2 as f32);
+        let [nx, ny, nz] = ng_q.to_array();
+        let [ax, ay, az] = axis_q.to_array();
+        // Four children at a time, one lane each.
+        let mut keep = 0u32;
+        for half in 0..2 {
+            let lane = |b: &[u8; 8]| {
+                let o = 4 * half;
+                Vec4::new(
+                    b[o] as f32,
+                    b[o + 1] as f32,
+                    b[o + 2] as f32,
+                    b[o + 3] as f32,
+                )
+            };
+            let lo = [
+                lane(&node.child_min_x),
+                lane(&node.child_min_y),
+                lane(&node.child_min_z),
+            ];
+            let hi = [
+                lane(&node.child_max_x),
+                lane(&node.child_max_y),
+                lane(&node.child_max_z),
+            ];
+            // Farthest along n over each box: per axis the max or min corner by n's sign.
+            let far_along = |n: [f32; 3]| {
+                let side = |k: usize| if n[k] >= 0.0 { hi[k] } else { lo[k] } * n[k];
+                side(0) + side(1) + side(2)
+            };
+            let rise = far_along([nx, ny, nz]) + rise0;
+            let reach = far_along([ax, ay, az]) + along0;
+            let back = along0 - far_along([-ax, -ay, -az]);
+            let gap = |k: usize| {
+                let g = (lo[k] - a[k]).max(a[k] - hi[k]).max(Vec4::ZERO);
+                g * g * ee[k]
+            };
+            let lift = rise + margin;
+            let out = rise.cmplt(Vec4::splat(floor))
+                | (lift * lift).cmplt((gap(0) + gap(1) + gap(2)) * sin_e2)
+                | reach.cmplt(Vec4::splat(-margin))
+                | back.cmpgt(Vec4::splat(far + margin));
+            keep |= ((!out.bitmask()) & 0xf) << (4 * half);
+        }
+        let (child_bits8, bit_index8) = node.get_child_and_index_bits(oct_inv4);
+        let mut mask = 0;
+        for child in 0..8 {
+            if keep & (1 << child) == 0 || node.is_child_empty(child) {
+                continue;
+            }
+            let b = node.child_aabb(child);
+            let centre = 0.5 * (b.min + b.max);
+            if self.misses_sphere(centre.as_dvec3(), 0.5 * (b.max - b.min).length() as f64) {
+                continue;
+            }
+            mask |= extract_byte64(child_bits8, child) << extract_byte64(bit_index8, child);
+        }
+        mask
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Geometry;
+    use crate::geometry::tests::scene_with;
+    use lux_usd::Mesh;
+    use proptest::prelude::*;
+
+    /// A light of radius 0.5 at (0, 2, 0) seen from points of the floor y = 0 (normal +y, the
+    /// offset a shading point there gets).
+    fn cone_from(p: DVec3, centre: DVec3, radius: f64) -> ShadowCone {
+        let offset = crate::geometry::offset_scale(p);
+        ShadowCone::towards_sphere(p, DVec3::Y, offset, centre, radius).unwrap()
+    }
+
+    fn mesh(name: &str, v: Vec<DVec3>, tris: Vec<[u32; 3]>) -> Mesh {
+        Mesh {
+            double_sided: true,
+            ..Mesh::new(name, v, tris)
+        }
+    }
+
+    /// A floor of 10 × 10 quads over [−5, 5]² at y = 0 (what the shading points lie on).
+    fn floor() -> Mesh {
+        let n = 10;
+        let mut v = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                v.push(DVec3::new(-5.0 + i as f64, 0.0, -5.0 + j as f64));
+            }
+        }
+        let mut t = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                let a = (j * (n + 1) + i) as u32;
+                let (b, c, d) = (a + 1, a + n as u32 + 2, a + n as u32 + 1);
+                t.push([a, b, c]);
+                t.push([a, c, d]);
+            }
+        }
+        mesh("/floor", v, t)
+    }
+
+    /// A square of half-size `h` centred at `c`, horizontal.
+    fn square(c: DVec3, h: f64) -> Mesh {
+        let v = vec![
+            c + DVec3::new(-h, 0.0, -h),
+            c + DVec3::new(h, 0.0, -h),
+            c + DVec3::new(h, 0.0, h),
+            c + DVec3::new(-h, 0.0, h),
+        ];
+        mesh("/sq", v, vec![[0, 1, 2], [0, 2, 3]])
+    }
+
+    #[test]
+    fn a_bare_floor_is_clear_and_a_blocker_in_the_cone_is_not() {
+        let (centre, radius) = (DVec3::new(0.0, 2.0, 0.0), 0.5);
+        let p = DVec3::new(0.3, 0.0, -0.2);
+        let bare = Geometry::new(&scene_with(vec![floor()]));
+        assert!(bare.cone_clear(&cone_from(p, centre, radius)));
+        let blocked_in = |g: &Geometry| {
+            segments(p, centre, radius, 2000)
+                .into_iter()
+                .any(|(o, w, tmax)| g.occluded(o, w, 0.0, tmax))
+        };
+        assert!(!blocked_in(&bare));
+        // A small square halfway up, above p: in the cone.
+        let blocked = Geometry::new(&scene_with(vec![
+            floor(),
+            square(DVec3::new(0.2, 1.0, -0.1), 0.1),
+        ]));
+        assert!(!blocked.cone_clear(&cone_from(p, centre, radius)));
+        assert!(blocked_in(&blocked));
+        // The same square 2 units to the side: outside the cone, clear again.
+        let beside = Geometry::new(&scene_with(vec![
+            floor(),
+            square(DVec3::new(2.2, 1.0, -0.1), 0.1),
+        ]));
+        assert!(beside.cone_clear(&cone_from(p, centre, radius)));
+        // Above the light: beyond the far plane.
+        let above = Geometry::new(&scene_with(vec![
+            floor(),
+            square(DVec3::new(0.0, 3.0, 0.0), 2.0),
+        ]));
+        assert!(above.cone_clear(&cone_from(p, centre, radius)));
+    }
+
+    #[test]
+    fn a_light_below_the_horizon_has_no_cone() {
+        let p = DVec3::ZERO;
+        // The sphere crosses the tangent plane: ng·a = 0.2 < sin α = 0.5.
+        let c = DVec3::new(0.98, 0.2, 0.0);
+        assert!(ShadowCone::towards_sphere(p, DVec3::Y, 1e-5, c, 0.5).is_none());
+        // p inside the sphere.
+        assert!(ShadowCone::towards_sphere(p, DVec3::Y, 1e-5, DVec3::Y * 0.4, 0.5).is_none());
+    }
+
+    /// Shadow-ray segments of the cone, as the renderer traces them: from the offset origin
+    /// along directions uniform in the cone (and its rim), to where each meets the sphere.
+    fn segments(p: DVec3, centre: DVec3, radius: f64, n: usize) -> Vec<(DVec3, DVec3, f64)> {
+        let origin = p + DVec3::Y * crate::geometry::offset_scale(p);
+        let v = centre - p;
+        let d = v.length();
+        let cos_max = (1.0 - (radius / d).powi(2)).sqrt();
+        let frame = lux_math::Frame::from_normal(v / d);
+        (0..n)
+            .map(|i| {
+                let (cos_t, phi) = if i < 64 {
+                    (cos_max, i as f64 / 64.0 * std::f64::consts::TAU)
+                } else {
+                    let u = (i as f64 + 0.5) / n as f64;
+                    (1.0 - u * (1.0 - cos_max), i as f64 * 2.399_963_229_728_653)
+                };
+                let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+                let w = frame.to_world(DVec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t));
+                let b = (p - centre).dot(w);
+                let disc = (b * b - ((p - centre).length_squared() - radius * radius)).max(0.0);
+                let t = -b - disc.sqrt();
+                (origin, w, crate::geometry::shadow_tmax(t, p + w * t))
+            })
+            .collect()
+    }
+
+    /// Whether the segment `o + t·w`, `t ∈ [0, tmax]`, meets the box (slab test in `f64`).
+    fn segment_meets_box(o: DVec3, w: DVec3, tmax: f64, b: &obvhs::aabb::Aabb) -> bool {
+        let (lo, hi) = (b.min.as_dvec3(), b.max.as_dvec3());
+        let (mut t0, mut t1) = (0.0f64, tmax);
+        for k in 0..3 {
+            if w[k] == 0.0 {
+                if o[k] < lo[k] || o[k] > hi[k] {
+                    return false;
+                }
+                continue;
+            }
+            let (a, c) = ((lo[k] - o[k]) / w[k], (hi[k] - o[k]) / w[k]);
+            t0 = t0.max(a.min(c));
+            t1 = t1.min(a.max(c));
+        }
+        t0 <= t1
+    }
+
+    /// The floor and small triangles near the rim of the cone from `p` to the sphere (at
+    /// `k` × its half-angle from the axis, a fraction `t` of the way to the centre).
+    #[allow(clippy::type_complexity)]
+    fn rim_scene(
+        p: DVec3,
+        centre: DVec3,
+        radius: f64,
+        blockers: &[(f64, f64, f64, f64, (f64, f64, f64))],
+    ) -> Geometry {
+        let v = centre - p;
+        let d = v.length();
+        let frame = lux_math::Frame::from_normal(v / d);
+        let alpha = (radius / d).asin();
+        let mut meshes = vec![floor()];
+        for (i, &(k, phi, t, s, (ox, oy, oz))) in blockers.iter().enumerate() {
+            let (th, phi) = (k * alpha, phi * std::f64::consts::TAU);
+            let w = frame.to_world(DVec3::new(
+                th.sin() * phi.cos(),
+                th.sin() * phi.sin(),
+                th.cos(),
+            ));
+            let c = p + w * (t * d);
+            let u = DVec3::new(ox, oy, oz).normalize_or(DVec3::X);
+            let b = u.any_orthonormal_vector();
+            let tri = vec![c + u * s, c - u * s + b * s, c - u * s - b * s];
+            meshes.push(mesh(&format!("/t{i}"), tri, vec![[0, 1, 2]]));
+        }
+        Geometry::new(&scene_with(meshes))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(256))]
+
+        /// Conservative, whole search: whenever it says clear, no shadow ray of the cone
+        /// (traced through the same `f32` BVH as the renderer's) is blocked. Small triangles sit
+        /// near the cone's rim (0.8–1.25 × its half-angle from the axis), anywhere from the
+        /// apex to the sphere, so that the answer is close either way.
+        #[test]
+        fn clear_means_no_shadow_ray_is_blocked(
+            px in -3.0f64..3.0, pz in -3.0f64..3.0,
+            lx in -2.0f64..2.0, ly in 0.8f64..4.0, lz in -2.0f64..2.0, radius in 0.05f64..0.7,
+            blockers in proptest::collection::vec(
+                (0.8f64..1.25, 0.0f64..1.0, 0.0f64..1.1, 0.005f64..0.3,
+                 (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0)), 1..5),
+        ) {
+            let (p, centre) = (DVec3::new(px, 0.0, pz), DVec3::new(lx, ly, lz));
+            let offset = crate::geometry::offset_scale(p);
+            let Some(cone) = ShadowCone::towards_sphere(p, DVec3::Y, offset, centre, radius)
+            else {
+                return Ok(());
+            };
+            let g = rim_scene(p, centre, radius, &blockers);
+            if g.cone_clear(&cone) {
+                let blocked = segments(p, centre, radius, 1500)
+                    .into_iter()
+                    .any(|(o, w, tmax)| g.occluded(o, w, 0.0, tmax));
+                prop_assert!(!blocked);
+            }
+        }
+
+        /// Conservative, box by box: a child box of any BVH node that the cone's node test
+        /// drops is met by none of the cone's shadow-ray segments, and a triangle it drops is
+        /// hit by none.
+        #[test]
+        fn dropped_boxes_and_triangles_meet_no_shadow_ray(
+            px in -3.0f64..3.0, pz in -3.0f64..3.0,
+            lx in -2.0f64..2.0, ly in 0.8f64..4.0, lz in -2.0f64..2.0, radius in 0.05f64..0.7,
+            blockers in proptest::collection::vec(
+                (0.8f64..1.25, 0.0f64..1.0, 0.0f64..1.1, 0.005f64..0.3,
+                 (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0)), 1..5),
+        ) {
+            let (p, centre) = (DVec3::new(px, 0.0, pz), DVec3::new(lx, ly, lz));
+            let offset = crate::geometry::offset_scale(p);
+            let Some(cone) = ShadowCone::towards_sphere(p, DVec3::Y, offset, centre, radius)
+            else {
+                return Ok(());
+            };
+            let g = rim_scene(p, centre, radius, &blockers);
+            let world = g.world.as_ref().unwrap();
+            let segs = segments(p, centre, radius, 600);
+            for node in world.nodes() {
+                // Identity octant: bit i of the mask's high byte stands for inner child i.
+                let mask = cone.node_mask(node, 0);
+                let (bits, index) = node.get_child_and_index_bits(0);
+                for child in 0..8 {
+                    if node.is_child_empty(child) {
+                        continue;
+                    }
+                    let kept = (extract_byte64(bits, child) << extract_byte64(index, child)) & mask;
+                    if kept == 0 {
+                        let b = node.child_aabb(child);
+                        prop_assert!(
+                            !segs.iter().any(|&(o, w, t)| segment_meets_box(o, w, t, &b)),
+                            "dropped box {b:?}"
+                        );
+                    }
+                }
+            }
+            for t in world.triangles() {
+                if cone.culls_triangle(t) {
+                    let ray_hits = |&(o, w, tmax): &(DVec3, DVec3, f64)| {
+                        let r = obvhs::ray::Ray::new(
+                            o.as_vec3a(), w.as_vec3a(), 0.0, tmax as f32);
+                        t.intersect(&r) < tmax as f32
+                    };
+                    prop_assert!(!segs.iter().any(ray_hits), "dropped triangle {t:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn clear_is_found_where_the_floor_alone_is_below() {
+        // Over a grid of receivers and lights, a floor without blockers is always clear.
+        let g = Geometry::new(&scene_with(vec![floor()]));
+        let mut n = 0;
+        for i in 0..7 {
+            for j in 0..7 {
+                let p = DVec3::new(-3.0 + i as f64, 0.0, -3.0 + j as f64 * 0.9);
+                let centre = DVec3::new(0.5, 1.0 + 0.3 * j as f64, -0.4);
+                if let Some(c) = ShadowCone::towards_sphere(
+                    p,
+                    DVec3::Y,
+                    crate::geometry::offset_scale(p),
+                    centre,
+                    0.3,
+                ) {
+                    n += 1;
+                    assert!(g.cone_clear(&c), "p {p} light {centre}");
+                }
+            }
+        }
+        assert!(n > 30);
+    }
+}
