@@ -94,19 +94,12 @@ fn unoccluded_spheres_are_exact_at_a_few_samples() {
     );
 }
 
-/// Where nothing can block a sphere light (no geometry in the cone from the shading point to
-/// it: `geometry/cone.rs`), its light-only estimate is the closed form itself, drawn without a
-/// sample or a shadow ray; with a blocker in the cone it is sampled, and agrees with MIS.
+/// Where nothing can block a rect, disk or sphere light of uniform radiance (no geometry in the
+/// cone from the shading point to a sphere holding it: `geometry/cone.rs`), its light-only
+/// estimate is its closed form `L·Π`, drawn without a sample or a shadow ray; with a blocker in
+/// that cone it is sampled, and agrees with MIS.
 #[test]
-fn a_sphere_nothing_can_block_takes_its_closed_form_without_shadow_rays() {
-    let (rad, c) = (0.3, DVec3::new(0.8, 1.1, -0.4));
-    let mut sph = Light::with_defaults(
-        "/Sphere",
-        LightShape::Sphere { radius: rad },
-        DMat4::from_translation(c),
-    );
-    sph.params.intensity = 3.0;
-    let want = 3.0 * rad * rad / c.length_squared() * (c.y / c.length());
+fn lights_nothing_can_block_take_their_closed_form_without_shadow_rays() {
     let render = |s: &Scene, spp: u32, selection: LightSelection| {
         let mut o = options(Profile::Spec, spp, [1, 1]);
         o.integrator = IntegratorKind::Direct;
@@ -114,38 +107,83 @@ fn a_sphere_nothing_can_block_takes_its_closed_form_without_shadow_rays() {
         o.adaptive = Some(lux::render::settings::AdaptiveSampling::OFF);
         Renderer::new(s, o).unwrap().render(&|_| {})
     };
-    let clear = probe_scene(vec![sph.clone()], 0.0, 0.0);
-    let (img, stats) = render(&clear, 4, LightSelection::All);
-    assert_eq!(
-        stats.shadow_rays, 0,
-        "no shadow ray where nothing can block"
+    let c = DVec3::new(0.8, 1.1, -0.4);
+    let mut sphere = Light::with_defaults(
+        "/Sphere",
+        LightShape::Sphere { radius: 0.3 },
+        DMat4::from_translation(c),
     );
-    assert_eq!(stats.light_samples, 0);
-    close(img.pixels[0][0] as f64, want, 1e-5, "closed form");
+    sphere.params.intensity = 3.0;
+    let sphere_pi = PI * 0.09 / c.length_squared() * (c.y / c.length());
+    // A rect and a disk facing the point from above and aside (tilted, one-sided).
+    let toward = aimed(c, -c);
+    let mut rect = Light::with_defaults(
+        "/Rect",
+        LightShape::Rect {
+            width: 0.5,
+            height: 0.3,
+        },
+        toward,
+    );
+    rect.params.intensity = 3.0;
+    let corners: Vec<DVec3> = [(-0.25, -0.15), (0.25, -0.15), (0.25, 0.15), (-0.25, 0.15)]
+        .iter()
+        .map(|&(x, y)| toward.transform_point3(DVec3::new(x, y, 0.0)))
+        .collect();
+    let rect_pi = lux::sample::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
+    let mut disk = Light::with_defaults("/Disk", LightShape::Disk { radius: 0.25 }, toward);
+    disk.params.intensity = 3.0;
+    let disk_pi =
+        lux::sample::projected::disk(DVec3::ZERO, DVec3::Y, c, -c.normalize(), 0.25).unwrap();
+    for (light, pi) in [(sphere, sphere_pi), (rect, rect_pi), (disk, disk_pi)] {
+        let what = light.path.clone();
+        // (the light's radiance: intensity 3 on a white Lambertian floor, ρ/π · L · Π)
+        let want = 3.0 * pi / PI;
+        let clear = probe_scene(vec![light], 0.0, 0.0);
+        let (img, stats) = render(&clear, 4, LightSelection::All);
+        assert_eq!(
+            stats.shadow_rays, 0,
+            "{what}: no shadow ray where nothing can block"
+        );
+        assert_eq!(stats.light_samples, 0, "{what}");
+        // (the pixel footprint's variation of E)
+        close(
+            img.pixels[0][0] as f64,
+            want,
+            1e-5,
+            &format!("{what}: closed form"),
+        );
 
-    // A small square halfway to the light, in the cone: sampled, shadowed, and converging to
-    // what MIS (one light chosen by power, light and BSDF samples: no closed form) gives.
-    let mut blocked = clear;
-    let m = c * 0.5;
-    blocked.meshes.push(Mesh::new(
-        "/Blocker",
-        vec![
-            m + DVec3::new(-0.06, 0.0, -0.06),
-            m + DVec3::new(-0.06, 0.0, 0.06),
-            m + DVec3::new(0.06, 0.0, 0.06),
-            m + DVec3::new(0.06, 0.0, -0.06),
-        ],
-        vec![[0, 1, 2], [0, 2, 3]],
-    ));
-    let (img, stats) = render(&blocked, 1 << 14, LightSelection::All);
-    assert!(stats.shadow_rays > 0);
-    let alone = img.pixels[0][0] as f64;
-    assert!(
-        alone < 0.95 * want && alone > 0.3 * want,
-        "partly shadowed: {alone} of {want}"
-    );
-    let mis = read(&blocked, 1 << 16, LightSelection::Power, 2);
-    close(alone, mis, 3e-3, "light sampling alone vs MIS");
+        // A small square halfway to the light, in the cone: sampled, shadowed, and
+        // converging to what MIS (one light chosen by power, light and BSDF samples: no
+        // closed form) gives.
+        let mut blocked = clear;
+        let m = c * 0.5;
+        blocked.meshes.push(Mesh::new(
+            "/Blocker",
+            vec![
+                m + DVec3::new(-0.06, 0.0, -0.06),
+                m + DVec3::new(-0.06, 0.0, 0.06),
+                m + DVec3::new(0.06, 0.0, 0.06),
+                m + DVec3::new(0.06, 0.0, -0.06),
+            ],
+            vec![[0, 1, 2], [0, 2, 3]],
+        ));
+        let (img, stats) = render(&blocked, 1 << 14, LightSelection::All);
+        assert!(stats.shadow_rays > 0, "{what}");
+        let alone = img.pixels[0][0] as f64;
+        assert!(
+            alone < 0.97 * want && alone > 0.2 * want,
+            "{what}: partly shadowed: {alone} of {want}"
+        );
+        let mis = read(&blocked, 1 << 16, LightSelection::Power, 2);
+        close(
+            alone,
+            mis,
+            3e-3,
+            &format!("{what}: light sampling alone vs MIS"),
+        );
+    }
 }
 
 /// A 1 × 0.6 rect light above and beside the probed point, partly hidden from it by a small

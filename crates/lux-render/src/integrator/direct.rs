@@ -249,14 +249,16 @@ impl<'a> DirectIntegrator<'a> {
                     }
                     // What the light's k samples share, computed once.
                     light.seen_from(&r, self.strategy, |from| {
-                        // Light-only estimation whose samples would all return L·Π where
-                        // nothing blocks them, and nothing can (geometry/cone.rs): the sum of
-                        // the k samples is that closed form, without drawing them.
+                        // Light-only estimation of a light whose unshadowed integral L·Π
+                        // has a closed form, where nothing can block it (geometry/cone.rs):
+                        // that closed form is the estimate (what its k samples average to),
+                        // without drawing them.
                         if alone
-                            && let Some((le_pi, centre, radius)) = from.unoccluded(sp.p)
+                            && let Some((centre, radius)) = from.unshadowed_bound()
                             && let Some(cone) =
                                 ShadowCone::towards_sphere(sp.p, sp.ng, sp.offset, centre, radius)
                             && w.geometry.cone_clear(&cone)
+                            && let Some(le_pi) = from.unshadowed(sp.p, sp.ns)
                         {
                             let base = light.base();
                             let wi = cone.axis();

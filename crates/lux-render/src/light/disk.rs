@@ -68,6 +68,19 @@ impl DiskLight {
         DVec3::ZERO
     }
 
+    /// The world disk — centre, unit normal, radius — when the transform is a similarity
+    /// (rotation, uniform scale, translation); `None` under a non-uniform scale or shear, where
+    /// it is an ellipse.
+    pub fn world_disk(&self) -> Option<(DVec3, DVec3, f64)> {
+        let xf = &self.base.xf;
+        if !xf.is_similarity() {
+            return None;
+        }
+        let axis = xf.normal(DVec3::Z).try_normalize()?;
+        let radius = self.radius * xf.vector(DVec3::X).length();
+        (radius > 0.0 && radius.is_finite()).then(|| (xf.point(DVec3::ZERO), axis, radius))
+    }
+
     /// See [`super::Light::uniform_area`].
     #[inline]
     pub fn uniform_area(&self) -> bool {

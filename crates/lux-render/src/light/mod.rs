@@ -233,20 +233,49 @@ pub enum LightFrom<'a> {
 }
 
 impl LightFrom<'_> {
-    /// Where the light's samples from the receiver at `p` all return one value when nothing
-    /// blocks them: that value's integral `L·Π` (radiance times the projected solid angle
-    /// ∫ cos θ dω) and the sphere (centre, radius) the shadow rays end on. Today a sphere light
-    /// of uniform radiance (no shaping) drawn from its projected cap, whose cosine-weighted
-    /// samples each return exactly `L·Π` ([`lux_sample::SphereTechnique::ProjectedCap`]).
+    /// A sphere (centre, radius) that holds the light, when its light-only estimate from this
+    /// receiver has a closed form where nothing blocks it ([`LightFrom::unshadowed`]): a rect
+    /// or disk of uniform radiance (no shaping, no texture; a disk under a similarity), or a
+    /// uniform sphere drawn from its projected cap.
     #[inline]
-    pub fn unoccluded(&self, p: DVec3) -> Option<(DVec3, DVec3, f64)> {
+    pub fn unshadowed_bound(&self) -> Option<(DVec3, f64)> {
+        match self {
+            LightFrom::Sphere(l, from) if l.uniform_area() => {
+                from.projected_cap().map(|(c, r, _)| (c, r))
+            }
+            LightFrom::Rect(l, _) if l.uniform_area() => Some(l.bounding_sphere()),
+            LightFrom::Disk(l, _) if l.uniform_area() => l.world_disk().map(|(c, _, r)| (c, r)),
+            _ => None,
+        }
+    }
+
+    /// The light's unshadowed cosine-weighted integral at the receiver `(p, n)`,
+    /// `∫ L cos θ dω = L·Π` (radiance times the projected solid angle,
+    /// [`lux_sample::projected`]): what its light-only estimator averages to where nothing
+    /// blocks it. For the sphere, Π of the projected cap its samples are drawn from (each
+    /// sample returns exactly `L·Π`). `None` where [`LightFrom::unshadowed_bound`] is.
+    #[inline]
+    pub fn unshadowed(&self, p: DVec3, n: DVec3) -> Option<DVec3> {
+        // The radiance leaving a point of a uniform light towards p (the same everywhere on
+        // its lit side; zero behind a one-sided light).
+        let toward = |c: DVec3| (p - c).normalize_or_zero();
         match self {
             LightFrom::Sphere(l, from) if l.uniform_area() => {
                 let (centre, radius, pi) = from.projected_cap()?;
-                // The radiance of the point nearest p, leaving towards p (uniform: any point).
-                let out = (p - centre).normalize_or_zero();
+                let out = toward(centre);
                 let le = l.le(l.base.to_local(centre + out * radius), out, Seen::Lit);
-                Some((le * pi, centre, radius))
+                Some(le * pi)
+            }
+            LightFrom::Rect(l, _) if l.uniform_area() => {
+                let corners = l.world_corners();
+                let (centre, _) = l.bounding_sphere();
+                let le = l.le(DVec3::ZERO, toward(centre), Seen::Lit);
+                Some(le * lux_sample::projected::polygon(p, n, &corners))
+            }
+            LightFrom::Disk(l, _) if l.uniform_area() => {
+                let (centre, axis, radius) = l.world_disk()?;
+                let le = l.le(DVec3::ZERO, toward(centre), Seen::Lit);
+                Some(le * lux_sample::projected::disk(p, n, centre, axis, radius)?)
             }
             _ => None,
         }

@@ -56,6 +56,25 @@ impl RectLight {
         })
     }
 
+    /// The world corners, in order around the rect: local (±w/2, ±h/2, 0) placed by the
+    /// light's transform (a parallelogram under any affine one).
+    pub fn world_corners(&self) -> [DVec3; 4] {
+        let [hw, hh] = self.half;
+        [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh)]
+            .map(|(x, y)| self.base.xf.point(DVec3::new(x, y, 0.0)))
+    }
+
+    /// A sphere holding the rect: its centre and the farthest corner's distance.
+    pub fn bounding_sphere(&self) -> (DVec3, f64) {
+        let c = self.base.xf.point(DVec3::ZERO);
+        let r = self
+            .world_corners()
+            .iter()
+            .map(|q| q.distance(c))
+            .fold(0.0, f64::max);
+        (c, r)
+    }
+
     /// See [`super::Light::sample_li`].
     #[inline]
     pub fn sample_li(&self, r: &Reference, u: [f64; 2], strategy: Strategy) -> Option<LiSample> {
