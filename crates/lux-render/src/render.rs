@@ -128,7 +128,8 @@ impl<'s> Renderer<'s> {
             textured_emission: self.materials.any_textured_emission(),
         };
         let direct =
-            DirectIntegrator::new(world, self.options.sampling, self.options.light_samples());
+            DirectIntegrator::new(world, self.options.sampling, self.options.light_samples())
+                .with_closed_forms(self.options.closed_forms);
         // Path tracing builds on lux sampling's MIS; the reference estimator is direct only.
         match self.options.integrator {
             IntegratorKind::Path if self.options.sampling == SamplingMode::Lux => {

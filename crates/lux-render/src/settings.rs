@@ -115,6 +115,12 @@ pub struct RenderOptions {
     /// Sample shaped rect and cylinder lights only where their emission cone reaches the
     /// receiver (default); `false` for A/B measurements ([`crate::light::LightOptions`]).
     pub cone_clipping: bool,
+    /// Where nothing can block a rect, disk or sphere light of uniform radiance seen from a
+    /// Lambertian point (geometry/cone.rs proves it over the world-space triangles; scenes
+    /// with instances never qualify), take its closed form `L·Π` instead of its light samples
+    /// (default); `false` for A/B measurements and to compare instanced stages with their
+    /// flattened twins sample for sample.
+    pub closed_forms: bool,
     /// Adaptive sampling: after its `spp` samples, a pixel whose neighbourhood is noisy or
     /// crosses an edge takes more ([`AdaptiveSampling`]; [`AdaptiveSampling::OFF`]: every pixel
     /// takes `spp`); `None`: [`RenderOptions::adaptive`] chooses.
@@ -147,6 +153,7 @@ impl RenderOptions {
             light_samples: None,
             penumbra_samples: 1,
             cone_clipping: true,
+            closed_forms: true,
             adaptive: None,
             seed: 0,
             strict: false,

@@ -161,9 +161,10 @@ impl Blas {
             .ray_traverse(ray, hit, |r, id| self.tris[id].intersect(r))
     }
 
-    /// True when no triangle can stop a shadow ray inside `cone` (conservative: false when
-    /// unsure); stops at the first triangle that might.
-    pub fn cone_clear(&self, cone: &ShadowCone) -> bool {
+    /// True when no triangle of a mesh that `casts` (by `Scene::meshes` index) can stop a
+    /// shadow ray inside `cone` (conservative: false when unsure); stops at the first
+    /// triangle that might.
+    pub fn cone_clear(&self, cone: &ShadowCone, casts: &impl Fn(usize) -> bool) -> bool {
         let mut state = self.bvh.new_traversal(cone.axis().as_vec3a());
         let mut node;
         let mut clear = true;
@@ -174,7 +175,8 @@ impl Blas {
                 state,
                 cone.node_mask(node, state.oct_inv4),
                 {
-                    if !cone.culls_triangle(&self.tris[state.primitive_id as usize]) {
+                    let id = state.primitive_id as usize;
+                    if !cone.culls_triangle(&self.tris[id]) && casts(self.prims[id].mesh as usize) {
                         clear = false;
                         break 'outer;
                     }

@@ -265,7 +265,7 @@ mod tests {
         let (centre, radius) = (DVec3::new(0.0, 2.0, 0.0), 0.5);
         let p = DVec3::new(0.3, 0.0, -0.2);
         let bare = Geometry::new(&scene_with(vec![floor()]));
-        assert!(bare.cone_clear(&cone_from(p, centre, radius)));
+        assert!(bare.cone_clear(&cone_from(p, centre, radius), &|_| true));
         let blocked_in = |g: &Geometry| {
             segments(p, centre, radius, 2000)
                 .into_iter()
@@ -277,20 +277,22 @@ mod tests {
             floor(),
             square(DVec3::new(0.2, 1.0, -0.1), 0.1),
         ]));
-        assert!(!blocked.cone_clear(&cone_from(p, centre, radius)));
+        assert!(!blocked.cone_clear(&cone_from(p, centre, radius), &|_| true));
         assert!(blocked_in(&blocked));
+        // Clear again for a light whose shadow linking leaves the square (mesh 1) out.
+        assert!(blocked.cone_clear(&cone_from(p, centre, radius), &|m| m != 1));
         // The same square 2 units to the side: outside the cone, clear again.
         let beside = Geometry::new(&scene_with(vec![
             floor(),
             square(DVec3::new(2.2, 1.0, -0.1), 0.1),
         ]));
-        assert!(beside.cone_clear(&cone_from(p, centre, radius)));
+        assert!(beside.cone_clear(&cone_from(p, centre, radius), &|_| true));
         // Above the light: beyond the far plane.
         let above = Geometry::new(&scene_with(vec![
             floor(),
             square(DVec3::new(0.0, 3.0, 0.0), 2.0),
         ]));
-        assert!(above.cone_clear(&cone_from(p, centre, radius)));
+        assert!(above.cone_clear(&cone_from(p, centre, radius), &|_| true));
     }
 
     #[test]
@@ -399,7 +401,7 @@ mod tests {
                 return Ok(());
             };
             let g = rim_scene(p, centre, radius, &blockers);
-            if g.cone_clear(&cone) {
+            if g.cone_clear(&cone, &|_| true) {
                 let blocked = segments(p, centre, radius, 1500)
                     .into_iter()
                     .any(|(o, w, tmax)| g.occluded(o, w, 0.0, tmax));
@@ -475,7 +477,7 @@ mod tests {
                     0.3,
                 ) {
                     n += 1;
-                    assert!(g.cone_clear(&c), "p {p} light {centre}");
+                    assert!(g.cone_clear(&c, &|_| true), "p {p} light {centre}");
                 }
             }
         }

@@ -478,10 +478,15 @@ impl Geometry {
         })
     }
 
-    /// True when no triangle can stop a shadow ray inside `cone` ([`ShadowCone`]); false
-    /// when unsure, and always with instances (their prototypes are not searched).
-    pub fn cone_clear(&self, cone: &ShadowCone) -> bool {
-        self.instances.is_none() && self.world.as_ref().is_none_or(|w| w.cone_clear(cone))
+    /// True when no triangle of a mesh that `casts` (a `Scene::meshes` index: what a light's
+    /// shadow linking keeps) can stop a shadow ray inside `cone` ([`ShadowCone`]); false when
+    /// unsure, and always with instances (their prototypes are not searched).
+    pub fn cone_clear(&self, cone: &ShadowCone, casts: &impl Fn(usize) -> bool) -> bool {
+        self.instances.is_none()
+            && self
+                .world
+                .as_ref()
+                .is_none_or(|w| w.cone_clear(cone, casts))
     }
 
     /// True when any triangle (either side) lies on `origin + t·dir`, `t ∈ (tmin, tmax)`.

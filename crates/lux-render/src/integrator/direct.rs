@@ -57,6 +57,8 @@ pub struct DirectIntegrator<'a> {
     select: bool,
     /// Light samples per light (or per light choice) at each shading point.
     light_samples: u32,
+    /// Closed forms where nothing can block a light ([`Self::with_closed_forms`]).
+    closed_forms: bool,
 }
 
 impl<'a> DirectIntegrator<'a> {
@@ -74,6 +76,17 @@ impl<'a> DirectIntegrator<'a> {
             mis: lux,
             select: lux,
             light_samples: light_samples.max(1),
+            closed_forms: true,
+        }
+    }
+
+    /// With `on` (the default), light-only estimation of a rect, disk or sphere light of
+    /// uniform radiance takes the light's closed form `L·Π` where nothing can block it
+    /// (`RenderOptions::closed_forms`).
+    pub fn with_closed_forms(self, on: bool) -> DirectIntegrator<'a> {
+        DirectIntegrator {
+            closed_forms: on,
+            ..self
         }
     }
 
@@ -254,10 +267,18 @@ impl<'a> DirectIntegrator<'a> {
                         // that closed form is the estimate (what its k samples average to),
                         // without drawing them.
                         if alone
+                            && self.closed_forms
                             && let Some((centre, radius)) = from.unshadowed_bound()
                             && let Some(cone) =
                                 ShadowCone::towards_sphere(sp.p, sp.ng, sp.offset, centre, radius)
-                            && w.geometry.cone_clear(&cone)
+                            && {
+                                // (no occluder at all without shadows; only those its shadow
+                                // linking keeps with it)
+                                let base = light.base();
+                                !base.shadow.enable
+                                    || w.geometry
+                                        .cone_clear(&cone, &|m| base.casts_shadow(m, None))
+                            }
                             && let Some(le_pi) = from.unshadowed(sp.p, sp.ns)
                         {
                             let base = light.base();
