@@ -13,6 +13,8 @@ pub struct DiskLight {
     radius: f64,
     /// lux-sample's sampler of the shape ([`super::Light::seen_from`] reads it).
     pub(super) sampler: lux_sample::DiskLight,
+    /// [`DiskLight::world_disk`].
+    world: Option<(DVec3, DVec3, f64)>,
 }
 
 impl DiskLight {
@@ -22,10 +24,21 @@ impl DiskLight {
         let sampler =
             lux_sample::DiskLight::new(radius, base.xf, lux_sample::DiskTechnique::EllipticCone)
                 .map_err(|e| e.to_string())?;
+        let xf = &base.xf;
+        let world = if xf.is_similarity() {
+            let r = radius * xf.vector(DVec3::X).length();
+            xf.normal(DVec3::Z)
+                .try_normalize()
+                .filter(|_| r > 0.0 && r.is_finite())
+                .map(|axis| (xf.point(DVec3::ZERO), axis, r))
+        } else {
+            None
+        };
         Ok(DiskLight {
             base,
             radius,
             sampler,
+            world,
         })
     }
 
@@ -71,14 +84,9 @@ impl DiskLight {
     /// The world disk — centre, unit normal, radius — when the transform is a similarity
     /// (rotation, uniform scale, translation); `None` under a non-uniform scale or shear, where
     /// it is an ellipse.
+    #[inline]
     pub fn world_disk(&self) -> Option<(DVec3, DVec3, f64)> {
-        let xf = &self.base.xf;
-        if !xf.is_similarity() {
-            return None;
-        }
-        let axis = xf.normal(DVec3::Z).try_normalize()?;
-        let radius = self.radius * xf.vector(DVec3::X).length();
-        (radius > 0.0 && radius.is_finite()).then(|| (xf.point(DVec3::ZERO), axis, radius))
+        self.world
     }
 
     /// See [`super::Light::uniform_area`].

@@ -19,6 +19,10 @@ pub struct RectLight {
     mirror_u: bool,
     /// lux-sample's sampler of the shape ([`super::Light::seen_from`] reads it).
     pub(super) sampler: lux_sample::RectLight,
+    /// World corners and a sphere holding them ([`RectLight::world_corners`],
+    /// [`RectLight::bounding_sphere`]).
+    corners: [DVec3; 4],
+    bound: (DVec3, f64),
 }
 
 impl RectLight {
@@ -47,32 +51,36 @@ impl RectLight {
         .map_err(|e| e.to_string())?
         // only the part of the rect inside the shaping's emission cone
         .with_emission_cone(cut);
+        let [hw, hh] = [0.5 * width, 0.5 * height];
+        let corners = [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh)]
+            .map(|(x, y)| base.xf.point(DVec3::new(x, y, 0.0)));
+        let centre = base.xf.point(DVec3::ZERO);
+        let radius = corners
+            .iter()
+            .map(|q| q.distance(centre))
+            .fold(0.0, f64::max);
         Ok(RectLight {
             base,
-            half: [0.5 * width, 0.5 * height],
+            half: [hw, hh],
             texture,
             mirror_u,
             sampler,
+            corners,
+            bound: (centre, radius),
         })
     }
 
     /// The world corners, in order around the rect: local (±w/2, ±h/2, 0) placed by the
     /// light's transform (a parallelogram under any affine one).
+    #[inline]
     pub fn world_corners(&self) -> [DVec3; 4] {
-        let [hw, hh] = self.half;
-        [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh)]
-            .map(|(x, y)| self.base.xf.point(DVec3::new(x, y, 0.0)))
+        self.corners
     }
 
     /// A sphere holding the rect: its centre and the farthest corner's distance.
+    #[inline]
     pub fn bounding_sphere(&self) -> (DVec3, f64) {
-        let c = self.base.xf.point(DVec3::ZERO);
-        let r = self
-            .world_corners()
-            .iter()
-            .map(|q| q.distance(c))
-            .fold(0.0, f64::max);
-        (c, r)
+        self.bound
     }
 
     /// See [`super::Light::sample_li`].
