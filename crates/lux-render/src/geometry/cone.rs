@@ -1,10 +1,13 @@
-//! Proving that nothing can shadow a light: the cone of a sphere light seen from a shading
-//! point, and a conservative test of the BVH's boxes and triangles against it.
+//! Proving that nothing can shadow a light: the cone of a sphere holding the light (a sphere
+//! light itself, or a ball around a rect or disk) seen from a shading point, and a
+//! conservative test of the BVH's boxes and triangles against it.
 //!
-//! The shadow rays of a sphere light sampled from `p` all run from the ray origin `o = p + ng·δ`
-//! (δ the hit's offset) along a direction `w` inside the cone that the sphere subtends from `p`
-//! — apex `o`, unit axis `a` towards the centre, half-angle α with sin α = r/d — and end on the
-//! sphere's near side, so `a·(x − o) ≤ d` along every segment. When the cone lies above the
+//! The shadow rays of a light sampled from `p` all run from the ray origin `o = p + ng·δ`
+//! (δ the hit's offset) along a direction `w` inside the cone that the ball subtends from `p`
+//! — apex `o`, unit axis `a` towards the centre, half-angle α with sin α = r/d — and end at a
+//! point of the light: on a sphere light's near side, so `a·(x − o) ≤ d` along every segment
+//! ([`ShadowCone::towards_sphere`]); anywhere in the ball, `a·(x − o) ≤ d + r`
+//! ([`ShadowCone::towards_ball`]). When the cone lies above the
 //! geometric horizon (`ng·a > sin α`), every segment also stays above the tangent plane at `p`.
 //! A triangle outside that region cannot stop any of them: if every triangle is, each shadow
 //! ray is unblocked and the light's direct contribution is its unshadowed closed form
@@ -46,15 +49,39 @@ pub struct ShadowCone {
 }
 
 impl ShadowCone {
-    /// The cone of the sphere (`centre`, `radius`) seen from the surface point `p` with unit
-    /// geometric normal `ng`, its rays leaving from `p + ng·offset`. `None` unless the sphere is
-    /// wholly in front of the tangent plane (`ng·a > sin α`) and outside `p`.
+    /// The cone of the sphere light (`centre`, `radius`) seen from the surface point `p` with
+    /// unit geometric normal `ng`, its rays leaving from `p + ng·offset` and ending on the
+    /// sphere's near side. `None` unless the sphere is wholly in front of the tangent plane
+    /// (`ng·a > sin α`) and outside `p`.
     pub fn towards_sphere(
         p: DVec3,
         ng: DVec3,
         offset: f64,
         centre: DVec3,
         radius: f64,
+    ) -> Option<ShadowCone> {
+        Self::new(p, ng, offset, centre, radius, false)
+    }
+
+    /// [`ShadowCone::towards_sphere`] for rays ending anywhere in the ball (`centre`,
+    /// `radius`): a light inside it, such as a rect or a disk.
+    pub fn towards_ball(
+        p: DVec3,
+        ng: DVec3,
+        offset: f64,
+        centre: DVec3,
+        radius: f64,
+    ) -> Option<ShadowCone> {
+        Self::new(p, ng, offset, centre, radius, true)
+    }
+
+    fn new(
+        p: DVec3,
+        ng: DVec3,
+        offset: f64,
+        centre: DVec3,
+        radius: f64,
+        whole_ball: bool,
     ) -> Option<ShadowCone> {
         let v = centre - p;
         let d = v.length();
@@ -83,7 +110,7 @@ impl ShadowCone {
             axis,
             sin_a,
             cos_a,
-            far: d,
+            far: if whole_ball { d + radius } else { d },
             margin: 1e-5 * scale + offset,
         })
     }
@@ -267,7 +294,7 @@ mod tests {
         let bare = Geometry::new(&scene_with(vec![floor()]));
         assert!(bare.cone_clear(&cone_from(p, centre, radius), &|_| true));
         let blocked_in = |g: &Geometry| {
-            segments(p, centre, radius, 2000)
+            segments(p, centre, radius, 2000, false)
                 .into_iter()
                 .any(|(o, w, tmax)| g.occluded(o, w, 0.0, tmax))
         };
@@ -306,8 +333,16 @@ mod tests {
     }
 
     /// Shadow-ray segments of the cone, as the renderer traces them: from the offset origin
-    /// along directions uniform in the cone (and its rim), to where each meets the sphere.
-    fn segments(p: DVec3, centre: DVec3, radius: f64, n: usize) -> Vec<(DVec3, DVec3, f64)> {
+    /// along directions uniform in the cone (and its rim), to where each meets the sphere — on
+    /// its near side, or with `whole_ball` on its far side (the farthest a light inside the
+    /// ball can be).
+    fn segments(
+        p: DVec3,
+        centre: DVec3,
+        radius: f64,
+        n: usize,
+        whole_ball: bool,
+    ) -> Vec<(DVec3, DVec3, f64)> {
         let origin = p + DVec3::Y * crate::geometry::offset_scale(p);
         let v = centre - p;
         let d = v.length();
@@ -325,7 +360,11 @@ mod tests {
                 let w = frame.to_world(DVec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t));
                 let b = (p - centre).dot(w);
                 let disc = (b * b - ((p - centre).length_squared() - radius * radius)).max(0.0);
-                let t = -b - disc.sqrt();
+                let t = if whole_ball {
+                    -b + disc.sqrt()
+                } else {
+                    -b - disc.sqrt()
+                };
                 (origin, w, crate::geometry::shadow_tmax(t, p + w * t))
             })
             .collect()
@@ -385,24 +424,26 @@ mod tests {
         /// Conservative, whole search: whenever it says clear, no shadow ray of the cone
         /// (traced through the same `f32` BVH as the renderer's) is blocked. Small triangles sit
         /// near the cone's rim (0.8–1.25 × its half-angle from the axis), anywhere from the
-        /// apex to the sphere, so that the answer is close either way.
+        /// apex to twice the centre's distance, so that the answer is close either way; rays
+        /// end on the sphere (a sphere light) or at the ball's far side (a light inside it).
         #[test]
         fn clear_means_no_shadow_ray_is_blocked(
             px in -3.0f64..3.0, pz in -3.0f64..3.0,
             lx in -2.0f64..2.0, ly in 0.8f64..4.0, lz in -2.0f64..2.0, radius in 0.05f64..0.7,
             blockers in proptest::collection::vec(
-                (0.8f64..1.25, 0.0f64..1.0, 0.0f64..1.1, 0.005f64..0.3,
+                (0.8f64..1.25, 0.0f64..1.0, 0.0f64..2.0, 0.005f64..0.3,
                  (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0)), 1..5),
+            whole_ball in proptest::bool::ANY,
         ) {
             let (p, centre) = (DVec3::new(px, 0.0, pz), DVec3::new(lx, ly, lz));
             let offset = crate::geometry::offset_scale(p);
-            let Some(cone) = ShadowCone::towards_sphere(p, DVec3::Y, offset, centre, radius)
+            let Some(cone) = ShadowCone::new(p, DVec3::Y, offset, centre, radius, whole_ball)
             else {
                 return Ok(());
             };
             let g = rim_scene(p, centre, radius, &blockers);
             if g.cone_clear(&cone, &|_| true) {
-                let blocked = segments(p, centre, radius, 1500)
+                let blocked = segments(p, centre, radius, 1500, whole_ball)
                     .into_iter()
                     .any(|(o, w, tmax)| g.occluded(o, w, 0.0, tmax));
                 prop_assert!(!blocked);
@@ -417,18 +458,19 @@ mod tests {
             px in -3.0f64..3.0, pz in -3.0f64..3.0,
             lx in -2.0f64..2.0, ly in 0.8f64..4.0, lz in -2.0f64..2.0, radius in 0.05f64..0.7,
             blockers in proptest::collection::vec(
-                (0.8f64..1.25, 0.0f64..1.0, 0.0f64..1.1, 0.005f64..0.3,
+                (0.8f64..1.25, 0.0f64..1.0, 0.0f64..2.0, 0.005f64..0.3,
                  (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0)), 1..5),
+            whole_ball in proptest::bool::ANY,
         ) {
             let (p, centre) = (DVec3::new(px, 0.0, pz), DVec3::new(lx, ly, lz));
             let offset = crate::geometry::offset_scale(p);
-            let Some(cone) = ShadowCone::towards_sphere(p, DVec3::Y, offset, centre, radius)
+            let Some(cone) = ShadowCone::new(p, DVec3::Y, offset, centre, radius, whole_ball)
             else {
                 return Ok(());
             };
             let g = rim_scene(p, centre, radius, &blockers);
             let world = g.world.as_ref().unwrap();
-            let segs = segments(p, centre, radius, 600);
+            let segs = segments(p, centre, radius, 600, whole_ball);
             for node in world.nodes() {
                 // Identity octant: bit i of the mask's high byte stands for inner child i.
                 let mask = cone.node_mask(node, 0);

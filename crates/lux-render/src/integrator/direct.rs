@@ -19,7 +19,7 @@
 
 use super::{CameraRay, World, closest, power_heuristic, visibility};
 use crate::film::Counters;
-use crate::geometry::{Hit, ShadowCone};
+use crate::geometry::Hit;
 use crate::geometry::{shadow_ray_to, shadow_tmax};
 use crate::light::{LiSample, Light, LightBase, Seen};
 use crate::material::{Bsdf, SurfacePoint};
@@ -268,9 +268,7 @@ impl<'a> DirectIntegrator<'a> {
                         // without drawing them.
                         if alone
                             && self.closed_forms
-                            && let Some((centre, radius)) = from.unshadowed_bound()
-                            && let Some(cone) =
-                                ShadowCone::towards_sphere(sp.p, sp.ng, sp.offset, centre, radius)
+                            && let Some(cone) = from.shadow_cone(sp.p, sp.ng, sp.offset)
                             && {
                                 // (no occluder at all without shadows; only those its shadow
                                 // linking keeps with it)

@@ -69,6 +69,7 @@ pub use rect::RectLight;
 pub use set::{AUTO_ALL_LIGHTS, LightOptions, LightSelection, LightSet};
 pub use sphere::SphereLight;
 
+use crate::geometry::ShadowCone;
 use crate::image_io::Texture;
 use glam::{DMat3, DVec3};
 use lux_math::LightKind;
@@ -233,18 +234,27 @@ pub enum LightFrom<'a> {
 }
 
 impl LightFrom<'_> {
-    /// A sphere (centre, radius) that holds the light, when its light-only estimate from this
-    /// receiver has a closed form where nothing blocks it ([`LightFrom::unshadowed`]): a rect
-    /// or disk of uniform radiance (no shaping, no texture; a disk under a similarity), or a
-    /// uniform sphere drawn from its projected cap.
+    /// The region the light's shadow rays from the surface point `p` (unit geometric normal
+    /// `ng`, rays leaving from `p + ng·offset`) stay in ([`ShadowCone`]), when its light-only
+    /// estimate from this receiver has a closed form where nothing blocks it
+    /// ([`LightFrom::unshadowed`]): a uniform sphere drawn from its projected cap (rays end on
+    /// its near side), or a rect or disk of uniform radiance (no shaping, no texture; a disk
+    /// under a similarity) inside a ball around it.
     #[inline]
-    pub fn unshadowed_bound(&self) -> Option<(DVec3, f64)> {
+    pub fn shadow_cone(&self, p: DVec3, ng: DVec3, offset: f64) -> Option<ShadowCone> {
         match self {
             LightFrom::Sphere(l, from) if l.uniform_area() => {
-                from.projected_cap().map(|(c, r, _)| (c, r))
+                let (c, r, _) = from.projected_cap()?;
+                ShadowCone::towards_sphere(p, ng, offset, c, r)
             }
-            LightFrom::Rect(l, _) if l.uniform_area() => Some(l.bounding_sphere()),
-            LightFrom::Disk(l, _) if l.uniform_area() => l.world_disk().map(|(c, _, r)| (c, r)),
+            LightFrom::Rect(l, _) if l.uniform_area() => {
+                let (c, r) = l.bounding_sphere();
+                ShadowCone::towards_ball(p, ng, offset, c, r)
+            }
+            LightFrom::Disk(l, _) if l.uniform_area() => {
+                let (c, _, r) = l.world_disk()?;
+                ShadowCone::towards_ball(p, ng, offset, c, r)
+            }
             _ => None,
         }
     }
@@ -253,7 +263,7 @@ impl LightFrom<'_> {
     /// `∫ L cos θ dω = L·Π` (radiance times the projected solid angle,
     /// [`lux_sample::projected`]): what its light-only estimator averages to where nothing
     /// blocks it. For the sphere, Π of the projected cap its samples are drawn from (each
-    /// sample returns exactly `L·Π`). `None` where [`LightFrom::unshadowed_bound`] is.
+    /// sample returns exactly `L·Π`). `None` where [`LightFrom::shadow_cone`] is.
     #[inline]
     pub fn unshadowed(&self, p: DVec3, n: DVec3) -> Option<DVec3> {
         // The radiance leaving a point of a uniform light towards p (the same everywhere on
