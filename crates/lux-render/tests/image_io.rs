@@ -219,22 +219,7 @@ fn exr_round_trip_is_bit_exact() {
     }
 
     // Read back with the exr crate's generic reader: f32 channels, row 0 = top.
-    let flat = exr::prelude::read_first_flat_layer_from_file(&path).unwrap();
-    assert_eq!(flat.layer_data.size.0, width);
-    assert_eq!(flat.layer_data.size.1, height);
-    let channels = &flat.layer_data.channel_data.list;
-    assert_eq!(channels.len(), 4);
-    for (k, name) in ["R", "G", "B", "A"].iter().enumerate() {
-        let ch = channels
-            .iter()
-            .find(|c| c.name.to_string() == *name)
-            .unwrap();
-        assert!(matches!(ch.sample_data, exr::prelude::FlatSamples::F32(_)));
-        for (i, px) in pixels.iter().enumerate() {
-            let v = ch.sample_data.value_by_flat_index(i).to_f32();
-            assert_eq!(v.to_bits(), px[k].to_bits(), "{name} at {i}");
-        }
-    }
+    assert_exr_bits(&path, width, height, &pixels);
 
     // Case-insensitive extension.
     let upper = dir.join("RT.EXR");
@@ -281,19 +266,29 @@ fn exr_zip_blocks_round_trip_compressed_and_raw() {
     );
     // Smaller than the raw data (3 of the 4 blocks compress).
     assert!(fs::metadata(&path).unwrap().len() < (width * height * 16) as u64);
-    let flat = exr::prelude::read_first_flat_layer_from_file(&path).unwrap();
+    assert_exr_bits(&path, width, height, &pixels);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The EXR at `path`, read by the exr crate's generic reader, holds `pixels` (`width × height`,
+/// row 0 = top) in four `f32` channels, bit for bit.
+fn assert_exr_bits(path: &Path, width: usize, height: usize, pixels: &[[f32; 4]]) {
+    let flat = exr::prelude::read_first_flat_layer_from_file(path).unwrap();
+    assert_eq!(flat.layer_data.size.0, width);
+    assert_eq!(flat.layer_data.size.1, height);
     let channels = &flat.layer_data.channel_data.list;
+    assert_eq!(channels.len(), 4);
     for (k, name) in ["R", "G", "B", "A"].iter().enumerate() {
         let ch = channels
             .iter()
             .find(|c| c.name.to_string() == *name)
             .unwrap();
+        assert!(matches!(ch.sample_data, exr::prelude::FlatSamples::F32(_)));
         for (i, px) in pixels.iter().enumerate() {
             let v = ch.sample_data.value_by_flat_index(i).to_f32();
             assert_eq!(v.to_bits(), px[k].to_bits(), "{name} at {i}");
         }
     }
-    fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]

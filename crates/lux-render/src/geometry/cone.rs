@@ -6,8 +6,7 @@
 //! (δ the hit's offset) along a direction `w` inside the cone that the ball subtends from `p`
 //! — apex `o`, unit axis `a` towards the centre, half-angle α with sin α = r/d — and end at a
 //! point of the light: on a sphere light's near side, so `a·(x − o) ≤ d` along every segment
-//! ([`ShadowCone::towards_sphere`]); anywhere in the ball, `a·(x − o) ≤ d + r`
-//! ([`ShadowCone::towards_ball`]). When the cone lies above the
+//! ([`RayEnds::NearSide`]); anywhere in the ball, `a·(x − o) ≤ d + r` ([`RayEnds::Anywhere`]). When the cone lies above the
 //! geometric horizon (`ng·a > sin α`), every segment also stays above the tangent plane at `p`.
 //! A triangle outside that region cannot stop any of them: if every triangle is, each shadow
 //! ray is unblocked and the light's direct contribution is its unshadowed closed form
@@ -22,7 +21,16 @@ use glam::{DVec3, Vec3A, Vec4};
 use obvhs::cwbvh::node::{CwBvhNode, extract_byte64};
 use obvhs::triangle::Triangle;
 
-/// The region every shadow ray towards a sphere light stays in, from one shading point.
+/// Where in the ball a light's shadow rays end ([`ShadowCone::new`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RayEnds {
+    /// On the sphere's near side (a sphere light seen from outside): `a·(x − o) ≤ d`.
+    NearSide,
+    /// Anywhere in the ball (a rect or disk inside it): `a·(x − o) ≤ d + r`.
+    Anywhere,
+}
+
+/// The region every shadow ray towards a light stays in, from one shading point.
 #[derive(Clone, Copy, Debug)]
 pub struct ShadowCone {
     /// Its unit geometric normal (the rays leave on its side).
@@ -49,39 +57,17 @@ pub struct ShadowCone {
 }
 
 impl ShadowCone {
-    /// The cone of the sphere light (`centre`, `radius`) seen from the surface point `p` with
-    /// unit geometric normal `ng`, its rays leaving from `p + ng·offset` and ending on the
-    /// sphere's near side. `None` unless the sphere is wholly in front of the tangent plane
-    /// (`ng·a > sin α`) and outside `p`.
-    pub fn towards_sphere(
+    /// The cone of the ball (`centre`, `radius`) seen from the surface point `p` with unit
+    /// geometric normal `ng`, its rays leaving from `p + ng·offset` and ending as `ends` says.
+    /// `None` unless the ball is wholly in front of the tangent plane (`ng·a > sin α`) and
+    /// outside `p`.
+    pub fn new(
         p: DVec3,
         ng: DVec3,
         offset: f64,
         centre: DVec3,
         radius: f64,
-    ) -> Option<ShadowCone> {
-        Self::new(p, ng, offset, centre, radius, false)
-    }
-
-    /// [`ShadowCone::towards_sphere`] for rays ending anywhere in the ball (`centre`,
-    /// `radius`): a light inside it, such as a rect or a disk.
-    pub fn towards_ball(
-        p: DVec3,
-        ng: DVec3,
-        offset: f64,
-        centre: DVec3,
-        radius: f64,
-    ) -> Option<ShadowCone> {
-        Self::new(p, ng, offset, centre, radius, true)
-    }
-
-    fn new(
-        p: DVec3,
-        ng: DVec3,
-        offset: f64,
-        centre: DVec3,
-        radius: f64,
-        whole_ball: bool,
+        ends: RayEnds,
     ) -> Option<ShadowCone> {
         let v = centre - p;
         let d = v.length();
@@ -110,7 +96,10 @@ impl ShadowCone {
             axis,
             sin_a,
             cos_a,
-            far: if whole_ball { d + radius } else { d },
+            far: match ends {
+                RayEnds::NearSide => d,
+                RayEnds::Anywhere => d + radius,
+            },
             margin: 1e-5 * scale + offset,
         })
     }
@@ -245,7 +234,7 @@ mod tests {
     /// offset a shading point there gets).
     fn cone_from(p: DVec3, centre: DVec3, radius: f64) -> ShadowCone {
         let offset = crate::geometry::offset_scale(p);
-        ShadowCone::towards_sphere(p, DVec3::Y, offset, centre, radius).unwrap()
+        ShadowCone::new(p, DVec3::Y, offset, centre, radius, RayEnds::NearSide).unwrap()
     }
 
     fn mesh(name: &str, v: Vec<DVec3>, tris: Vec<[u32; 3]>) -> Mesh {
@@ -327,9 +316,11 @@ mod tests {
         let p = DVec3::ZERO;
         // The sphere crosses the tangent plane: ng·a = 0.2 < sin α = 0.5.
         let c = DVec3::new(0.98, 0.2, 0.0);
-        assert!(ShadowCone::towards_sphere(p, DVec3::Y, 1e-5, c, 0.5).is_none());
+        assert!(ShadowCone::new(p, DVec3::Y, 1e-5, c, 0.5, RayEnds::NearSide).is_none());
         // p inside the sphere.
-        assert!(ShadowCone::towards_sphere(p, DVec3::Y, 1e-5, DVec3::Y * 0.4, 0.5).is_none());
+        assert!(
+            ShadowCone::new(p, DVec3::Y, 1e-5, DVec3::Y * 0.4, 0.5, RayEnds::NearSide).is_none()
+        );
     }
 
     /// Shadow-ray segments of the cone, as the renderer traces them: from the offset origin
@@ -388,15 +379,13 @@ mod tests {
         t0 <= t1
     }
 
-    /// The floor and small triangles near the rim of the cone from `p` to the sphere (at
-    /// `k` × its half-angle from the axis, a fraction `t` of the way to the centre).
-    #[allow(clippy::type_complexity)]
-    fn rim_scene(
-        p: DVec3,
-        centre: DVec3,
-        radius: f64,
-        blockers: &[(f64, f64, f64, f64, (f64, f64, f64))],
-    ) -> Geometry {
+    /// A blocker near the cone's rim: `(k, φ, t, s, u)` — at `k` × the half-angle from the
+    /// axis, azimuth `φ` (turns), a fraction `t` of the centre's distance, half-size `s`,
+    /// oriented by `u`.
+    type Blocker = (f64, f64, f64, f64, (f64, f64, f64));
+
+    /// The floor and small triangles near the rim of the cone from `p` to the sphere.
+    fn rim_scene(p: DVec3, centre: DVec3, radius: f64, blockers: &[Blocker]) -> Geometry {
         let v = centre - p;
         let d = v.length();
         let frame = lux_math::Frame::from_normal(v / d);
@@ -418,6 +407,59 @@ mod tests {
         Geometry::new(&scene_with(meshes))
     }
 
+    /// A receiver on the floor, a light above it, blockers near its cone's rim, and whether
+    /// the rays end anywhere in the ball.
+    #[derive(Clone, Debug)]
+    struct RimCase {
+        p: DVec3,
+        centre: DVec3,
+        radius: f64,
+        blockers: Vec<Blocker>,
+        whole_ball: bool,
+    }
+
+    impl RimCase {
+        /// The cone (`None` when the light is not above the horizon) and the scene.
+        fn build(&self) -> Option<(ShadowCone, Geometry)> {
+            let offset = crate::geometry::offset_scale(self.p);
+            let cone = ShadowCone::new(
+                self.p,
+                DVec3::Y,
+                offset,
+                self.centre,
+                self.radius,
+                if self.whole_ball {
+                    RayEnds::Anywhere
+                } else {
+                    RayEnds::NearSide
+                },
+            )?;
+            Some((
+                cone,
+                rim_scene(self.p, self.centre, self.radius, &self.blockers),
+            ))
+        }
+    }
+
+    prop_compose! {
+        fn rim_case()(
+            px in -3.0f64..3.0, pz in -3.0f64..3.0,
+            lx in -2.0f64..2.0, ly in 0.8f64..4.0, lz in -2.0f64..2.0, radius in 0.05f64..0.7,
+            blockers in proptest::collection::vec(
+                (0.8f64..1.25, 0.0f64..1.0, 0.0f64..2.0, 0.005f64..0.3,
+                 (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0)), 1..5),
+            whole_ball in proptest::bool::ANY,
+        ) -> RimCase {
+            RimCase {
+                p: DVec3::new(px, 0.0, pz),
+                centre: DVec3::new(lx, ly, lz),
+                radius,
+                blockers,
+                whole_ball,
+            }
+        }
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(256))]
 
@@ -428,20 +470,12 @@ mod tests {
         /// end on the sphere (a sphere light) or at the ball's far side (a light inside it).
         #[test]
         fn clear_means_no_shadow_ray_is_blocked(
-            px in -3.0f64..3.0, pz in -3.0f64..3.0,
-            lx in -2.0f64..2.0, ly in 0.8f64..4.0, lz in -2.0f64..2.0, radius in 0.05f64..0.7,
-            blockers in proptest::collection::vec(
-                (0.8f64..1.25, 0.0f64..1.0, 0.0f64..2.0, 0.005f64..0.3,
-                 (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0)), 1..5),
-            whole_ball in proptest::bool::ANY,
+            case in rim_case(),
         ) {
-            let (p, centre) = (DVec3::new(px, 0.0, pz), DVec3::new(lx, ly, lz));
-            let offset = crate::geometry::offset_scale(p);
-            let Some(cone) = ShadowCone::new(p, DVec3::Y, offset, centre, radius, whole_ball)
-            else {
+            let RimCase { p, centre, radius, whole_ball, .. } = case;
+            let Some((cone, g)) = case.build() else {
                 return Ok(());
             };
-            let g = rim_scene(p, centre, radius, &blockers);
             if g.cone_clear(&cone, &|_| true) {
                 let blocked = segments(p, centre, radius, 1500, whole_ball)
                     .into_iter()
@@ -455,20 +489,12 @@ mod tests {
         /// hit by none.
         #[test]
         fn dropped_boxes_and_triangles_meet_no_shadow_ray(
-            px in -3.0f64..3.0, pz in -3.0f64..3.0,
-            lx in -2.0f64..2.0, ly in 0.8f64..4.0, lz in -2.0f64..2.0, radius in 0.05f64..0.7,
-            blockers in proptest::collection::vec(
-                (0.8f64..1.25, 0.0f64..1.0, 0.0f64..2.0, 0.005f64..0.3,
-                 (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0)), 1..5),
-            whole_ball in proptest::bool::ANY,
+            case in rim_case(),
         ) {
-            let (p, centre) = (DVec3::new(px, 0.0, pz), DVec3::new(lx, ly, lz));
-            let offset = crate::geometry::offset_scale(p);
-            let Some(cone) = ShadowCone::new(p, DVec3::Y, offset, centre, radius, whole_ball)
-            else {
+            let RimCase { p, centre, radius, whole_ball, .. } = case;
+            let Some((cone, g)) = case.build() else {
                 return Ok(());
             };
-            let g = rim_scene(p, centre, radius, &blockers);
             let world = g.world.as_ref().unwrap();
             let segs = segments(p, centre, radius, 600, whole_ball);
             for node in world.nodes() {
@@ -511,12 +537,13 @@ mod tests {
             for j in 0..7 {
                 let p = DVec3::new(-3.0 + i as f64, 0.0, -3.0 + j as f64 * 0.9);
                 let centre = DVec3::new(0.5, 1.0 + 0.3 * j as f64, -0.4);
-                if let Some(c) = ShadowCone::towards_sphere(
+                if let Some(c) = ShadowCone::new(
                     p,
                     DVec3::Y,
                     crate::geometry::offset_scale(p),
                     centre,
                     0.3,
+                    RayEnds::NearSide,
                 ) {
                     n += 1;
                     assert!(g.cone_clear(&c, &|_| true), "p {p} light {centre}");

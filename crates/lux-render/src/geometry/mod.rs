@@ -27,7 +27,7 @@ mod lights;
 
 use crate::light::{Light, LightHit};
 use blas::Blas;
-pub use cone::ShadowCone;
+pub use cone::{RayEnds, ShadowCone};
 use glam::{DVec2, DVec3, Vec3A};
 use instances::Instances;
 pub(crate) use instances::drawable_transform;

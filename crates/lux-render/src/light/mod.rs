@@ -69,7 +69,7 @@ pub use rect::RectLight;
 pub use set::{AUTO_ALL_LIGHTS, LightOptions, LightSelection, LightSet};
 pub use sphere::SphereLight;
 
-use crate::geometry::ShadowCone;
+use crate::geometry::{RayEnds, ShadowCone};
 use crate::image_io::Texture;
 use glam::{DMat3, DVec3};
 use lux_math::LightKind;
@@ -245,15 +245,15 @@ impl LightFrom<'_> {
         match self {
             LightFrom::Sphere(l, from) if l.uniform_area() => {
                 let (c, r, _) = from.projected_cap()?;
-                ShadowCone::towards_sphere(p, ng, offset, c, r)
+                ShadowCone::new(p, ng, offset, c, r, RayEnds::NearSide)
             }
             LightFrom::Rect(l, _) if l.uniform_area() => {
                 let (c, r) = l.bounding_sphere();
-                ShadowCone::towards_ball(p, ng, offset, c, r)
+                ShadowCone::new(p, ng, offset, c, r, RayEnds::Anywhere)
             }
             LightFrom::Disk(l, _) if l.uniform_area() => {
                 let (c, _, r) = l.world_disk()?;
-                ShadowCone::towards_ball(p, ng, offset, c, r)
+                ShadowCone::new(p, ng, offset, c, r, RayEnds::Anywhere)
             }
             _ => None,
         }
