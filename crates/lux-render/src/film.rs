@@ -149,15 +149,18 @@ fn to_f32(v: DVec4) -> [f32; 4] {
     [v.x as f32, v.y as f32, v.z as f32, v.w as f32]
 }
 
-/// Runs `f` over every pixel of `rect` (`[x0, y0, x1, y1)`) in 16 × 16 tiles on rayon's pool;
-/// returns the results row-major over `rect`. `done` is called with each finished tile's
-/// rectangle, after its counters (and the extra samples `f` reports) are added to `shared`.
-fn par_tiles<T: Copy + Default + Send>(
+/// Runs `f` over every pixel of `rect` (`[x0, y0, x1, y1)`) in 16 × 16 tiles on rayon's pool
+/// and stores each result in `dest`, a row-major buffer `stride` wide whose first element is
+/// pixel `origin`. `done` is called with each finished tile's rectangle, after its counters
+/// (and the extra samples `f` reports) are added to `shared`. A finished tile is copied into
+/// `dest` at once, so no frame-sized buffer is made besides `dest`.
+fn par_tiles<T: Copy + Send>(
     rect: [u32; 4],
     shared: &Shared,
     f: &(dyn Fn(u32, u32, &mut Counters, &mut u64) -> T + Sync),
     done: &(dyn Fn([u32; 4]) + Sync),
-) -> Vec<T> {
+    (dest, stride, origin): (&mut [T], usize, [u32; 2]),
+) {
     let [x0, y0, x1, y1] = rect;
     let mut tiles = Vec::new();
     let mut ty = y0;
@@ -169,13 +172,13 @@ fn par_tiles<T: Copy + Default + Send>(
         }
         ty += TILE;
     }
+    let dest = std::sync::Mutex::new(dest);
     // One tile per job: the adaptive pass's work sits in a few tiles (edges, penumbrae), and
     // rayon's default splitting leaves whole runs of them to one thread.
-    let results: Vec<(usize, Vec<T>)> = tiles
+    tiles
         .par_iter()
         .with_max_len(1)
-        .enumerate()
-        .map(|(ti, &[tx0, ty0, tx1, ty1])| {
+        .for_each(|&[tx0, ty0, tx1, ty1]| {
             let mut c = Counters::default();
             let mut extra = 0;
             let mut px = Vec::with_capacity(((tx1 - tx0) * (ty1 - ty0)) as usize);
@@ -184,22 +187,19 @@ fn par_tiles<T: Copy + Default + Send>(
                     px.push(f(x, y, &mut c, &mut extra));
                 }
             }
+            {
+                // (a poisoned lock only means another tile's job panicked; its panic goes on)
+                let mut d = dest.lock().unwrap_or_else(|e| e.into_inner());
+                let tw = (tx1 - tx0) as usize;
+                for (row, chunk) in px.chunks(tw).enumerate() {
+                    let at = (ty0 - origin[1]) as usize + row;
+                    let from = at * stride + (tx0 - origin[0]) as usize;
+                    d[from..from + tw].copy_from_slice(chunk);
+                }
+            }
             shared.add(&c, extra);
             done([tx0, ty0, tx1, ty1]);
-            (ti, px)
-        })
-        .collect();
-    let w = (x1 - x0) as usize;
-    let mut out = vec![T::default(); w * (y1 - y0) as usize];
-    for (ti, px) in results {
-        let [tx0, ty0, tx1, _] = tiles[ti];
-        let tw = (tx1 - tx0) as usize;
-        for (k, v) in px.into_iter().enumerate() {
-            let (x, y) = ((tx0 - x0) as usize + k % tw, (ty0 - y0) as usize + k / tw);
-            out[y * w + x] = v;
-        }
-    }
-    out
+        });
 }
 
 impl Film {
@@ -220,22 +220,21 @@ impl Film {
         let rw = (x1 - x0) as usize;
         match Some(self.adaptive).filter(|a| a.is_on() && x0 < x1 && y0 < y1) {
             None => {
-                let px = par_tiles(
+                par_tiles(
                     self.window,
                     &shared,
                     &|x, y, c, _| to_f32(self.pixel(camera, integrator, x, y, c, &mut |_| {})),
                     &|[a, b, c, d]| progress((c - a) as u64 * (d - b) as u64),
+                    (&mut pixels, w as usize, [0, 0]),
                 );
-                for (k, v) in px.into_iter().enumerate() {
-                    pixels[(y0 as usize + k / rw) * w as usize + x0 as usize + k % rw] = v;
-                }
             }
             Some(adaptive) => {
                 // First pass: the window's rows and one row beyond each side (within the
                 // frame's window), so a band reads the neighbours the whole frame reads.
                 let hy0 = y0.saturating_sub(1).max(self.frame_rows[0]).min(y0);
                 let hy1 = (y1 + 1).min(self.frame_rows[1]).max(y1);
-                let first = par_tiles(
+                let mut first = vec![FirstPass::default(); rw * (hy1 - hy0) as usize];
+                par_tiles(
                     [x0, hy0, x1, hy1],
                     &shared,
                     &|x, y, c, _| self.first_pass(camera, integrator, x, y, c),
@@ -243,9 +242,10 @@ impl Film {
                         let rows = d.min(y1).saturating_sub(b.max(y0));
                         progress((c - a) as u64 * rows as u64)
                     },
+                    (&mut first, rw, [x0, hy0]),
                 );
                 let at = |x: u32, y: u32| &first[(y - hy0) as usize * rw + (x - x0) as usize];
-                let px = par_tiles(
+                par_tiles(
                     self.window,
                     &shared,
                     &|x, y, c, extra| {
@@ -290,10 +290,8 @@ impl Film {
                         to_f32((base + sums.rgba) / n as f64)
                     },
                     &|[a, b, c, d]| progress((c - a) as u64 * (d - b) as u64),
+                    (&mut pixels, w as usize, [0, 0]),
                 );
-                for (k, v) in px.into_iter().enumerate() {
-                    pixels[(y0 as usize + k / rw) * w as usize + x0 as usize + k % rw] = v;
-                }
             }
         }
         let npx = (x1 - x0) as u64 * (y1 - y0) as u64;
