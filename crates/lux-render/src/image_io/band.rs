@@ -6,9 +6,9 @@ use std::fs::File;
 use std::io::BufReader;
 use std::path::Path;
 
+use exr::block::BlockIndex;
 use exr::block::chunk::{Chunk, CompressedBlock, CompressedScanLineBlock};
 use exr::block::writer::ChunksWriter;
-use exr::block::{BlockIndex, UncompressedBlock};
 use exr::image::write::layers::WritableLayers;
 use exr::meta::attribute::{AttributeValue, IntegerBounds, Text};
 use exr::meta::header::LayerAttributes;
@@ -106,13 +106,8 @@ pub fn stage_exr_band(
         .collect();
     stage_atomically(path, |writer| {
         exr::block::write(writer, headers, true, |meta, chunks| {
-            let blocks: Vec<(usize, BlockIndex)> = meta
-                .collect_ordered_blocks(|index| UncompressedBlock {
-                    index,
-                    data: Vec::new(),
-                })
-                .map(|(i, b)| (i, b.index))
-                .collect();
+            let blocks: Vec<(usize, BlockIndex)> =
+                meta.enumerate_ordered_header_block_indices().collect();
             // Each block encoded on the current rayon pool; written in file order.
             let encoded: Vec<(usize, Chunk)> = blocks
                 .into_par_iter()

@@ -81,9 +81,9 @@ impl DiskLight {
         DVec3::ZERO
     }
 
-    /// The world disk — centre, unit normal, radius — when the transform is a similarity
-    /// (rotation, uniform scale, translation); `None` under a non-uniform scale or shear, where
-    /// it is an ellipse.
+    /// The world disk — centre, unit normal (the local ±Z axis), radius `s · inputs:radius` —
+    /// when the transform is a similarity of scale s (rotation, uniform scale, translation);
+    /// `None` under a non-uniform scale or shear, where it is an ellipse.
     #[inline]
     pub fn world_disk(&self) -> Option<(DVec3, DVec3, f64)> {
         self.world

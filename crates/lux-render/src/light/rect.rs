@@ -70,14 +70,16 @@ impl RectLight {
         })
     }
 
-    /// The world corners, in order around the rect: local (±w/2, ±h/2, 0) placed by the
-    /// light's transform (a parallelogram under any affine one).
+    /// The world corners, in order around the rect: local (±w/2, ±h/2, 0) for UsdLux
+    /// `inputs:width` w and `inputs:height` h, placed by the light's transform (a parallelogram
+    /// under any affine one).
     #[inline]
     pub fn world_corners(&self) -> [DVec3; 4] {
         self.corners
     }
 
-    /// A sphere holding the rect: its centre and the farthest corner's distance.
+    /// A ball holding the rect: its centre (the light's origin) and the farthest world corner's
+    /// distance from it.
     #[inline]
     pub fn bounding_sphere(&self) -> (DVec3, f64) {
         self.bound
