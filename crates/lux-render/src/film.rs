@@ -11,7 +11,7 @@
 
 use crate::camera::Camera;
 use crate::image_io::ImageRgba;
-use crate::integrator::{CameraRay, Integrator};
+use crate::integrator::{CameraRay, ClearPatches, Integrator};
 use crate::sampler::{Dim, SampleStream};
 use crate::settings::AdaptiveSampling;
 use glam::{DVec3, DVec4};
@@ -60,8 +60,9 @@ pub struct RenderStats {
     pub seconds: f64,
 }
 
-/// What one worker counts while it renders a tile (summed into [`RenderStats`]).
-#[derive(Clone, Copy, Debug, Default)]
+/// What one worker counts while it renders a tile (summed into [`RenderStats`]), and what it
+/// remembers between the tile's samples.
+#[derive(Clone, Debug, Default)]
 pub struct Counters {
     /// Rays traced.
     pub rays: u64,
@@ -73,6 +74,8 @@ pub struct Counters {
     pub non_finite: u64,
     /// Shadow rays that found an occluder (what the penumbra pass looks at).
     pub blocked: u64,
+    /// The tile's patches of surface known to see a light unblocked, or not.
+    pub patches: ClearPatches,
 }
 
 /// The image being rendered: its size, the pixels to render, samples and seed.

@@ -165,9 +165,15 @@ impl Blas {
     /// shadow ray inside `cone` (conservative: false when unsure); stops at the first
     /// triangle that might.
     pub fn cone_clear(&self, cone: &ShadowCone, casts: &impl Fn(usize) -> bool) -> bool {
+        self.cone_blocker(cone, casts).is_none()
+    }
+
+    /// The first triangle (index into the BVH's triangles) of a mesh that `casts` which
+    /// `cone` does not rule out; `None` when it rules out every one ([`Blas::cone_clear`]).
+    pub fn cone_blocker(&self, cone: &ShadowCone, casts: &impl Fn(usize) -> bool) -> Option<u32> {
         let mut state = self.bvh.new_traversal(cone.axis().as_vec3a());
         let mut node;
-        let mut clear = true;
+        let mut found = None;
         'outer: {
             obvhs::traverse!(
                 self.bvh,
@@ -177,13 +183,21 @@ impl Blas {
                 {
                     let id = state.primitive_id as usize;
                     if !cone.culls_triangle(&self.tris[id]) && casts(self.prims[id].mesh as usize) {
-                        clear = false;
+                        found = Some(id as u32);
                         break 'outer;
                     }
                 }
             );
         }
-        clear
+        found
+    }
+
+    /// Whether `cone` rules out triangle `id` (an index into the BVH's triangles).
+    #[inline]
+    pub fn culls(&self, cone: &ShadowCone, id: u32) -> bool {
+        self.tris
+            .get(id as usize)
+            .is_none_or(|t| cone.culls_triangle(t))
     }
 
     /// True when any triangle (either side) lies on `ray`; stops at the first one found.

@@ -12,6 +12,9 @@
 //! ray is unblocked and the light's direct contribution is its unshadowed closed form
 //! (`integrator/direct.rs`).
 //!
+//! [`ShadowCone::patch`] is the region of the shadow rays from every point of a patch of a
+//! plane (`integrator/patches.rs`): the same tests with margins grown by the patch's radius.
+//!
 //! The test only ever answers "clear" when it is certain: a box or triangle is dismissed when
 //! it lies wholly below the tangent plane at `p` (the surface the rays leave: what the offset
 //! δ keeps them clear of), wholly behind the apex or beyond the far plane, or when its
@@ -28,6 +31,17 @@ pub enum RayEnds {
     NearSide,
     /// Anywhere in the ball (a rect or disk inside it): `a·(x − o) ≤ d + r`.
     Anywhere,
+}
+
+/// What a search of the BVH against a [`ShadowCone`] found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConeSearch {
+    /// No triangle can stop any of its rays.
+    Clear,
+    /// This triangle (an index into the world BVH's triangles) might.
+    Blocked(u32),
+    /// Not searched (instanced geometry).
+    Unsearched,
 }
 
 /// The region every shadow ray towards a light stays in, from one shading point.
@@ -52,7 +66,8 @@ pub struct ShadowCone {
     cos_a: f64,
     /// Largest `axis·(x − apex)` on a ray.
     far: f64,
-    /// Distance by which a bounding sphere must miss the cone.
+    /// Distance by which a bounding sphere must miss the cone, and by which a box must lie
+    /// below the rays' least rise: at least how far a ray's origin can be from the apex.
     margin: f64,
 }
 
@@ -69,26 +84,75 @@ impl ShadowCone {
         radius: f64,
         ends: RayEnds,
     ) -> Option<ShadowCone> {
+        Self::build(p, ng, [offset, offset], 0.0, (centre, radius, ends))
+    }
+
+    /// The region of the shadow rays from every point of a patch of a plane: the points
+    /// within `spread` of `q` on the plane through `q` with unit normal `ng`, each leaving
+    /// from its own offset [`offset_scale`](crate::geometry::offset_scale) along `ng`, towards
+    /// the ball (`centre`, `radius`) as `ends` says. "Clear" for it means clear for each of
+    /// those points' cones.
+    ///
+    /// Every such ray point lies within `spread + Δδ` of the region of the rays from the apex
+    /// `q + ng·δ_lo` (δ_lo, δ_hi the least and most offset over the patch, Δδ = δ_hi − δ_lo):
+    /// a point `y` of a ray from `o'` and the point of the apex's ray to the same end are
+    /// `(1 − s)·|o' − apex|` apart. The margin of the distance tests grows by `spread` (δ_hi
+    /// it already has). The rays' directions `x − o'` are those from `q` to points of the
+    /// ball grown by `spread + δ_hi`, whose least elevation `e` bounds every ray's rise,
+    /// `≥ sin e·|y − o'| ≥ sin e·|y − apex| − margin`, which the elevation test's margin
+    /// covers. Every origin is at least δ_lo above the plane.
+    pub fn patch(
+        q: DVec3,
+        ng: DVec3,
+        spread: f64,
+        centre: DVec3,
+        radius: f64,
+        ends: RayEnds,
+    ) -> Option<ShadowCone> {
+        if !(spread >= 0.0 && spread.is_finite()) {
+            return None;
+        }
+        let m = q.abs().max_element();
+        let offsets = [
+            crate::geometry::offset_scale(DVec3::splat((m - spread).max(0.0))),
+            crate::geometry::offset_scale(DVec3::splat(m + spread)),
+        ];
+        Self::build(q, ng, offsets, spread, (centre, radius, ends))
+    }
+
+    /// The cone from the plane point `p` (origins within `spread` of it on its plane, offset
+    /// by `[δ_lo, δ_hi]` along `ng`) to the ball.
+    fn build(
+        p: DVec3,
+        ng: DVec3,
+        [lo, hi]: [f64; 2],
+        spread: f64,
+        (centre, radius, ends): (DVec3, f64, RayEnds),
+    ) -> Option<ShadowCone> {
         let v = centre - p;
         let d = v.length();
-        if !(d > radius && d.is_finite() && radius > 0.0) {
+        if !(d > radius + spread + hi && d.is_finite() && radius > 0.0) {
             return None;
         }
         let axis = v / d;
         let sin_a = radius / d;
         let cos_a = (1.0 - sin_a * sin_a).max(0.0).sqrt();
-        // (NaN fails too)
-        if ng.dot(axis).partial_cmp(&sin_a) != Some(std::cmp::Ordering::Greater) {
+        // The rays' directions: from `p` towards the ball grown by the origins' largest
+        // distance from `p` (`spread` along the plane, δ_hi up), a cone that must lie wholly
+        // in front of the plane (NaN fails too).
+        let sin_g = (radius + spread + hi) / d;
+        if ng.dot(axis).partial_cmp(&sin_g) != Some(std::cmp::Ordering::Greater) {
             return None;
         }
+        let cos_g = (1.0 - sin_g * sin_g).max(0.0).sqrt();
         let cos_b = ng.dot(axis);
         let sin_b = (1.0 - cos_b * cos_b).max(0.0).sqrt();
-        let sin_e = cos_b * cos_a - sin_b * sin_a;
-        let scale = p.abs().max_element() + d;
-        let apex = p + ng * offset;
+        let sin_e = cos_b * cos_g - sin_b * sin_g;
+        let scale = p.abs().max_element() + spread + d;
+        let apex = p + ng * lo;
         Some(ShadowCone {
             ng,
-            floor: -0.5 * offset,
+            floor: -0.5 * lo,
             ng_apex: ng.dot(apex),
             axis_apex: axis.dot(apex),
             sin_e2: sin_e * sin_e,
@@ -100,7 +164,7 @@ impl ShadowCone {
                 RayEnds::NearSide => d,
                 RayEnds::Anywhere => d + radius,
             },
-            margin: 1e-5 * scale + offset,
+            margin: 1e-5 * scale + hi + spread,
         })
     }
 
@@ -223,7 +287,7 @@ impl ShadowCone {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::geometry::Geometry;
     use crate::geometry::tests::scene_with;
@@ -245,7 +309,7 @@ mod tests {
     }
 
     /// A floor of 10 × 10 quads over [−5, 5]² at y = 0 (what the shading points lie on).
-    fn floor() -> Mesh {
+    pub(crate) fn floor() -> Mesh {
         let n = 10;
         let mut v = Vec::new();
         for j in 0..=n {
@@ -266,7 +330,7 @@ mod tests {
     }
 
     /// A square of half-size `h` centred at `c`, horizontal.
-    fn square(c: DVec3, h: f64) -> Mesh {
+    pub(crate) fn square(c: DVec3, h: f64) -> Mesh {
         let v = vec![
             c + DVec3::new(-h, 0.0, -h),
             c + DVec3::new(h, 0.0, -h),
@@ -312,6 +376,35 @@ mod tests {
     }
 
     #[test]
+    fn a_patch_is_blocked_by_what_blocks_any_of_its_points() {
+        let (centre, radius) = (DVec3::new(0.0, 2.0, 0.0), 0.3);
+        let (p, edge) = (DVec3::ZERO, DVec3::new(0.5, 0.0, 0.0));
+        // A small square on the way from the patch's edge point to the light, outside the
+        // cone from its centre (at height 0.2 that cone is 0.03 wide around x = 0).
+        let g = Geometry::new(&scene_with(vec![
+            floor(),
+            square(DVec3::new(0.45, 0.2, 0.0), 0.02),
+        ]));
+        let blocked_from = |q: DVec3| {
+            segments(q, centre, radius, 2000, false)
+                .into_iter()
+                .any(|(o, w, tmax)| g.occluded(o, w, 0.0, tmax))
+        };
+        assert!(!blocked_from(p) && blocked_from(edge));
+        assert!(g.cone_clear(&cone_from(p, centre, radius), &|_| true));
+        let patch = |spread| {
+            ShadowCone::patch(p, DVec3::Y, spread, centre, radius, RayEnds::NearSide).unwrap()
+        };
+        assert!(!g.cone_clear(&patch(0.5), &|_| true));
+        // A patch that stops short of the square's shadow is clear, and so is the bare floor.
+        assert!(g.cone_clear(&patch(0.1), &|_| true));
+        let bare = Geometry::new(&scene_with(vec![floor()]));
+        assert!(bare.cone_clear(&patch(0.5), &|_| true));
+        // No patch cone once the grown ball reaches the horizon.
+        assert!(ShadowCone::patch(p, DVec3::Y, 1.8, centre, radius, RayEnds::NearSide).is_none());
+    }
+
+    #[test]
     fn a_light_below_the_horizon_has_no_cone() {
         let p = DVec3::ZERO;
         // The sphere crosses the tangent plane: ng·a = 0.2 < sin α = 0.5.
@@ -327,7 +420,7 @@ mod tests {
     /// along directions uniform in the cone (and its rim), to where each meets the sphere — on
     /// its near side, or with `whole_ball` on its far side (the farthest a light inside the
     /// ball can be).
-    fn segments(
+    pub(crate) fn segments(
         p: DVec3,
         centre: DVec3,
         radius: f64,
@@ -379,19 +472,29 @@ mod tests {
         t0 <= t1
     }
 
-    /// A blocker near the cone's rim: `(k, φ, t, s, u)` — at `k` × the half-angle from the
-    /// axis, azimuth `φ` (turns), a fraction `t` of the centre's distance, half-size `s`,
-    /// oriented by `u`.
-    type Blocker = (f64, f64, f64, f64, (f64, f64, f64));
+    /// A blocker near the rim of the cone from a point of the floor: `(ψ, k, φ, t, s, u)` —
+    /// from the point at azimuth `ψ` (turns) on the rim of the patch (the receiver itself
+    /// without one), at `k` × its cone's half-angle from the axis, azimuth `φ` (turns), a
+    /// fraction `t` of the centre's distance, half-size `s`, oriented by `u`.
+    type Blocker = (f64, f64, f64, f64, f64, (f64, f64, f64));
 
-    /// The floor and small triangles near the rim of the cone from `p` to the sphere.
-    fn rim_scene(p: DVec3, centre: DVec3, radius: f64, blockers: &[Blocker]) -> Geometry {
-        let v = centre - p;
-        let d = v.length();
-        let frame = lux_math::Frame::from_normal(v / d);
-        let alpha = (radius / d).asin();
+    /// The floor and small triangles near the rim of the cones to the sphere from `p` or
+    /// from points of the rim of the patch within `spread` of it.
+    fn rim_scene(
+        p: DVec3,
+        spread: f64,
+        centre: DVec3,
+        radius: f64,
+        blockers: &[Blocker],
+    ) -> Geometry {
         let mut meshes = vec![floor()];
-        for (i, &(k, phi, t, s, (ox, oy, oz))) in blockers.iter().enumerate() {
+        for (i, &(psi, k, phi, t, s, (ox, oy, oz))) in blockers.iter().enumerate() {
+            let psi = psi * std::f64::consts::TAU;
+            let p = p + spread * DVec3::new(psi.cos(), 0.0, psi.sin());
+            let v = centre - p;
+            let d = v.length();
+            let frame = lux_math::Frame::from_normal(v / d);
+            let alpha = (radius / d).asin();
             let (th, phi) = (k * alpha, phi * std::f64::consts::TAU);
             let w = frame.to_world(DVec3::new(
                 th.sin() * phi.cos(),
@@ -407,11 +510,12 @@ mod tests {
         Geometry::new(&scene_with(meshes))
     }
 
-    /// A receiver on the floor, a light above it, blockers near its cone's rim, and whether
-    /// the rays end anywhere in the ball.
+    /// A receiver on the floor (or the patch of floor within `spread` of it), a light above
+    /// it, blockers near its cone's rim, and whether the rays end anywhere in the ball.
     #[derive(Clone, Debug)]
     struct RimCase {
         p: DVec3,
+        spread: f64,
         centre: DVec3,
         radius: f64,
         blockers: Vec<Blocker>,
@@ -422,36 +526,73 @@ mod tests {
         /// The cone (`None` when the light is not above the horizon) and the scene.
         fn build(&self) -> Option<(ShadowCone, Geometry)> {
             let offset = crate::geometry::offset_scale(self.p);
-            let cone = ShadowCone::new(
-                self.p,
-                DVec3::Y,
-                offset,
-                self.centre,
-                self.radius,
-                if self.whole_ball {
-                    RayEnds::Anywhere
-                } else {
-                    RayEnds::NearSide
-                },
-            )?;
+            let ends = if self.whole_ball {
+                RayEnds::Anywhere
+            } else {
+                RayEnds::NearSide
+            };
+            let cone = if self.spread > 0.0 {
+                ShadowCone::patch(
+                    self.p,
+                    DVec3::Y,
+                    self.spread,
+                    self.centre,
+                    self.radius,
+                    ends,
+                )?
+            } else {
+                ShadowCone::new(self.p, DVec3::Y, offset, self.centre, self.radius, ends)?
+            };
             Some((
                 cone,
-                rim_scene(self.p, self.centre, self.radius, &self.blockers),
+                rim_scene(
+                    self.p,
+                    self.spread,
+                    self.centre,
+                    self.radius,
+                    &self.blockers,
+                ),
             ))
+        }
+
+        /// About `n` shadow-ray segments of the case: from `p`, or from points of the patch
+        /// (its rim at 12 azimuths, 4 points inside, the centre), each with its own offset and
+        /// its own near side of the sphere.
+        fn segments(&self, n: usize) -> Vec<(DVec3, DVec3, f64)> {
+            if self.spread == 0.0 {
+                return segments(self.p, self.centre, self.radius, n, self.whole_ball);
+            }
+            let mut points = vec![self.p];
+            for i in 0..16 {
+                let (r, phi) = if i < 12 {
+                    (self.spread, i as f64 / 12.0)
+                } else {
+                    (self.spread * 0.5, (i - 12) as f64 / 4.0 + 0.125)
+                };
+                let phi = phi * std::f64::consts::TAU;
+                points.push(self.p + DVec3::new(r * phi.cos(), 0.0, r * phi.sin()));
+            }
+            let each = n.div_ceil(points.len()).max(65);
+            points
+                .into_iter()
+                .flat_map(|q| segments(q, self.centre, self.radius, each, self.whole_ball))
+                .collect()
         }
     }
 
     prop_compose! {
         fn rim_case()(
             px in -3.0f64..3.0, pz in -3.0f64..3.0,
+            spread in prop_oneof![Just(0.0), 0.0f64..0.3],
             lx in -2.0f64..2.0, ly in 0.8f64..4.0, lz in -2.0f64..2.0, radius in 0.05f64..0.7,
             blockers in proptest::collection::vec(
-                (0.8f64..1.25, 0.0f64..1.0, 0.0f64..2.0, 0.005f64..0.3,
+                (0.0f64..1.0, 0.8f64..1.25, 0.0f64..1.0, 0.0f64..2.0, 0.005f64..0.3,
                  (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0)), 1..5),
             whole_ball in proptest::bool::ANY,
         ) -> RimCase {
             RimCase {
                 p: DVec3::new(px, 0.0, pz),
+                spread,
                 centre: DVec3::new(lx, ly, lz),
                 radius,
                 blockers,
@@ -468,16 +609,17 @@ mod tests {
         /// near the cone's rim (0.8–1.25 × its half-angle from the axis), anywhere from the
         /// apex to twice the centre's distance, so that the answer is close either way; rays
         /// end on the sphere (a sphere light) or at the ball's far side (a light inside it).
+        /// Half the cases are a patch's cone ([`ShadowCone::patch`], spread up to 0.3), its
+        /// rays from points of the patch, rim included.
         #[test]
         fn clear_means_no_shadow_ray_is_blocked(
             case in rim_case(),
         ) {
-            let RimCase { p, centre, radius, whole_ball, .. } = case;
             let Some((cone, g)) = case.build() else {
                 return Ok(());
             };
             if g.cone_clear(&cone, &|_| true) {
-                let blocked = segments(p, centre, radius, 1500, whole_ball)
+                let blocked = case.segments(1500)
                     .into_iter()
                     .any(|(o, w, tmax)| g.occluded(o, w, 0.0, tmax));
                 prop_assert!(!blocked);
@@ -491,12 +633,11 @@ mod tests {
         fn dropped_boxes_and_triangles_meet_no_shadow_ray(
             case in rim_case(),
         ) {
-            let RimCase { p, centre, radius, whole_ball, .. } = case;
             let Some((cone, g)) = case.build() else {
                 return Ok(());
             };
             let world = g.world.as_ref().unwrap();
-            let segs = segments(p, centre, radius, 600, whole_ball);
+            let segs = case.segments(600);
             for node in world.nodes() {
                 // Identity octant: bit i of the mask's high byte stands for inner child i.
                 let mask = cone.node_mask(node, 0);

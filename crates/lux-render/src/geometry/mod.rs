@@ -21,13 +21,13 @@
 //! occludes shadow rays from both sides, so a one-sided wall still casts a shadow.
 
 mod blas;
-mod cone;
+pub(crate) mod cone;
 mod instances;
 mod lights;
 
 use crate::light::{Light, LightHit};
 use blas::Blas;
-pub use cone::{RayEnds, ShadowCone};
+pub use cone::{ConeSearch, RayEnds, ShadowCone};
 use glam::{DVec2, DVec3, Vec3A};
 use instances::Instances;
 pub(crate) use instances::drawable_transform;
@@ -487,6 +487,29 @@ impl Geometry {
                 .world
                 .as_ref()
                 .is_none_or(|w| w.cone_clear(cone, casts))
+    }
+
+    /// What can stop the shadow rays inside `cone` ([`ShadowCone`]) among the triangles of
+    /// meshes that `casts`: nothing, or the first triangle found that `cone` does not rule out
+    /// ([`ConeSearch`]); [`ConeSearch::Unsearched`] with instances.
+    pub fn cone_search(&self, cone: &ShadowCone, casts: &impl Fn(usize) -> bool) -> ConeSearch {
+        if self.instances.is_some() {
+            return ConeSearch::Unsearched;
+        }
+        match self
+            .world
+            .as_ref()
+            .and_then(|w| w.cone_blocker(cone, casts))
+        {
+            None => ConeSearch::Clear,
+            Some(id) => ConeSearch::Blocked(id),
+        }
+    }
+
+    /// Whether `cone` rules out the world triangle `id` of a [`ConeSearch::Blocked`].
+    #[inline]
+    pub fn culls(&self, cone: &ShadowCone, id: u32) -> bool {
+        self.world.as_ref().is_none_or(|w| w.culls(cone, id))
     }
 
     /// True when any triangle (either side) lies on `origin + t·dir`, `t ∈ (tmin, tmax)`.

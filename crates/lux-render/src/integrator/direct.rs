@@ -19,7 +19,7 @@
 
 use super::{CameraRay, World, closest, power_heuristic, visibility};
 use crate::film::Counters;
-use crate::geometry::Hit;
+use crate::geometry::{ConeSearch, Hit};
 use crate::geometry::{shadow_ray_to, shadow_tmax};
 use crate::light::{LiSample, Light, LightBase, Seen};
 use crate::material::{Bsdf, SurfacePoint};
@@ -265,22 +265,47 @@ impl<'a> DirectIntegrator<'a> {
                         // Light-only estimation of a light whose unshadowed integral L·Π
                         // has a closed form, where nothing can block it (geometry/cone.rs):
                         // that closed form is the estimate (what its k samples average to),
-                        // without drawing them.
-                        if alone
-                            && self.closed_forms
-                            && let Some(cone) = from.shadow_cone(sp.p, sp.ng, sp.offset)
-                            && {
-                                // (no occluder at all without shadows; only those its shadow
-                                // linking keeps with it)
-                                let base = light.base();
-                                !base.shadow.enable
-                                    || w.geometry
-                                        .cone_clear(&cone, &|m| base.casts_shadow(m, None))
+                        // without drawing them. What can block it is searched once for the
+                        // point's patch of surface (integrator/patches.rs), then for the point
+                        // unless the patch's blocker blocks its cone too (without shadows,
+                        // nothing blocks; with shadow linking, only what it keeps).
+                        let base = light.base();
+                        let casts = |m| base.casts_shadow(m, None);
+                        let patch = match from.shadow_ball() {
+                            Some(ball) if alone && self.closed_forms && base.shadow.enable => {
+                                c.patches.search(w.scene, w.geometry, sp, li, ball, &casts)
                             }
+                            _ => ConeSearch::Unsearched,
+                        };
+                        // The direction the closed form's BSDF is evaluated in (the ball's
+                        // centre: a Lambertian f is the same in every direction).
+                        let unblocked = match patch {
+                            _ if !(alone && self.closed_forms) => None,
+                            // (the patch's cone holds the point's: the light is above its
+                            // horizon)
+                            ConeSearch::Clear => from
+                                .shadow_ball()
+                                .map(|(centre, ..)| (centre - sp.p).normalize()),
+                            _ => from
+                                .shadow_cone(sp.p, sp.ng, sp.offset)
+                                .filter(|cone| {
+                                    !base.shadow.enable
+                                        || match patch {
+                                            // (the patch's blocker may block this point's
+                                            // rays too)
+                                            ConeSearch::Blocked(id)
+                                                if !w.geometry.culls(cone, id) =>
+                                            {
+                                                false
+                                            }
+                                            _ => w.geometry.cone_clear(cone, &casts),
+                                        }
+                                })
+                                .map(|cone| cone.axis()),
+                        };
+                        if let Some(wi) = unblocked
                             && let Some(le_pi) = from.unshadowed(sp.p, sp.ns)
                         {
-                            let base = light.base();
-                            let wi = cone.axis();
                             out += if one_scale(&sp.bsdf, base) {
                                 sp.bsdf.f(wi) * le_pi * base.diffuse
                             } else {
@@ -303,8 +328,8 @@ impl<'a> DirectIntegrator<'a> {
                     {
                         let l = &lights[li];
                         let u = sj.get2(Dim::Light { bounce, index: 0 });
-                        out +=
-                            sample_light(l, l.sample_li(&r, u, self.strategy), pmf * kf, false, c);
+                        let ls = l.sample_li(&r, u, self.strategy);
+                        out += sample_light(l, ls, pmf * kf, false, c);
                     }
                 }
             }

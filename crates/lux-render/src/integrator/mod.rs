@@ -7,10 +7,12 @@
 //! heuristic of multiple importance sampling.
 
 mod direct;
+mod patches;
 mod path;
 mod trace;
 
 pub use direct::DirectIntegrator;
+pub use patches::{CELL_PER_RADIUS, ClearPatches};
 pub use path::{PathIntegrator, ROULETTE_DEPTH};
 pub use trace::closest;
 

@@ -242,18 +242,26 @@ impl LightFrom<'_> {
     /// under a similarity) inside a ball around it.
     #[inline]
     pub fn shadow_cone(&self, p: DVec3, ng: DVec3, offset: f64) -> Option<ShadowCone> {
+        let (c, r, ends) = self.shadow_ball()?;
+        ShadowCone::new(p, ng, offset, c, r, ends)
+    }
+
+    /// The ball holding every point a shadow ray of [`LightFrom::shadow_cone`] ends at, and
+    /// where in it they end: the sphere light itself (`inputs:radius`, scaled), the rect's
+    /// circumscribed ball, the disk's. The same from every receiver.
+    pub fn shadow_ball(&self) -> Option<(DVec3, f64, RayEnds)> {
         match self {
             LightFrom::Sphere(l, from) if l.uniform_area() => {
                 let (c, r, _) = from.projected_cap()?;
-                ShadowCone::new(p, ng, offset, c, r, RayEnds::NearSide)
+                Some((c, r, RayEnds::NearSide))
             }
             LightFrom::Rect(l, _) if l.uniform_area() => {
                 let (c, r) = l.bounding_sphere();
-                ShadowCone::new(p, ng, offset, c, r, RayEnds::Anywhere)
+                Some((c, r, RayEnds::Anywhere))
             }
             LightFrom::Disk(l, _) if l.uniform_area() => {
                 let (c, _, r) = l.world_disk()?;
-                ShadowCone::new(p, ng, offset, c, r, RayEnds::Anywhere)
+                Some((c, r, RayEnds::Anywhere))
             }
             _ => None,
         }

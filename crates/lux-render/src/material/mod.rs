@@ -231,6 +231,8 @@ pub struct SurfacePoint {
     pub bsdf: Bsdf,
     /// The geometry hit: index into `Scene::meshes` ([`Hit::mesh`]), for light linking.
     pub mesh: usize,
+    /// The triangle hit, within the mesh ([`Hit::tri`]).
+    pub tri: usize,
     /// The instance hit ([`Hit::instance`]), for light linking.
     pub instance: Option<usize>,
 }
@@ -512,6 +514,7 @@ impl Materials {
             offset: hit.offset,
             bsdf,
             mesh: hit.mesh,
+            tri: hit.tri,
             instance: hit.instance,
         };
         match shader.and_then(|m| m.preview.as_deref()) {

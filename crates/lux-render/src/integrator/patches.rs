@@ -1,0 +1,193 @@
+//! Patches of surface that see a light unblocked, searched once per tile and patch.
+//!
+//! The closed form of a light's unshadowed integral stands in for its samples where no
+//! triangle can block any shadow ray ([`ShadowCone`], `geometry/cone.rs`). Neighbouring shading
+//! points of one triangle share almost all of that search: the cone of a whole patch — the
+//! points of the triangle's plane within ρ of a point `q` ([`ShadowCone::patch`]) — answers
+//! it for all of them at once. The patches are the cells of a grid of side `s` in world space
+//! (ρ = s·√3/2, `q` the cell centre projected onto the plane: every point of the plane in the
+//! cell is within ρ of it), `s` a fixed fraction of the light's ball ([`CELL_PER_RADIUS`]).
+//! A patch that is not clear names the first triangle found that might block one of its
+//! rays: a point whose own cone does not rule that triangle out is sampled at once (what its
+//! own search would find first, most often, in a penumbra), any other is searched alone.
+//!
+//! Each answer is a function of its key alone — light, mesh, triangle, side, cell — so the
+//! image does not depend on which tile or thread asks first, or whether the answer was
+//! remembered.
+
+use crate::geometry::{ConeSearch, Geometry, RayEnds, ShadowCone};
+use crate::material::SurfacePoint;
+use glam::DVec3;
+use lux_usd::Scene;
+
+/// A cell's side over the radius of the light's ball: patches of radius ρ ≈ 0.11 of it.
+pub const CELL_PER_RADIUS: f64 = 0.125;
+
+/// Remembered answers: direct-mapped by key hash.
+const SLOTS: usize = 256;
+
+/// One patch: whose light, which triangle and side, which cell.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Key {
+    light: u32,
+    mesh: u32,
+    tri: u32,
+    /// The sign bits of the normal the light is seen along (a triangle's two sides differ).
+    side: u8,
+    cell: [i32; 3],
+}
+
+impl Key {
+    fn slot(&self) -> usize {
+        let mut h = (self.light as u64) << 32 | self.mesh as u64;
+        for x in [
+            self.tri as u64,
+            self.side as u64,
+            self.cell[0] as u32 as u64,
+            self.cell[1] as u32 as u64,
+            self.cell[2] as u32 as u64,
+        ] {
+            h = (h.rotate_left(5) ^ x).wrapping_mul(0x517c_c1b7_2722_0a95);
+        }
+        (h >> 56) as usize % SLOTS
+    }
+}
+
+/// A tile's remembered patch answers.
+#[derive(Clone, Debug, Default)]
+pub struct ClearPatches {
+    slots: Vec<Option<(Key, ConeSearch)>>,
+}
+
+impl ClearPatches {
+    /// Whether a triangle of a mesh that `casts` might block a shadow ray towards the ball
+    /// (`centre`, `radius`, `ends`) of light `light` from some point of the patch around the
+    /// shading point `sp` ([`ConeSearch`]); [`ConeSearch::Unsearched`] for instances and
+    /// out-of-range coordinates, which are not searched here.
+    pub fn search(
+        &mut self,
+        scene: &Scene,
+        geometry: &Geometry,
+        sp: &SurfacePoint,
+        light: usize,
+        (centre, radius, ends): (DVec3, f64, RayEnds),
+        casts: &impl Fn(usize) -> bool,
+    ) -> ConeSearch {
+        if sp.instance.is_some() {
+            return ConeSearch::Unsearched;
+        }
+        let s = radius * CELL_PER_RADIUS;
+        let cell = (sp.p / s).floor();
+        if !(s > 0.0 && cell.abs().max_element() < (1 << 30) as f64) {
+            return ConeSearch::Unsearched;
+        }
+        let sign = |x: f64| (x.to_bits() >> 63) as u8;
+        let key = Key {
+            light: light as u32,
+            mesh: sp.mesh as u32,
+            tri: sp.tri as u32,
+            side: sign(sp.ng.x) | sign(sp.ng.y) << 1 | sign(sp.ng.z) << 2,
+            cell: cell.as_ivec3().to_array(),
+        };
+        if self.slots.is_empty() {
+            self.slots = vec![None; SLOTS];
+        }
+        let slot = key.slot();
+        if let Some((k, b)) = self.slots[slot]
+            && k == key
+        {
+            return b;
+        }
+        // The plane through the triangle's first corner (not the hit point, whose rounding
+        // differs from hit to hit), with the hit's normal (the same for every hit on this
+        // side of the triangle).
+        let mesh = &scene.meshes[sp.mesh];
+        let a = mesh.positions[mesh.triangles[sp.tri][0] as usize];
+        let c = (cell + 0.5) * s;
+        let q = c - sp.ng * sp.ng.dot(c - a);
+        let spread = s * 0.5 * 3f64.sqrt();
+        let b = ShadowCone::patch(q, sp.ng, spread, centre, radius, ends)
+            .map_or(ConeSearch::Unsearched, |cone| {
+                geometry.cone_search(&cone, casts)
+            });
+        self.slots[slot] = Some((key, b));
+        b
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::cone::tests::{floor, segments, square};
+    use crate::geometry::tests::scene_with;
+    use crate::material::{Bsdf, DiffuseBsdf};
+
+    /// A point of the floor of `cone::tests::floor` (unit quads over [−5, 5]², two triangles
+    /// each), seen from above.
+    fn floor_point(x: f64, z: f64) -> SurfacePoint {
+        let (i, j) = ((x + 5.0).floor() as usize, (z + 5.0).floor() as usize);
+        let p = DVec3::new(x, 0.0, z);
+        SurfacePoint {
+            p,
+            ng: DVec3::Y,
+            ns: DVec3::Y,
+            offset: crate::geometry::offset_scale(p),
+            bsdf: Bsdf::Diffuse(DiffuseBsdf {
+                albedo: DVec3::ONE,
+                ns: DVec3::Y,
+            }),
+            mesh: 0,
+            tri: 2 * (j * 10 + i),
+            instance: None,
+        }
+    }
+
+    #[test]
+    fn patch_answers_are_sound_and_the_same_remembered_or_not() {
+        // A light of radius 0.4 above a floor with a small square between them.
+        let ball = (DVec3::new(0.3, 1.5, -0.2), 0.4, RayEnds::NearSide);
+        let scene = scene_with(vec![floor(), square(DVec3::new(0.0, 0.5, 0.0), 0.15)]);
+        let g = Geometry::new(&scene);
+        let mut kept = ClearPatches::default();
+        let (mut clear, mut blocked) = (0, 0);
+        for i in 0..48 {
+            for j in 0..48 {
+                let sp = floor_point(-1.6 + i as f64 * 0.071, -1.7 + j as f64 * 0.069);
+                let remembered = kept.search(&scene, &g, &sp, 0, ball, &|_| true);
+                let fresh = ClearPatches::default().search(&scene, &g, &sp, 0, ball, &|_| true);
+                assert_eq!(remembered, fresh, "at {}", sp.p);
+                match fresh {
+                    ConeSearch::Clear => {
+                        clear += 1;
+                        // Nothing blocks this point's shadow rays.
+                        let blocked = segments(sp.p, ball.0, ball.1, 300, false)
+                            .into_iter()
+                            .any(|(o, w, t)| g.occluded(o, w, 0.0, t));
+                        assert!(!blocked, "clear patch at {} is blocked", sp.p);
+                    }
+                    ConeSearch::Blocked(_) => blocked += 1,
+                    ConeSearch::Unsearched => panic!("a world mesh is searched"),
+                }
+            }
+        }
+        // Both answers occur: the square's shadow and its surround.
+        assert!(
+            clear > 1000 && blocked > 100,
+            "clear {clear}, blocked {blocked}"
+        );
+        // Shadow linking that leaves the square out: every patch is clear.
+        let sp = floor_point(0.2, -0.1);
+        let linked = ClearPatches::default().search(&scene, &g, &sp, 0, ball, &|m| m != 1);
+        assert_eq!(linked, ConeSearch::Clear);
+        // The light's index is part of the key: another light's answer is not reused.
+        let mut m = ClearPatches::default();
+        assert_ne!(
+            m.search(&scene, &g, &sp, 0, ball, &|_| true),
+            ConeSearch::Clear
+        );
+        assert_eq!(
+            m.search(&scene, &g, &sp, 1, ball, &|m| m != 1),
+            ConeSearch::Clear
+        );
+    }
+}
