@@ -20,8 +20,8 @@ use crate::material::SurfacePoint;
 use glam::DVec3;
 use lux_usd::Scene;
 
-/// A cell's side over the radius of the light's ball: patches of radius ρ ≈ 0.11 of it.
-pub const CELL_PER_RADIUS: f64 = 0.125;
+/// A cell's side over the radius of the light's ball: patches of radius ρ ≈ 0.22 of it.
+pub const CELL_PER_RADIUS: f64 = 0.25;
 
 /// Remembered answers: direct-mapped by key hash.
 const SLOTS: usize = 256;
