@@ -73,7 +73,9 @@ impl ClearPatches {
         (centre, radius, ends): (DVec3, f64, RayEnds),
         casts: &impl Fn(usize) -> bool,
     ) -> ConeSearch {
-        if sp.instance.is_some() {
+        // (No patch cone where the point's own cone is missing: the ball reaches its
+        // horizon, `ng·(c − p) ≤ r`.)
+        if sp.instance.is_some() || sp.ng.dot(centre - sp.p) <= radius {
             return ConeSearch::Unsearched;
         }
         let s = radius * CELL_PER_RADIUS;
