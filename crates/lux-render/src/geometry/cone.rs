@@ -201,6 +201,15 @@ impl ShadowCone {
         {
             return true;
         }
+        // Lower everywhere than the rays can be at its distance from the apex (the node test's
+        // elevation bound, on the triangle's own box: its highest corner, its nearest point).
+        let lift = v.iter().map(|&x| up(x)).fold(f64::MIN, f64::max) + self.margin;
+        let gap = (v[0].min(v[1]).min(v[2]) - self.apex)
+            .max(self.apex - v[0].max(v[1]).max(v[2]))
+            .max(DVec3::ZERO);
+        if lift * lift < gap.length_squared() * self.sin_e2 {
+            return true;
+        }
         let c = (v[0] + v[1] + v[2]) / 3.0;
         let rho = v.iter().map(|&x| x.distance(c)).fold(0.0, f64::max);
         self.misses_sphere(c, rho)
