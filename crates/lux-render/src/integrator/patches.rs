@@ -79,17 +79,23 @@ impl ClearPatches {
             return ConeSearch::Unsearched;
         }
         let s = radius * CELL_PER_RADIUS;
-        let cell = (sp.p / s).floor();
-        if !(s > 0.0 && cell.abs().max_element() < (1 << 30) as f64) {
+        let g = sp.p * (1.0 / s);
+        // (NaN fails too)
+        if !(s > 0.0 && g.abs().max_element() < (1 << 30) as f64) {
             return ConeSearch::Unsearched;
         }
+        // ⌊g⌋ by truncation (`f64::floor` is a libm call on the baseline x86-64 target).
+        let cell = g.to_array().map(|x| {
+            let i = x as i32;
+            i - (x < i as f64) as i32
+        });
         let sign = |x: f64| (x.to_bits() >> 63) as u8;
         let key = Key {
             light: light as u32,
             mesh: sp.mesh as u32,
             tri: sp.tri as u32,
             side: sign(sp.ng.x) | sign(sp.ng.y) << 1 | sign(sp.ng.z) << 2,
-            cell: cell.as_ivec3().to_array(),
+            cell,
         };
         if self.slots.is_empty() {
             self.slots = vec![None; SLOTS];
@@ -105,7 +111,7 @@ impl ClearPatches {
         // side of the triangle).
         let mesh = &scene.meshes[sp.mesh];
         let a = mesh.positions[mesh.triangles[sp.tri][0] as usize];
-        let c = (cell + 0.5) * s;
+        let c = (glam::IVec3::from_array(cell).as_dvec3() + 0.5) * s;
         let q = c - sp.ng * sp.ng.dot(c - a);
         let spread = s * 0.5 * 3f64.sqrt();
         let b = ShadowCone::patch(q, sp.ng, spread, centre, radius, ends)
