@@ -135,7 +135,30 @@ fn lights_nothing_can_block_take_their_closed_form_without_shadow_rays() {
     disk.params.intensity = 3.0;
     let disk_pi =
         lux::sample::projected::disk(DVec3::ZERO, DVec3::Y, c, -c.normalize(), 0.25).unwrap();
-    for (light, pi) in [(sphere, sphere_pi), (rect, rect_pi), (disk, disk_pi)] {
+    // A wide, low rect (3 × 2, 0.4 above the point, facing down): the ball around it reaches
+    // the floor, its pyramid does not (geometry/pyramid.rs).
+    let low = DVec3::new(0.2, 0.4, -0.1);
+    let down = aimed(low, -DVec3::Y);
+    let mut wide = Light::with_defaults(
+        "/Wide",
+        LightShape::Rect {
+            width: 3.0,
+            height: 2.0,
+        },
+        down,
+    );
+    wide.params.intensity = 3.0;
+    let corners: Vec<DVec3> = [(-1.5, -1.0), (1.5, -1.0), (1.5, 1.0), (-1.5, 1.0)]
+        .iter()
+        .map(|&(x, y)| down.transform_point3(DVec3::new(x, y, 0.0)))
+        .collect();
+    let wide_pi = lux::sample::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
+    for (light, pi, at) in [
+        (sphere, sphere_pi, c),
+        (rect, rect_pi, c),
+        (disk, disk_pi, c),
+        (wide, wide_pi, low),
+    ] {
         let what = light.path.clone();
         // (the light's radiance: intensity 3 on a white Lambertian floor, ρ/π · L · Π)
         let want = 3.0 * pi / PI;
@@ -154,11 +177,11 @@ fn lights_nothing_can_block_take_their_closed_form_without_shadow_rays() {
             &format!("{what}: closed form"),
         );
 
-        // A small square halfway to the light, in the cone: sampled, shadowed, and
+        // A small square halfway to the light, in its cone or pyramid: sampled, shadowed, and
         // converging to what MIS (one light chosen by power, light and BSDF samples: no
         // closed form) gives.
         let mut blocked = clear;
-        let m = c * 0.5;
+        let m = at * 0.5;
         blocked.meshes.push(Mesh::new(
             "/Blocker",
             vec![
@@ -381,7 +404,7 @@ fn closed_forms_change_the_luxtest_frames_by_rounding_or_noise_only() {
         o.closed_forms = closed;
         Renderer::new(s, o).unwrap().render(&|_| {})
     };
-    for name in ["sphere", "disk"] {
+    for name in ["sphere", "disk", "rect"] {
         let s = load(name);
         let ((on, on_stats), (off, off_stats)) = (render(&s, true), render(&s, false));
         assert!(

@@ -5,7 +5,7 @@
 //! mesh and triangle so that hits are re-intersected in `f64` against the scene's own vertices.
 
 use super::MAX_TRIANGLES;
-use super::cone::ShadowCone;
+use super::ShadowRegion;
 use glam::DVec3;
 use glam::UVec2;
 use lux_usd::Scene;
@@ -164,13 +164,17 @@ impl Blas {
     /// True when no triangle of a mesh that `casts` (by `Scene::meshes` index) can stop a
     /// shadow ray inside `cone` (conservative: false when unsure); stops at the first
     /// triangle that might.
-    pub fn cone_clear(&self, cone: &ShadowCone, casts: &impl Fn(usize) -> bool) -> bool {
+    pub fn cone_clear(&self, cone: &impl ShadowRegion, casts: &impl Fn(usize) -> bool) -> bool {
         self.cone_blocker(cone, casts).is_none()
     }
 
     /// The first triangle (index into the BVH's triangles) of a mesh that `casts` which
     /// `cone` does not rule out; `None` when it rules out every one ([`Blas::cone_clear`]).
-    pub fn cone_blocker(&self, cone: &ShadowCone, casts: &impl Fn(usize) -> bool) -> Option<u32> {
+    pub fn cone_blocker(
+        &self,
+        cone: &impl ShadowRegion,
+        casts: &impl Fn(usize) -> bool,
+    ) -> Option<u32> {
         let mut state = self.bvh.new_traversal(cone.axis().as_vec3a());
         let mut node;
         let mut found = None;
@@ -194,7 +198,7 @@ impl Blas {
 
     /// Whether `cone` rules out triangle `id` (an index into the BVH's triangles).
     #[inline]
-    pub fn culls(&self, cone: &ShadowCone, id: u32) -> bool {
+    pub fn culls(&self, cone: &impl ShadowRegion, id: u32) -> bool {
         self.tris
             .get(id as usize)
             .is_none_or(|t| cone.culls_triangle(t))

@@ -20,6 +20,7 @@
 //! δ keeps them clear of), wholly behind the apex or beyond the far plane, or when its
 //! bounding sphere misses the cone by a margin that covers the `f32` rounding of the traversal.
 
+use super::ShadowRegion;
 use glam::{DVec3, Vec3A, Vec4};
 use obvhs::cwbvh::node::{CwBvhNode, extract_byte64};
 use obvhs::triangle::Triangle;
@@ -168,7 +169,7 @@ impl ShadowCone {
         })
     }
 
-    /// The axis (a traversal order for the BVH).
+    /// The axis, towards the ball's centre.
     pub fn axis(&self) -> DVec3 {
         self.axis
     }
@@ -188,10 +189,16 @@ impl ShadowCone {
         };
         dist > rho + self.margin
     }
+}
+
+impl ShadowRegion for ShadowCone {
+    fn axis(&self) -> DVec3 {
+        self.axis
+    }
 
     /// True when the triangle cannot stop a shadow ray.
     #[inline]
-    pub fn culls_triangle(&self, t: &Triangle) -> bool {
+    fn culls_triangle(&self, t: &Triangle) -> bool {
         let v = [t.v0, t.v1, t.v2].map(|x: Vec3A| x.as_dvec3());
         let up = |x: DVec3| x.dot(self.ng) - self.ng_apex;
         let along = |x: DVec3| (x - self.apex).dot(self.axis);
@@ -223,7 +230,7 @@ impl ShadowCone {
     /// the apex, are a few multiply-adds per child there. Their rounding (a few ulps of the
     /// coordinates) is far inside the margins (1e-5 of the scene scale, the offset).
     #[inline]
-    pub fn node_mask(&self, node: &CwBvhNode, oct_inv4: u32) -> u32 {
+    fn node_mask(&self, node: &CwBvhNode, oct_inv4: u32) -> u32 {
         let e = node.compute_extent();
         let origin = Vec3A::from(node.p);
         let ng = self.ng.as_vec3a();
@@ -310,7 +317,7 @@ pub(crate) mod tests {
         ShadowCone::new(p, DVec3::Y, offset, centre, radius, RayEnds::NearSide).unwrap()
     }
 
-    fn mesh(name: &str, v: Vec<DVec3>, tris: Vec<[u32; 3]>) -> Mesh {
+    pub(crate) fn mesh(name: &str, v: Vec<DVec3>, tris: Vec<[u32; 3]>) -> Mesh {
         Mesh {
             double_sided: true,
             ..Mesh::new(name, v, tris)
@@ -464,7 +471,7 @@ pub(crate) mod tests {
     }
 
     /// Whether the segment `o + t·w`, `t ∈ [0, tmax]`, meets the box (slab test in `f64`).
-    fn segment_meets_box(o: DVec3, w: DVec3, tmax: f64, b: &obvhs::aabb::Aabb) -> bool {
+    pub(crate) fn segment_meets_box(o: DVec3, w: DVec3, tmax: f64, b: &obvhs::aabb::Aabb) -> bool {
         let (lo, hi) = (b.min.as_dvec3(), b.max.as_dvec3());
         let (mut t0, mut t1) = (0.0f64, tmax);
         for k in 0..3 {

@@ -24,6 +24,7 @@ mod blas;
 pub(crate) mod cone;
 mod instances;
 mod lights;
+mod pyramid;
 
 use crate::light::{Light, LightHit};
 use blas::Blas;
@@ -35,10 +36,24 @@ pub use lights::LINEAR_LIGHTS;
 use lights::LightShapes;
 use lux_usd::Scene;
 use obvhs::ray::{Ray, RayHit};
+pub use pyramid::ShadowPyramid;
 
 /// Largest triangle count the renderer stores (indices are `u32`): world triangles plus each
 /// instanced prototype's triangles once.
 pub const MAX_TRIANGLES: usize = 1 << 28;
+
+/// A region holding every shadow ray of a light from a receiver ([`ShadowCone`],
+/// [`ShadowPyramid`]), tested conservatively against the BVH: what it drops meets none of the
+/// rays.
+pub trait ShadowRegion {
+    /// A direction into the region (the BVH's traversal order).
+    fn axis(&self) -> DVec3;
+    /// True when the triangle cannot stop a ray of the region.
+    fn culls_triangle(&self, t: &obvhs::triangle::Triangle) -> bool;
+    /// The CWBVH hit mask of the node's children the region may reach (what
+    /// `CwBvhNode::intersect_ray` returns for a ray), in the traversal order of `oct_inv4`.
+    fn node_mask(&self, node: &obvhs::cwbvh::node::CwBvhNode, oct_inv4: u32) -> u32;
+}
 
 /// A closest hit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -481,7 +496,7 @@ impl Geometry {
     /// True when no triangle of a mesh that `casts` (a `Scene::meshes` index: what a light's
     /// shadow linking keeps) can stop a shadow ray inside `cone` ([`ShadowCone`]); false when
     /// unsure, and always with instances (their prototypes are not searched).
-    pub fn cone_clear(&self, cone: &ShadowCone, casts: &impl Fn(usize) -> bool) -> bool {
+    pub fn cone_clear(&self, cone: &impl ShadowRegion, casts: &impl Fn(usize) -> bool) -> bool {
         self.instances.is_none()
             && self
                 .world
@@ -492,7 +507,11 @@ impl Geometry {
     /// What can stop the shadow rays inside `cone` ([`ShadowCone`]) among the triangles of
     /// meshes that `casts`: nothing, or the first triangle found that `cone` does not rule out
     /// ([`ConeSearch`]); [`ConeSearch::Unsearched`] with instances.
-    pub fn cone_search(&self, cone: &ShadowCone, casts: &impl Fn(usize) -> bool) -> ConeSearch {
+    pub fn cone_search(
+        &self,
+        cone: &impl ShadowRegion,
+        casts: &impl Fn(usize) -> bool,
+    ) -> ConeSearch {
         if self.instances.is_some() {
             return ConeSearch::Unsearched;
         }
@@ -508,7 +527,7 @@ impl Geometry {
 
     /// Whether `cone` rules out the world triangle `id` of a [`ConeSearch::Blocked`].
     #[inline]
-    pub fn culls(&self, cone: &ShadowCone, id: u32) -> bool {
+    pub fn culls(&self, cone: &impl ShadowRegion, id: u32) -> bool {
         self.world.as_ref().is_none_or(|w| w.culls(cone, id))
     }
 

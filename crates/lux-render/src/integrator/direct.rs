@@ -19,7 +19,7 @@
 
 use super::{CameraRay, World, closest, power_heuristic, visibility};
 use crate::film::Counters;
-use crate::geometry::{ConeSearch, Hit};
+use crate::geometry::{ConeSearch, Hit, ShadowRegion};
 use crate::geometry::{shadow_ray_to, shadow_tmax};
 use crate::light::{LiSample, Light, LightBase, Seen};
 use crate::material::{Bsdf, SurfacePoint};
@@ -36,6 +36,24 @@ pub(super) enum CameraVertex {
     /// shades it (`Materials::at`) into its own frame: a `SurfacePoint` is large enough that
     /// moving it out of an enum costs a `memcpy` per camera ray.
     Surface(Hit, DVec3),
+}
+
+/// Whether no triangle can block the light's shadow rays inside `region`, from a point of a
+/// patch whose search found `patch` (integrator/patches.rs): without shadows nothing can; a
+/// triangle of the patch's that `region` does not rule out may; otherwise the point's own
+/// search of the BVH (only the meshes its shadow linking keeps, `casts`) decides.
+fn clear_from(
+    w: &World,
+    base: &LightBase,
+    region: &impl ShadowRegion,
+    patch: ConeSearch,
+    casts: &impl Fn(usize) -> bool,
+) -> bool {
+    !base.shadow.enable
+        || match patch {
+            ConeSearch::Blocked(id) if !w.geometry.culls(region, id) => false,
+            _ => w.geometry.cone_clear(region, casts),
+        }
 }
 
 /// Whether a light's `inputs:diffuse` and `inputs:specular` act on `bsdf` as one factor
@@ -286,22 +304,15 @@ impl<'a> DirectIntegrator<'a> {
                             ConeSearch::Clear => from
                                 .shadow_ball()
                                 .map(|(centre, ..)| (centre - sp.p).normalize()),
-                            _ => from
-                                .shadow_cone(sp.p, sp.ng, sp.offset)
-                                .filter(|cone| {
-                                    !base.shadow.enable
-                                        || match patch {
-                                            // (the patch's blocker may block this point's
-                                            // rays too)
-                                            ConeSearch::Blocked(id)
-                                                if !w.geometry.culls(cone, id) =>
-                                            {
-                                                false
-                                            }
-                                            _ => w.geometry.cone_clear(cone, &casts),
-                                        }
-                                })
-                                .map(|cone| cone.axis()),
+                            // A rect's pyramid (tighter than its ball's cone), else the cone.
+                            _ => match from.shadow_pyramid(sp.p, sp.ng, sp.offset) {
+                                Some(pyramid) => clear_from(w, base, &pyramid, patch, &casts)
+                                    .then(|| pyramid.axis()),
+                                None => from
+                                    .shadow_cone(sp.p, sp.ng, sp.offset)
+                                    .filter(|cone| clear_from(w, base, cone, patch, &casts))
+                                    .map(|cone| cone.axis()),
+                            },
                         };
                         if let Some(wi) = unblocked
                             && let Some(le_pi) = from.unshadowed(sp.p, sp.ns)

@@ -69,7 +69,7 @@ pub use rect::RectLight;
 pub use set::{AUTO_ALL_LIGHTS, LightOptions, LightSelection, LightSet};
 pub use sphere::SphereLight;
 
-use crate::geometry::{RayEnds, ShadowCone};
+use crate::geometry::{RayEnds, ShadowCone, ShadowPyramid};
 use crate::image_io::Texture;
 use glam::{DMat3, DVec3};
 use lux_math::LightKind;
@@ -244,6 +244,21 @@ impl LightFrom<'_> {
     pub fn shadow_cone(&self, p: DVec3, ng: DVec3, offset: f64) -> Option<ShadowCone> {
         let (c, r, ends) = self.shadow_ball()?;
         ShadowCone::new(p, ng, offset, c, r, ends)
+    }
+
+    /// The pyramid of a rect light's shadow rays from the surface point `p` (unit geometric
+    /// normal `ng`, rays leaving from `p + ng·offset`) over its world corners
+    /// ([`ShadowPyramid`]), for a rect of uniform radiance whose corners all lie above the
+    /// tangent plane: tighter than the cone of its ball, and there where that ball reaches the
+    /// horizon.
+    #[inline]
+    pub fn shadow_pyramid(&self, p: DVec3, ng: DVec3, offset: f64) -> Option<ShadowPyramid> {
+        match self {
+            LightFrom::Rect(l, _) if l.uniform_area() => {
+                ShadowPyramid::new(p, ng, offset, &l.world_corners())
+            }
+            _ => None,
+        }
     }
 
     /// The ball holding every point a shadow ray of [`LightFrom::shadow_cone`] ends at, and

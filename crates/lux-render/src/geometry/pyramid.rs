@@ -1,0 +1,359 @@
+//! Proving that nothing can shadow a rect light: the pyramid of its shadow rays from a
+//! shading point, and a conservative test of the BVH's boxes and triangles against it.
+//!
+//! Every shadow ray towards a point of a rect (a parallelogram, `inputs:width` ×
+//! `inputs:height` under the light's transform) runs from the ray origin `o = p + ng·δ` to a
+//! point of the rect: it stays in the convex pyramid with apex `o` over the rect, the
+//! intersection of five half-spaces — one through `o` and each edge, and the rect's own plane
+//! (the rays end on it). A box or triangle wholly outside one of them (by a margin covering the
+//! `f32` traversal), or wholly below the surface the rays leave (half the offset below `o`),
+//! cannot stop any of them. Unlike the cone of a ball around the rect
+//! ([`ShadowCone`](super::ShadowCone)), the pyramid is there whenever the rect itself lies above
+//! the receiver's tangent plane, however large and near the rect is.
+
+use super::ShadowRegion;
+use glam::{DVec3, Vec3A, Vec4};
+use obvhs::cwbvh::node::{CwBvhNode, extract_byte64};
+use obvhs::triangle::Triangle;
+
+/// The region every shadow ray towards a rect light stays in, from one shading point.
+#[derive(Clone, Copy, Debug)]
+pub struct ShadowPyramid {
+    /// The rays' origin, `p + ng·offset`: the apex.
+    apex: DVec3,
+    /// Unit geometric normal of the surface the rays leave.
+    ng: DVec3,
+    /// Height along `ng` relative to the apex below which geometry is that surface: −δ/2.
+    floor: f64,
+    /// Unit inward normals of the four sides (through the apex) and of the rect's plane, with
+    /// `n·apex` for the sides and `n·c₀` for the rect: inside is `n·x ≥ that`.
+    planes: [(DVec3, f64); 5],
+    /// Unit direction from the apex to the rect's centre (a traversal order).
+    axis: DVec3,
+    /// Distance by which a box or triangle must lie outside a plane.
+    margin: f64,
+}
+
+impl ShadowPyramid {
+    /// The pyramid from the surface point `p` (unit geometric normal `ng`, rays leaving from
+    /// `p + ng·offset`) over the rect `corners` (in order around it). `None` unless every
+    /// corner lies above the tangent plane by more than the offset and the apex is off the
+    /// rect's plane.
+    pub fn new(p: DVec3, ng: DVec3, offset: f64, corners: &[DVec3; 4]) -> Option<ShadowPyramid> {
+        if !corners.iter().all(|&c| ng.dot(c - p) > 2.0 * offset) {
+            return None;
+        }
+        let apex = p + ng * offset;
+        let centre = (corners[0] + corners[1] + corners[2] + corners[3]) * 0.25;
+        let scale =
+            p.abs().max_element() + corners.iter().map(|c| c.distance(p)).fold(0.0, f64::max);
+        let margin = 1e-5 * scale + offset;
+        let inward = |n: DVec3| -> Option<DVec3> {
+            let n = n.try_normalize()?;
+            Some(if n.dot(centre - apex) >= 0.0 { n } else { -n })
+        };
+        let mut planes = [(DVec3::ZERO, 0.0); 5];
+        for i in 0..4 {
+            let (a, b) = (corners[i] - apex, corners[(i + 1) % 4] - apex);
+            let n = inward(a.cross(b))?;
+            planes[i] = (n, n.dot(apex));
+        }
+        // The rect's plane, facing the apex: the rays end on it.
+        let n = (corners[1] - corners[0])
+            .cross(corners[3] - corners[0])
+            .try_normalize()?;
+        let n = if n.dot(apex - corners[0]) >= 0.0 {
+            n
+        } else {
+            -n
+        };
+        // (NaN fails too)
+        if n.dot(apex - corners[0]).partial_cmp(&margin) != Some(std::cmp::Ordering::Greater) {
+            return None;
+        }
+        planes[4] = (n, n.dot(corners[0]));
+        Some(ShadowPyramid {
+            apex,
+            ng,
+            floor: -0.5 * offset,
+            planes,
+            axis: (centre - apex).try_normalize()?,
+            margin,
+        })
+    }
+}
+
+impl ShadowRegion for ShadowPyramid {
+    /// The direction to the rect's centre (a traversal order for the BVH).
+    fn axis(&self) -> DVec3 {
+        self.axis
+    }
+
+    /// True when the triangle cannot stop a shadow ray: below the surface, or wholly outside
+    /// one of the five planes.
+    #[inline]
+    fn culls_triangle(&self, t: &Triangle) -> bool {
+        let v = [t.v0, t.v1, t.v2].map(|x: Vec3A| x.as_dvec3());
+        let up = self.ng.dot(self.apex);
+        v.iter().all(|&x| self.ng.dot(x) - up < self.floor)
+            || self
+                .planes
+                .iter()
+                .any(|&(n, d)| v.iter().all(|&x| n.dot(x) - d < -self.margin))
+    }
+
+    /// The CWBVH hit mask of the node's children the pyramid may reach, in the traversal
+    /// order of `oct_inv4` (as the cone's, [`super::ShadowCone`]): the
+    /// children's boxes in the node's quantized frame, in `f32`, each plane's largest value
+    /// over a box from its corner farthest along the normal.
+    #[inline]
+    fn node_mask(&self, node: &CwBvhNode, oct_inv4: u32) -> u32 {
+        let e = node.compute_extent();
+        let origin = Vec3A::from(node.p);
+        // (normal in the quantized frame, its value at the node's origin less the plane's)
+        let frame = |n: DVec3, d: f64| {
+            let n = n.as_vec3a();
+            ((n * e).to_array(), n.dot(origin) - d as f32)
+        };
+        let ng = frame(self.ng, self.ng.dot(self.apex));
+        let planes = self.planes.map(|(n, d)| frame(n, d));
+        let (floor, margin) = (self.floor as f32, self.margin as f32);
+        let mut keep = 0u32;
+        for half in 0..2 {
+            let lane = |b: &[u8; 8]| {
+                let o = 4 * half;
+                Vec4::new(
+                    b[o] as f32,
+                    b[o + 1] as f32,
+                    b[o + 2] as f32,
+                    b[o + 3] as f32,
+                )
+            };
+            let lo = [
+                lane(&node.child_min_x),
+                lane(&node.child_min_y),
+                lane(&node.child_min_z),
+            ];
+            let hi = [
+                lane(&node.child_max_x),
+                lane(&node.child_max_y),
+                lane(&node.child_max_z),
+            ];
+            // Largest value of n·x − d over each box.
+            let most = |(n, d0): ([f32; 3], f32)| {
+                let side = |k: usize| if n[k] >= 0.0 { hi[k] } else { lo[k] } * n[k];
+                side(0) + side(1) + side(2) + Vec4::splat(d0)
+            };
+            let mut out = most(ng).cmplt(Vec4::splat(floor));
+            for &p in &planes {
+                out |= most(p).cmplt(Vec4::splat(-margin));
+            }
+            keep |= ((!out.bitmask()) & 0xf) << (4 * half);
+        }
+        let (child_bits8, bit_index8) = node.get_child_and_index_bits(oct_inv4);
+        let mut mask = 0;
+        for child in 0..8 {
+            if keep & (1 << child) != 0 && !node.is_child_empty(child) {
+                mask |= extract_byte64(child_bits8, child) << extract_byte64(bit_index8, child);
+            }
+        }
+        mask
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Geometry;
+    use crate::geometry::cone::tests::{floor, mesh, segment_meets_box, square};
+    use crate::geometry::tests::scene_with;
+    use proptest::prelude::*;
+
+    /// A rect of half-sizes `(a, b)` centred at `c`, its sides along `u` and `u × n`
+    /// (`n` its normal).
+    fn rect(c: DVec3, n: DVec3, u: DVec3, (a, b): (f64, f64)) -> [DVec3; 4] {
+        let n = n.normalize();
+        let u = (u - n * n.dot(u)).normalize();
+        let v = n.cross(u);
+        [(-a, -b), (a, -b), (a, b), (-a, b)].map(|(x, y)| c + u * x + v * y)
+    }
+
+    fn pyramid_from(p: DVec3, corners: &[DVec3; 4]) -> Option<ShadowPyramid> {
+        ShadowPyramid::new(p, DVec3::Y, crate::geometry::offset_scale(p), corners)
+    }
+
+    /// Shadow-ray segments from `p`'s offset origin to points of the rect: its boundary at
+    /// 16 points an edge and a grid inside, as the renderer traces them (`shadow_tmax`).
+    fn segments(p: DVec3, corners: &[DVec3; 4], n: usize) -> Vec<(DVec3, DVec3, f64)> {
+        let o = p + DVec3::Y * crate::geometry::offset_scale(p);
+        let at = |s: f64, t: f64| {
+            let a = corners[0].lerp(corners[1], s);
+            let b = corners[3].lerp(corners[2], s);
+            a.lerp(b, t)
+        };
+        let mut ends = Vec::new();
+        for i in 0..16 {
+            let s = i as f64 / 16.0;
+            ends.extend([at(s, 0.0), at(1.0, s), at(1.0 - s, 1.0), at(0.0, 1.0 - s)]);
+        }
+        let k = ((n.saturating_sub(ends.len())) as f64).sqrt().ceil() as usize;
+        for i in 0..k {
+            for j in 0..k {
+                ends.push(at((i as f64 + 0.5) / k as f64, (j as f64 + 0.5) / k as f64));
+            }
+        }
+        ends.into_iter()
+            .map(|x| {
+                let d = x - o;
+                let t = d.length();
+                (o, d / t, crate::geometry::shadow_tmax(t, x))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_wide_low_rect_is_clear_over_a_bare_floor_where_its_ball_has_no_cone() {
+        // 3 × 2, 0.4 above the floor, facing down: its ball (radius 1.8) reaches the horizon.
+        let corners = rect(DVec3::new(0.2, 0.4, -0.1), DVec3::Y, DVec3::X, (1.5, 1.0));
+        let p = DVec3::new(0.3, 0.0, 0.2);
+        let (c, r) = (DVec3::new(0.2, 0.4, -0.1), 1.5f64.hypot(1.0));
+        let offset = crate::geometry::offset_scale(p);
+        assert!(
+            crate::geometry::ShadowCone::new(
+                p,
+                DVec3::Y,
+                offset,
+                c,
+                r,
+                super::super::RayEnds::Anywhere
+            )
+            .is_none()
+        );
+        let pyramid = pyramid_from(p, &corners).unwrap();
+        let bare = Geometry::new(&scene_with(vec![floor()]));
+        assert!(bare.cone_clear(&pyramid, &|_| true));
+        // A small square under the rect, between it and p: blocked; beside the pyramid or
+        // above the rect: clear.
+        for (at, clear) in [
+            (DVec3::new(0.25, 0.2, 0.0), false),
+            (DVec3::new(2.5, 0.2, 0.0), true),
+            (DVec3::new(0.25, 0.6, 0.0), true),
+        ] {
+            let g = Geometry::new(&scene_with(vec![floor(), square(at, 0.05)]));
+            assert_eq!(g.cone_clear(&pyramid, &|_| true), clear, "square at {at}");
+            let blocked = segments(p, &corners, 400)
+                .into_iter()
+                .any(|(o, w, t)| g.occluded(o, w, 0.0, t));
+            assert_eq!(blocked, !clear, "square at {at}");
+        }
+        // A rect reaching below the tangent plane has no pyramid.
+        let tilted = rect(
+            DVec3::new(0.2, 0.4, -0.1),
+            DVec3::new(0.0, 1.0, 0.6),
+            DVec3::X,
+            (1.5, 1.0),
+        );
+        assert!(pyramid_from(p, &tilted).is_none());
+    }
+
+    /// A small triangle near a face of the pyramid, `(s, k, f, h, u)`: towards the rect's
+    /// boundary point `s` (0–1 around its 4 edges), `k` × the way from its centre to that
+    /// point, a fraction `f` of the way from `p`, half-size `h`, oriented by `u`.
+    type Blocker = (f64, f64, f64, f64, (f64, f64, f64));
+
+    /// A receiver on the floor, a rect above it, small triangles near the pyramid's faces.
+    #[derive(Clone, Debug)]
+    struct Case {
+        p: DVec3,
+        corners: [DVec3; 4],
+        blockers: Vec<Blocker>,
+    }
+
+    impl Case {
+        fn scene(&self) -> Geometry {
+            let o = self.p;
+            let centre = self.corners.iter().sum::<DVec3>() * 0.25;
+            let mut meshes = vec![floor()];
+            for (i, &(s, k, f, h, (ux, uy, uz))) in self.blockers.iter().enumerate() {
+                let e = (s * 4.0).floor().min(3.0) as usize;
+                let edge = self.corners[e].lerp(self.corners[(e + 1) % 4], s * 4.0 - e as f64);
+                let x = centre.lerp(edge, k);
+                let c = o.lerp(x, f);
+                let u = DVec3::new(ux, uy, uz).normalize_or(DVec3::X);
+                let b = u.any_orthonormal_vector();
+                meshes.push(mesh(
+                    &format!("/t{i}"),
+                    vec![c + u * h, c - u * h + b * h, c - u * h - b * h],
+                    vec![[0, 1, 2]],
+                ));
+            }
+            Geometry::new(&scene_with(meshes))
+        }
+    }
+
+    prop_compose! {
+        fn case()(
+            px in -3.0f64..3.0, pz in -3.0f64..3.0,
+            cx in -2.0f64..2.0, cy in 0.2f64..2.5, cz in -2.0f64..2.0,
+            nx in -0.6f64..0.6, nz in -0.6f64..0.6, ux in -1.0f64..1.0,
+            a in 0.05f64..2.0, b in 0.05f64..2.0,
+            blockers in proptest::collection::vec(
+                (0.0f64..1.0, 0.8f64..1.25, 0.0f64..1.0, 0.005f64..0.2,
+                 (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0)), 1..5),
+        ) -> Case {
+            let n = DVec3::new(nx, -1.0, nz);
+            Case {
+                p: DVec3::new(px, 0.0, pz),
+                corners: rect(DVec3::new(cx, cy, cz), n, DVec3::new(ux, 0.3, 1.0), (a, b)),
+                blockers,
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(256))]
+
+        /// Conservative, whole search and box by box: "clear" means no shadow ray (traced
+        /// through the renderer's `f32` BVH) is blocked, and every box a node test drops and
+        /// every triangle dropped meets none of them. Blockers sit near the pyramid's faces
+        /// (0.8–1.25 × the way from the rect's centre to its boundary).
+        #[test]
+        fn the_pyramid_drops_only_what_no_shadow_ray_meets(c in case()) {
+            let Some(pyramid) = pyramid_from(c.p, &c.corners) else {
+                return Ok(());
+            };
+            let g = c.scene();
+            let segs = segments(c.p, &c.corners, 600);
+            if g.cone_clear(&pyramid, &|_| true) {
+                prop_assert!(!segs.iter().any(|&(o, w, t)| g.occluded(o, w, 0.0, t)));
+            }
+            let world = g.world.as_ref().unwrap();
+            for node in world.nodes() {
+                let mask = pyramid.node_mask(node, 0);
+                let (bits, index) = node.get_child_and_index_bits(0);
+                for child in 0..8 {
+                    if node.is_child_empty(child) {
+                        continue;
+                    }
+                    let kept = (extract_byte64(bits, child) << extract_byte64(index, child)) & mask;
+                    if kept == 0 {
+                        let b = node.child_aabb(child);
+                        prop_assert!(
+                            !segs.iter().any(|&(o, w, t)| segment_meets_box(o, w, t, &b)),
+                            "dropped box {b:?}"
+                        );
+                    }
+                }
+            }
+            for t in world.triangles() {
+                if pyramid.culls_triangle(t) {
+                    let hits = |&(o, w, tmax): &(DVec3, DVec3, f64)| {
+                        let r = obvhs::ray::Ray::new(o.as_vec3a(), w.as_vec3a(), 0.0, tmax as f32);
+                        t.intersect(&r) < tmax as f32
+                    };
+                    prop_assert!(!segs.iter().any(hits), "dropped triangle {t:?}");
+                }
+            }
+        }
+    }
+}
