@@ -24,7 +24,7 @@ mod blas;
 pub(crate) mod cone;
 mod instances;
 mod lights;
-mod pyramid;
+pub(crate) mod pyramid;
 
 use crate::light::{Light, LightHit};
 use blas::Blas;

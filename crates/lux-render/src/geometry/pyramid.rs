@@ -40,14 +40,47 @@ impl ShadowPyramid {
     /// corner lies above the tangent plane by more than the offset and the apex is off the
     /// rect's plane.
     pub fn new(p: DVec3, ng: DVec3, offset: f64, corners: &[DVec3; 4]) -> Option<ShadowPyramid> {
-        if !corners.iter().all(|&c| ng.dot(c - p) > 2.0 * offset) {
+        Self::build(p, ng, [offset, offset], 0.0, corners)
+    }
+
+    /// The region of the shadow rays from every point of a patch of a plane: the points
+    /// within `spread` of `q` on the plane through `q` with unit normal `ng`, each leaving from
+    /// its own offset [`offset_scale`](crate::geometry::offset_scale) along `ng`, towards the
+    /// rect. Every such ray point lies within `spread + Δδ` of a ray of the pyramid from the
+    /// apex `q + ng·δ_lo` to the same end (δ_lo, δ_hi the least and most offset over the patch,
+    /// Δδ their difference), so at most that far outside each of its planes: the margin grows
+    /// by `spread` (δ_hi it has). Every origin is on the plane, at least δ_lo above it, and
+    /// every corner above it, so the rays rise.
+    pub fn patch(q: DVec3, ng: DVec3, spread: f64, corners: &[DVec3; 4]) -> Option<ShadowPyramid> {
+        if !(spread >= 0.0 && spread.is_finite()) {
             return None;
         }
-        let apex = p + ng * offset;
+        let m = q.abs().max_element();
+        let offsets = [
+            crate::geometry::offset_scale(DVec3::splat((m - spread).max(0.0))),
+            crate::geometry::offset_scale(DVec3::splat(m + spread)),
+        ];
+        Self::build(q, ng, offsets, spread, corners)
+    }
+
+    /// The pyramid from the plane point `p` (origins within `spread` of it on its plane,
+    /// offset by `[δ_lo, δ_hi]` along `ng`) over the rect.
+    fn build(
+        p: DVec3,
+        ng: DVec3,
+        [lo, hi]: [f64; 2],
+        spread: f64,
+        corners: &[DVec3; 4],
+    ) -> Option<ShadowPyramid> {
+        if !corners.iter().all(|&c| ng.dot(c - p) > 2.0 * hi) {
+            return None;
+        }
+        let apex = p + ng * lo;
         let centre = (corners[0] + corners[1] + corners[2] + corners[3]) * 0.25;
-        let scale =
-            p.abs().max_element() + corners.iter().map(|c| c.distance(p)).fold(0.0, f64::max);
-        let margin = 1e-5 * scale + offset;
+        let scale = p.abs().max_element()
+            + spread
+            + corners.iter().map(|c| c.distance(p)).fold(0.0, f64::max);
+        let margin = 1e-5 * scale + hi + spread;
         let inward = |n: DVec3| -> Option<DVec3> {
             let n = n.try_normalize()?;
             Some(if n.dot(centre - apex) >= 0.0 { n } else { -n })
@@ -75,7 +108,7 @@ impl ShadowPyramid {
         Some(ShadowPyramid {
             apex,
             ng,
-            floor: -0.5 * offset,
+            floor: -0.5 * lo,
             planes,
             axis: (centre - apex).try_normalize()?,
             margin,
@@ -162,7 +195,7 @@ impl ShadowRegion for ShadowPyramid {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::geometry::Geometry;
     use crate::geometry::cone::tests::{floor, mesh, segment_meets_box, square};
@@ -171,7 +204,7 @@ mod tests {
 
     /// A rect of half-sizes `(a, b)` centred at `c`, its sides along `u` and `u × n`
     /// (`n` its normal).
-    fn rect(c: DVec3, n: DVec3, u: DVec3, (a, b): (f64, f64)) -> [DVec3; 4] {
+    pub(crate) fn rect(c: DVec3, n: DVec3, u: DVec3, (a, b): (f64, f64)) -> [DVec3; 4] {
         let n = n.normalize();
         let u = (u - n * n.dot(u)).normalize();
         let v = n.cross(u);
@@ -184,7 +217,7 @@ mod tests {
 
     /// Shadow-ray segments from `p`'s offset origin to points of the rect: its boundary at
     /// 16 points an edge and a grid inside, as the renderer traces them (`shadow_tmax`).
-    fn segments(p: DVec3, corners: &[DVec3; 4], n: usize) -> Vec<(DVec3, DVec3, f64)> {
+    pub(crate) fn segments(p: DVec3, corners: &[DVec3; 4], n: usize) -> Vec<(DVec3, DVec3, f64)> {
         let o = p + DVec3::Y * crate::geometry::offset_scale(p);
         let at = |s: f64, t: f64| {
             let a = corners[0].lerp(corners[1], s);
@@ -256,25 +289,64 @@ mod tests {
         assert!(pyramid_from(p, &tilted).is_none());
     }
 
-    /// A small triangle near a face of the pyramid, `(s, k, f, h, u)`: towards the rect's
-    /// boundary point `s` (0–1 around its 4 edges), `k` × the way from its centre to that
-    /// point, a fraction `f` of the way from `p`, half-size `h`, oriented by `u`.
-    type Blocker = (f64, f64, f64, f64, (f64, f64, f64));
+    /// A small triangle near a face of the pyramid, `(ψ, s, k, f, h, u)`: from the point at
+    /// azimuth `ψ` (turns) on the rim of the patch (the receiver itself without one), towards
+    /// the rect's boundary point `s` (0–1 around its 4 edges), `k` × the way from its centre to
+    /// that point, a fraction `f` of the way, half-size `h`, oriented by `u`.
+    type Blocker = (f64, f64, f64, f64, f64, (f64, f64, f64));
 
-    /// A receiver on the floor, a rect above it, small triangles near the pyramid's faces.
+    /// A receiver on the floor (or the patch within `spread` of it), a rect above it, small
+    /// triangles near the pyramid's faces.
     #[derive(Clone, Debug)]
     struct Case {
         p: DVec3,
+        spread: f64,
         corners: [DVec3; 4],
         blockers: Vec<Blocker>,
     }
 
+    /// The points of the floor within `spread` of `p` the rays of a case leave from: `p`, and
+    /// for a patch its rim at 12 azimuths and 4 points halfway.
+    fn patch_points(p: DVec3, spread: f64) -> Vec<DVec3> {
+        let mut points = vec![p];
+        if spread > 0.0 {
+            for i in 0..16 {
+                let (r, phi) = if i < 12 {
+                    (spread, i as f64 / 12.0)
+                } else {
+                    (spread * 0.5, (i - 12) as f64 / 4.0 + 0.125)
+                };
+                let phi = phi * std::f64::consts::TAU;
+                points.push(p + DVec3::new(r * phi.cos(), 0.0, r * phi.sin()));
+            }
+        }
+        points
+    }
+
     impl Case {
+        fn region(&self) -> Option<ShadowPyramid> {
+            if self.spread > 0.0 {
+                ShadowPyramid::patch(self.p, DVec3::Y, self.spread, &self.corners)
+            } else {
+                pyramid_from(self.p, &self.corners)
+            }
+        }
+
+        fn segments(&self, n: usize) -> Vec<(DVec3, DVec3, f64)> {
+            let points = patch_points(self.p, self.spread);
+            let each = n.div_ceil(points.len()).max(80);
+            points
+                .into_iter()
+                .flat_map(|q| segments(q, &self.corners, each))
+                .collect()
+        }
+
         fn scene(&self) -> Geometry {
-            let o = self.p;
             let centre = self.corners.iter().sum::<DVec3>() * 0.25;
             let mut meshes = vec![floor()];
-            for (i, &(s, k, f, h, (ux, uy, uz))) in self.blockers.iter().enumerate() {
+            for (i, &(psi, s, k, f, h, (ux, uy, uz))) in self.blockers.iter().enumerate() {
+                let psi = psi * std::f64::consts::TAU;
+                let o = self.p + self.spread * DVec3::new(psi.cos(), 0.0, psi.sin());
                 let e = (s * 4.0).floor().min(3.0) as usize;
                 let edge = self.corners[e].lerp(self.corners[(e + 1) % 4], s * 4.0 - e as f64);
                 let x = centre.lerp(edge, k);
@@ -294,16 +366,18 @@ mod tests {
     prop_compose! {
         fn case()(
             px in -3.0f64..3.0, pz in -3.0f64..3.0,
+            spread in prop_oneof![Just(0.0), 0.0f64..0.3],
             cx in -2.0f64..2.0, cy in 0.2f64..2.5, cz in -2.0f64..2.0,
             nx in -0.6f64..0.6, nz in -0.6f64..0.6, ux in -1.0f64..1.0,
             a in 0.05f64..2.0, b in 0.05f64..2.0,
             blockers in proptest::collection::vec(
-                (0.0f64..1.0, 0.8f64..1.25, 0.0f64..1.0, 0.005f64..0.2,
+                (0.0f64..1.0, 0.0f64..1.0, 0.8f64..1.25, 0.0f64..1.0, 0.005f64..0.2,
                  (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0)), 1..5),
         ) -> Case {
             let n = DVec3::new(nx, -1.0, nz);
             Case {
                 p: DVec3::new(px, 0.0, pz),
+                spread,
                 corners: rect(DVec3::new(cx, cy, cz), n, DVec3::new(ux, 0.3, 1.0), (a, b)),
                 blockers,
             }
@@ -316,14 +390,15 @@ mod tests {
         /// Conservative, whole search and box by box: "clear" means no shadow ray (traced
         /// through the renderer's `f32` BVH) is blocked, and every box a node test drops and
         /// every triangle dropped meets none of them. Blockers sit near the pyramid's faces
-        /// (0.8–1.25 × the way from the rect's centre to its boundary).
+        /// (0.8–1.25 × the way from the rect's centre to its boundary). Half the cases are a
+        /// patch's pyramid (spread up to 0.3), its rays from 17 points of the patch.
         #[test]
         fn the_pyramid_drops_only_what_no_shadow_ray_meets(c in case()) {
-            let Some(pyramid) = pyramid_from(c.p, &c.corners) else {
+            let Some(pyramid) = c.region() else {
                 return Ok(());
             };
             let g = c.scene();
-            let segs = segments(c.p, &c.corners, 600);
+            let segs = c.segments(1200);
             if g.cone_clear(&pyramid, &|_| true) {
                 prop_assert!(!segs.iter().any(|&(o, w, t)| g.occluded(o, w, 0.0, t)));
             }

@@ -291,7 +291,10 @@ impl<'a> DirectIntegrator<'a> {
                         let casts = |m| base.casts_shadow(m, None);
                         let patch = match from.shadow_ball() {
                             Some(ball) if alone && self.closed_forms && base.shadow.enable => {
-                                c.patches.search(w.scene, w.geometry, sp, li, ball, &casts)
+                                let corners = from.shadow_corners();
+                                let rect = corners.as_ref();
+                                c.patches
+                                    .search(w.scene, w.geometry, sp, li, ball, rect, &casts)
                             }
                             _ => ConeSearch::Unsearched,
                         };

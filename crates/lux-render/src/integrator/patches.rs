@@ -15,7 +15,7 @@
 //! image does not depend on which tile or thread asks first, or whether the answer was
 //! remembered.
 
-use crate::geometry::{ConeSearch, Geometry, RayEnds, ShadowCone};
+use crate::geometry::{ConeSearch, Geometry, RayEnds, ShadowCone, ShadowPyramid};
 use crate::material::SurfacePoint;
 use glam::DVec3;
 use lux_usd::Scene;
@@ -60,10 +60,13 @@ pub struct ClearPatches {
 }
 
 impl ClearPatches {
-    /// Whether a triangle of a mesh that `casts` might block a shadow ray towards the ball
-    /// (`centre`, `radius`, `ends`) of light `light` from some point of the patch around the
-    /// shading point `sp` ([`ConeSearch`]); [`ConeSearch::Unsearched`] for instances and
-    /// out-of-range coordinates, which are not searched here.
+    /// Whether a triangle of a mesh that `casts` might block a shadow ray of light `light`
+    /// from some point of the patch around the shading point `sp` ([`ConeSearch`]): rays
+    /// towards the ball (`centre`, `radius`, `ends`), or with `corners` towards that rect
+    /// (its pyramid, [`ShadowPyramid::patch`]; the ball then holds it and sizes the cells).
+    /// [`ConeSearch::Unsearched`] for instances and out-of-range coordinates, which are not
+    /// searched here.
+    #[allow(clippy::too_many_arguments)]
     pub fn search(
         &mut self,
         scene: &Scene,
@@ -71,11 +74,16 @@ impl ClearPatches {
         sp: &SurfacePoint,
         light: usize,
         (centre, radius, ends): (DVec3, f64, RayEnds),
+        corners: Option<&[DVec3; 4]>,
         casts: &impl Fn(usize) -> bool,
     ) -> ConeSearch {
-        // (No patch cone where the point's own cone is missing: the ball reaches its
-        // horizon, `ng·(c − p) ≤ r`.)
-        if sp.instance.is_some() || sp.ng.dot(centre - sp.p) <= radius {
+        // (No patch region where the point's own is missing: the ball, or the rect, reaches
+        // its horizon.)
+        let above = match corners {
+            Some(c) => c.iter().all(|&x| sp.ng.dot(x - sp.p) > 0.0),
+            None => sp.ng.dot(centre - sp.p) > radius,
+        };
+        if sp.instance.is_some() || !above {
             return ConeSearch::Unsearched;
         }
         let s = radius * CELL_PER_RADIUS;
@@ -114,10 +122,13 @@ impl ClearPatches {
         let c = (glam::IVec3::from_array(cell).as_dvec3() + 0.5) * s;
         let q = c - sp.ng * sp.ng.dot(c - a);
         let spread = s * 0.5 * 3f64.sqrt();
-        let b = ShadowCone::patch(q, sp.ng, spread, centre, radius, ends)
-            .map_or(ConeSearch::Unsearched, |cone| {
-                geometry.cone_search(&cone, casts)
-            });
+        let b = match corners {
+            Some(c) => ShadowPyramid::patch(q, sp.ng, spread, c)
+                .map(|pyramid| geometry.cone_search(&pyramid, casts)),
+            None => ShadowCone::patch(q, sp.ng, spread, centre, radius, ends)
+                .map(|cone| geometry.cone_search(&cone, casts)),
+        }
+        .unwrap_or(ConeSearch::Unsearched);
         self.slots[slot] = Some((key, b));
         b
     }
@@ -161,8 +172,9 @@ mod tests {
         for i in 0..48 {
             for j in 0..48 {
                 let sp = floor_point(-1.6 + i as f64 * 0.071, -1.7 + j as f64 * 0.069);
-                let remembered = kept.search(&scene, &g, &sp, 0, ball, &|_| true);
-                let fresh = ClearPatches::default().search(&scene, &g, &sp, 0, ball, &|_| true);
+                let remembered = kept.search(&scene, &g, &sp, 0, ball, None, &|_| true);
+                let fresh =
+                    ClearPatches::default().search(&scene, &g, &sp, 0, ball, None, &|_| true);
                 assert_eq!(remembered, fresh, "at {}", sp.p);
                 match fresh {
                     ConeSearch::Clear => {
@@ -185,17 +197,58 @@ mod tests {
         );
         // Shadow linking that leaves the square out: every patch is clear.
         let sp = floor_point(0.2, -0.1);
-        let linked = ClearPatches::default().search(&scene, &g, &sp, 0, ball, &|m| m != 1);
+        let linked = ClearPatches::default().search(&scene, &g, &sp, 0, ball, None, &|m| m != 1);
         assert_eq!(linked, ConeSearch::Clear);
         // The light's index is part of the key: another light's answer is not reused.
         let mut m = ClearPatches::default();
         assert_ne!(
-            m.search(&scene, &g, &sp, 0, ball, &|_| true),
+            m.search(&scene, &g, &sp, 0, ball, None, &|_| true),
             ConeSearch::Clear
         );
         assert_eq!(
-            m.search(&scene, &g, &sp, 1, ball, &|m| m != 1),
+            m.search(&scene, &g, &sp, 1, ball, None, &|m| m != 1),
             ConeSearch::Clear
+        );
+    }
+
+    #[test]
+    fn rect_patches_search_the_pyramid_and_are_sound() {
+        use crate::geometry::pyramid::tests::{rect, segments as rect_segments};
+        // A wide rect 1.2 above the floor (its ball reaches the floor: only the pyramid
+        // holds), a small square under it.
+        let corners = rect(DVec3::new(0.1, 1.2, 0.0), DVec3::Y, DVec3::X, (1.2, 0.9));
+        let ball = (
+            DVec3::new(0.1, 1.2, 0.0),
+            1.2f64.hypot(0.9),
+            RayEnds::Anywhere,
+        );
+        let scene = scene_with(vec![floor(), square(DVec3::new(0.0, 0.6, 0.0), 0.05)]);
+        let g = Geometry::new(&scene);
+        let mut kept = ClearPatches::default();
+        let (mut clear, mut blocked) = (0, 0);
+        for i in 0..40 {
+            for j in 0..40 {
+                let sp = floor_point(-4.0 + i as f64 * 0.2, -3.9 + j as f64 * 0.197);
+                let r = Some(&corners);
+                let remembered = kept.search(&scene, &g, &sp, 0, ball, r, &|_| true);
+                let fresh = ClearPatches::default().search(&scene, &g, &sp, 0, ball, r, &|_| true);
+                assert_eq!(remembered, fresh, "at {}", sp.p);
+                match fresh {
+                    ConeSearch::Clear => {
+                        clear += 1;
+                        let hit = rect_segments(sp.p, &corners, 300)
+                            .into_iter()
+                            .any(|(o, w, t)| g.occluded(o, w, 0.0, t));
+                        assert!(!hit, "clear patch at {} is blocked", sp.p);
+                    }
+                    ConeSearch::Blocked(_) => blocked += 1,
+                    ConeSearch::Unsearched => panic!("the rect is above every floor point"),
+                }
+            }
+        }
+        assert!(
+            clear > 100 && blocked > 100,
+            "clear {clear}, blocked {blocked}"
         );
     }
 }

@@ -261,6 +261,16 @@ impl LightFrom<'_> {
         }
     }
 
+    /// A rect light's world corners, when its closed form is its pyramid's
+    /// ([`LightFrom::shadow_pyramid`]).
+    #[inline]
+    pub fn shadow_corners(&self) -> Option<[DVec3; 4]> {
+        match self {
+            LightFrom::Rect(l, _) if l.uniform_area() => Some(l.world_corners()),
+            _ => None,
+        }
+    }
+
     /// The ball holding every point a shadow ray of [`LightFrom::shadow_cone`] ends at, and
     /// where in it they end: the sphere light itself (`inputs:radius`, scaled), the rect's
     /// circumscribed ball, the disk's. The same from every receiver.
