@@ -37,8 +37,8 @@ pub struct ShadowPyramid {
 impl ShadowPyramid {
     /// The pyramid from the surface point `p` (unit geometric normal `ng`, rays leaving from
     /// `p + ng·offset`) over the rect `corners` (in order around it). `None` unless every
-    /// corner lies above the tangent plane by more than the offset and the apex is off the
-    /// rect's plane.
+    /// corner lies above the tangent plane by more than twice the offset (so that every ray
+    /// rises from its origin) and the apex is off the rect's plane.
     pub fn new(p: DVec3, ng: DVec3, offset: f64, corners: &[DVec3; 4]) -> Option<ShadowPyramid> {
         Self::build(p, ng, [offset, offset], 0.0, corners)
     }

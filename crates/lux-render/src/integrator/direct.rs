@@ -281,11 +281,12 @@ impl<'a> DirectIntegrator<'a> {
                     // What the light's k samples share, computed once.
                     light.seen_from(&r, self.strategy, |from| {
                         // Light-only estimation of a light whose unshadowed integral L·Π
-                        // has a closed form, where nothing can block it (geometry/cone.rs):
+                        // has a closed form, where nothing can block it (geometry/cone.rs,
+                        // geometry/pyramid.rs):
                         // that closed form is the estimate (what its k samples average to),
                         // without drawing them. What can block it is searched once for the
                         // point's patch of surface (integrator/patches.rs), then for the point
-                        // unless the patch's blocker blocks its cone too (without shadows,
+                        // unless the patch's blocker blocks its region too (without shadows,
                         // nothing blocks; with shadow linking, only what it keeps).
                         let base = light.base();
                         let casts = |m| base.casts_shadow(m, None);
@@ -302,7 +303,7 @@ impl<'a> DirectIntegrator<'a> {
                         // centre: a Lambertian f is the same in every direction).
                         let unblocked = match patch {
                             _ if !(alone && self.closed_forms) => None,
-                            // (the patch's cone holds the point's: the light is above its
+                            // (the patch's region holds the point's: the light is above its
                             // horizon)
                             ConeSearch::Clear => from
                                 .shadow_ball()
