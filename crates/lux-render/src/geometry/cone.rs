@@ -22,7 +22,7 @@
 
 use super::ShadowRegion;
 use glam::{DVec3, Vec3A, Vec4};
-use obvhs::cwbvh::node::{CwBvhNode, extract_byte64};
+use obvhs::cwbvh::node::CwBvhNode;
 use obvhs::triangle::Triangle;
 
 /// Where in the ball a light's shadow rays end ([`ShadowCone::new`]).
@@ -110,14 +110,7 @@ impl ShadowCone {
         radius: f64,
         ends: RayEnds,
     ) -> Option<ShadowCone> {
-        if !(spread >= 0.0 && spread.is_finite()) {
-            return None;
-        }
-        let m = q.abs().max_element();
-        let offsets = [
-            crate::geometry::offset_scale(DVec3::splat((m - spread).max(0.0))),
-            crate::geometry::offset_scale(DVec3::splat(m + spread)),
-        ];
+        let offsets = super::patch_offsets(q, spread)?;
         Self::build(q, ng, offsets, spread, (centre, radius, ends))
     }
 
@@ -247,30 +240,9 @@ impl ShadowRegion for ShadowCone {
         // Four children at a time, one lane each.
         let mut keep = 0u32;
         for half in 0..2 {
-            let lane = |b: &[u8; 8]| {
-                let o = 4 * half;
-                Vec4::new(
-                    b[o] as f32,
-                    b[o + 1] as f32,
-                    b[o + 2] as f32,
-                    b[o + 3] as f32,
-                )
-            };
-            let lo = [
-                lane(&node.child_min_x),
-                lane(&node.child_min_y),
-                lane(&node.child_min_z),
-            ];
-            let hi = [
-                lane(&node.child_max_x),
-                lane(&node.child_max_y),
-                lane(&node.child_max_z),
-            ];
-            // Farthest along n over each box: per axis the max or min corner by n's sign.
-            let far_along = |n: [f32; 3]| {
-                let side = |k: usize| if n[k] >= 0.0 { hi[k] } else { lo[k] } * n[k];
-                side(0) + side(1) + side(2)
-            };
+            let boxes = super::child_boxes(node, half);
+            let (lo, hi) = boxes;
+            let far_along = |n: [f32; 3]| super::farthest_along(&boxes, n);
             let rise = far_along([nx, ny, nz]) + rise0;
             let reach = far_along([ax, ay, az]) + along0;
             let back = along0 - far_along([-ax, -ay, -az]);
@@ -285,20 +257,11 @@ impl ShadowRegion for ShadowCone {
                 | back.cmpgt(Vec4::splat(far + margin));
             keep |= ((!out.bitmask()) & 0xf) << (4 * half);
         }
-        let (child_bits8, bit_index8) = node.get_child_and_index_bits(oct_inv4);
-        let mut mask = 0;
-        for child in 0..8 {
-            if keep & (1 << child) == 0 || node.is_child_empty(child) {
-                continue;
-            }
+        super::child_mask(node, oct_inv4, keep, |child| {
             let b = node.child_aabb(child);
             let centre = 0.5 * (b.min + b.max);
-            if self.misses_sphere(centre.as_dvec3(), 0.5 * (b.max - b.min).length() as f64) {
-                continue;
-            }
-            mask |= extract_byte64(child_bits8, child) << extract_byte64(bit_index8, child);
-        }
-        mask
+            self.misses_sphere(centre.as_dvec3(), 0.5 * (b.max - b.min).length() as f64)
+        })
     }
 }
 
@@ -308,6 +271,7 @@ pub(crate) mod tests {
     use crate::geometry::Geometry;
     use crate::geometry::tests::scene_with;
     use lux_usd::Mesh;
+    use obvhs::cwbvh::node::extract_byte64;
     use proptest::prelude::*;
 
     /// A light of radius 0.5 at (0, 2, 0) seen from points of the floor y = 0 (normal +y, the
@@ -652,37 +616,47 @@ pub(crate) mod tests {
             let Some((cone, g)) = case.build() else {
                 return Ok(());
             };
-            let world = g.world.as_ref().unwrap();
-            let segs = case.segments(600);
-            for node in world.nodes() {
-                // Identity octant: bit i of the mask's high byte stands for inner child i.
-                let mask = cone.node_mask(node, 0);
-                let (bits, index) = node.get_child_and_index_bits(0);
-                for child in 0..8 {
-                    if node.is_child_empty(child) {
-                        continue;
-                    }
-                    let kept = (extract_byte64(bits, child) << extract_byte64(index, child)) & mask;
-                    if kept == 0 {
-                        let b = node.child_aabb(child);
-                        prop_assert!(
-                            !segs.iter().any(|&(o, w, t)| segment_meets_box(o, w, t, &b)),
-                            "dropped box {b:?}"
-                        );
-                    }
+            drops_only_what_no_ray_meets(&g, &cone, &case.segments(600))?;
+        }
+    }
+
+    /// Every child box of any BVH node that `region`'s node test drops, and every triangle
+    /// it drops, meets none of the segments `segs` (slab test in `f64`; the renderer's `f32`
+    /// triangle test).
+    pub(crate) fn drops_only_what_no_ray_meets(
+        g: &Geometry,
+        region: &impl ShadowRegion,
+        segs: &[(DVec3, DVec3, f64)],
+    ) -> Result<(), TestCaseError> {
+        let world = g.world.as_ref().unwrap();
+        for node in world.nodes() {
+            // Identity octant: bit i of the mask's high byte stands for inner child i.
+            let mask = region.node_mask(node, 0);
+            let (bits, index) = node.get_child_and_index_bits(0);
+            for child in 0..8 {
+                if node.is_child_empty(child) {
+                    continue;
                 }
-            }
-            for t in world.triangles() {
-                if cone.culls_triangle(t) {
-                    let ray_hits = |&(o, w, tmax): &(DVec3, DVec3, f64)| {
-                        let r = obvhs::ray::Ray::new(
-                            o.as_vec3a(), w.as_vec3a(), 0.0, tmax as f32);
-                        t.intersect(&r) < tmax as f32
-                    };
-                    prop_assert!(!segs.iter().any(ray_hits), "dropped triangle {t:?}");
+                let kept = (extract_byte64(bits, child) << extract_byte64(index, child)) & mask;
+                if kept == 0 {
+                    let b = node.child_aabb(child);
+                    prop_assert!(
+                        !segs.iter().any(|&(o, w, t)| segment_meets_box(o, w, t, &b)),
+                        "dropped box {b:?}"
+                    );
                 }
             }
         }
+        for t in world.triangles() {
+            if region.culls_triangle(t) {
+                let hits = |&(o, w, tmax): &(DVec3, DVec3, f64)| {
+                    let r = obvhs::ray::Ray::new(o.as_vec3a(), w.as_vec3a(), 0.0, tmax as f32);
+                    t.intersect(&r) < tmax as f32
+                };
+                prop_assert!(!segs.iter().any(hits), "dropped triangle {t:?}");
+            }
+        }
+        Ok(())
     }
 
     #[test]

@@ -29,7 +29,7 @@ pub(crate) mod pyramid;
 use crate::light::{Light, LightHit};
 use blas::Blas;
 pub use cone::{ConeSearch, RayEnds, ShadowCone};
-use glam::{DVec2, DVec3, Vec3A};
+use glam::{DVec2, DVec3, Vec3A, Vec4};
 use instances::Instances;
 pub(crate) use instances::drawable_transform;
 pub use lights::LINEAR_LIGHTS;
@@ -53,6 +53,75 @@ pub trait ShadowRegion {
     /// The CWBVH hit mask of the node's children the region may reach (what
     /// `CwBvhNode::intersect_ray` returns for a ray), in the traversal order of `oct_inv4`.
     fn node_mask(&self, node: &obvhs::cwbvh::node::CwBvhNode, oct_inv4: u32) -> u32;
+}
+
+/// The least and most ray-origin offset ([`offset_scale`]) over the points within `spread` of
+/// `q` (a patch of [`ShadowCone::patch`] or [`ShadowPyramid::patch`]); `None` for a negative or
+/// non-finite spread.
+fn patch_offsets(q: DVec3, spread: f64) -> Option<[f64; 2]> {
+    if !(spread >= 0.0 && spread.is_finite()) {
+        return None;
+    }
+    let m = q.abs().max_element();
+    Some([
+        offset_scale(DVec3::splat((m - spread).max(0.0))),
+        offset_scale(DVec3::splat(m + spread)),
+    ])
+}
+
+/// The quantized boxes of children `4·half … 4·half + 3` of a CWBVH node, one lane each:
+/// `(min, max)` per axis, in the node's frame (`x = origin + e ⊙ q`, `q ∈ [0, 255]³`).
+#[inline]
+fn child_boxes(node: &obvhs::cwbvh::node::CwBvhNode, half: usize) -> ([Vec4; 3], [Vec4; 3]) {
+    let lane = |b: &[u8; 8]| {
+        let o = 4 * half;
+        Vec4::new(
+            b[o] as f32,
+            b[o + 1] as f32,
+            b[o + 2] as f32,
+            b[o + 3] as f32,
+        )
+    };
+    (
+        [
+            lane(&node.child_min_x),
+            lane(&node.child_min_y),
+            lane(&node.child_min_z),
+        ],
+        [
+            lane(&node.child_max_x),
+            lane(&node.child_max_y),
+            lane(&node.child_max_z),
+        ],
+    )
+}
+
+/// The largest `n·q` over each of four quantized boxes (`n` in the node's frame): per axis
+/// the max or min corner by `n`'s sign.
+#[inline]
+fn farthest_along((lo, hi): &([Vec4; 3], [Vec4; 3]), n: [f32; 3]) -> Vec4 {
+    let side = |k: usize| if n[k] >= 0.0 { hi[k] } else { lo[k] } * n[k];
+    side(0) + side(1) + side(2)
+}
+
+/// The CWBVH hit mask (in the traversal order of `oct_inv4`) of the node's non-empty children
+/// whose bit is set in `keep` and that `drop` does not drop.
+#[inline]
+fn child_mask(
+    node: &obvhs::cwbvh::node::CwBvhNode,
+    oct_inv4: u32,
+    keep: u32,
+    drop: impl Fn(usize) -> bool,
+) -> u32 {
+    let (child_bits8, bit_index8) = node.get_child_and_index_bits(oct_inv4);
+    let mut mask = 0;
+    for child in 0..8 {
+        if keep & (1 << child) != 0 && !node.is_child_empty(child) && !drop(child) {
+            mask |= obvhs::cwbvh::node::extract_byte64(child_bits8, child)
+                << obvhs::cwbvh::node::extract_byte64(bit_index8, child);
+        }
+    }
+    mask
 }
 
 /// A closest hit.

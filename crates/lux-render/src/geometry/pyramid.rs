@@ -13,7 +13,7 @@
 
 use super::ShadowRegion;
 use glam::{DVec3, Vec3A, Vec4};
-use obvhs::cwbvh::node::{CwBvhNode, extract_byte64};
+use obvhs::cwbvh::node::CwBvhNode;
 use obvhs::triangle::Triangle;
 
 /// The region every shadow ray towards a rect light stays in, from one shading point.
@@ -52,14 +52,7 @@ impl ShadowPyramid {
     /// by `spread` (δ_hi it has). Every origin is on the plane, at least δ_lo above it, and
     /// every corner above it, so the rays rise.
     pub fn patch(q: DVec3, ng: DVec3, spread: f64, corners: &[DVec3; 4]) -> Option<ShadowPyramid> {
-        if !(spread >= 0.0 && spread.is_finite()) {
-            return None;
-        }
-        let m = q.abs().max_element();
-        let offsets = [
-            crate::geometry::offset_scale(DVec3::splat((m - spread).max(0.0))),
-            crate::geometry::offset_scale(DVec3::splat(m + spread)),
-        ];
+        let offsets = super::patch_offsets(q, spread)?;
         Self::build(q, ng, offsets, spread, corners)
     }
 
@@ -153,44 +146,17 @@ impl ShadowRegion for ShadowPyramid {
         let (floor, margin) = (self.floor as f32, self.margin as f32);
         let mut keep = 0u32;
         for half in 0..2 {
-            let lane = |b: &[u8; 8]| {
-                let o = 4 * half;
-                Vec4::new(
-                    b[o] as f32,
-                    b[o + 1] as f32,
-                    b[o + 2] as f32,
-                    b[o + 3] as f32,
-                )
-            };
-            let lo = [
-                lane(&node.child_min_x),
-                lane(&node.child_min_y),
-                lane(&node.child_min_z),
-            ];
-            let hi = [
-                lane(&node.child_max_x),
-                lane(&node.child_max_y),
-                lane(&node.child_max_z),
-            ];
+            let boxes = super::child_boxes(node, half);
             // Largest value of n·x − d over each box.
-            let most = |(n, d0): ([f32; 3], f32)| {
-                let side = |k: usize| if n[k] >= 0.0 { hi[k] } else { lo[k] } * n[k];
-                side(0) + side(1) + side(2) + Vec4::splat(d0)
-            };
+            let most =
+                |(n, d0): ([f32; 3], f32)| super::farthest_along(&boxes, n) + Vec4::splat(d0);
             let mut out = most(ng).cmplt(Vec4::splat(floor));
             for &p in &planes {
                 out |= most(p).cmplt(Vec4::splat(-margin));
             }
             keep |= ((!out.bitmask()) & 0xf) << (4 * half);
         }
-        let (child_bits8, bit_index8) = node.get_child_and_index_bits(oct_inv4);
-        let mut mask = 0;
-        for child in 0..8 {
-            if keep & (1 << child) != 0 && !node.is_child_empty(child) {
-                mask |= extract_byte64(child_bits8, child) << extract_byte64(bit_index8, child);
-            }
-        }
-        mask
+        super::child_mask(node, oct_inv4, keep, |_| false)
     }
 }
 
@@ -198,7 +164,7 @@ impl ShadowRegion for ShadowPyramid {
 pub(crate) mod tests {
     use super::*;
     use crate::geometry::Geometry;
-    use crate::geometry::cone::tests::{floor, mesh, segment_meets_box, square};
+    use crate::geometry::cone::tests::{drops_only_what_no_ray_meets, floor, mesh, square};
     use crate::geometry::tests::scene_with;
     use proptest::prelude::*;
 
@@ -402,33 +368,7 @@ pub(crate) mod tests {
             if g.cone_clear(&pyramid, &|_| true) {
                 prop_assert!(!segs.iter().any(|&(o, w, t)| g.occluded(o, w, 0.0, t)));
             }
-            let world = g.world.as_ref().unwrap();
-            for node in world.nodes() {
-                let mask = pyramid.node_mask(node, 0);
-                let (bits, index) = node.get_child_and_index_bits(0);
-                for child in 0..8 {
-                    if node.is_child_empty(child) {
-                        continue;
-                    }
-                    let kept = (extract_byte64(bits, child) << extract_byte64(index, child)) & mask;
-                    if kept == 0 {
-                        let b = node.child_aabb(child);
-                        prop_assert!(
-                            !segs.iter().any(|&(o, w, t)| segment_meets_box(o, w, t, &b)),
-                            "dropped box {b:?}"
-                        );
-                    }
-                }
-            }
-            for t in world.triangles() {
-                if pyramid.culls_triangle(t) {
-                    let hits = |&(o, w, tmax): &(DVec3, DVec3, f64)| {
-                        let r = obvhs::ray::Ray::new(o.as_vec3a(), w.as_vec3a(), 0.0, tmax as f32);
-                        t.intersect(&r) < tmax as f32
-                    };
-                    prop_assert!(!segs.iter().any(hits), "dropped triangle {t:?}");
-                }
-            }
+            drops_only_what_no_ray_meets(&g, &pyramid, &segs)?;
         }
     }
 }
