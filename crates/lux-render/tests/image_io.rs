@@ -7,9 +7,7 @@ use common::*;
 use std::fs;
 use std::path::Path;
 
-use lux_render::image_io::{
-    IN_MEMORY, ImageError, ImageRgba, MAX_DIMENSION, MAX_PIXELS, Texture, write_exr,
-};
+use lux_render::image_io::{IN_MEMORY, ImageError, MAX_DIMENSION, MAX_PIXELS, Texture, write_exr};
 
 // ---------------------------------------------------------------------------------------------
 // PNG / JPEG / HDR reading
@@ -111,9 +109,7 @@ fn jpeg_decodes_srgb() {
         assert_eq!(texel[3], 1.0);
     }
     // Also via .jpeg.
-    let alt = dir.join("grey.jpeg");
-    fs::copy(&path, &alt).unwrap();
-    assert_eq!(Texture::load(&alt).unwrap(), t);
+    loads_the_same_as(&path, &dir.join("grey.jpeg"), &t);
     fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -204,12 +200,7 @@ fn exr_round_trip_is_bit_exact() {
             [s, i as f32, (i as f32).sqrt(), 1.0 - i as f32 / 16.0]
         })
         .collect();
-    let image = ImageRgba {
-        width,
-        height,
-        pixels: pixels.clone(),
-    };
-    write_exr(&path, &image).unwrap();
+    write_exr(&path, &image_of(width, height, &pixels)).unwrap();
     assert!(temp_files(&dir).is_empty());
 
     let tex = Texture::load(&path).unwrap();
@@ -222,9 +213,7 @@ fn exr_round_trip_is_bit_exact() {
     assert_exr_bits(&path, width, height, &pixels);
 
     // Case-insensitive extension.
-    let upper = dir.join("RT.EXR");
-    fs::copy(&path, &upper).unwrap();
-    assert_eq!(Texture::load(&upper).unwrap(), tex);
+    loads_the_same_as(&path, &dir.join("RT.EXR"), &tex);
     fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -253,12 +242,7 @@ fn exr_zip_blocks_round_trip_compressed_and_raw() {
             }
         })
         .collect();
-    let image = ImageRgba {
-        width,
-        height,
-        pixels: pixels.clone(),
-    };
-    write_exr(&path, &image).unwrap();
+    write_exr(&path, &image_of(width, height, &pixels)).unwrap();
     let meta = exr::meta::MetaData::read_from_file(&path, false).unwrap();
     assert_eq!(
         meta.headers[0].compression,
@@ -268,6 +252,12 @@ fn exr_zip_blocks_round_trip_compressed_and_raw() {
     assert!(fs::metadata(&path).unwrap().len() < (width * height * 16) as u64);
     assert_exr_bits(&path, width, height, &pixels);
     fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A copy of `path` at `copy` (another extension's spelling) loads as `texture`.
+fn loads_the_same_as(path: &Path, copy: &Path, texture: &Texture) {
+    fs::copy(path, copy).unwrap();
+    assert_eq!(&Texture::load(copy).unwrap(), texture);
 }
 
 /// The EXR at `path`, read by the exr crate's generic reader, holds `pixels` (`width × height`,

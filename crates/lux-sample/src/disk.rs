@@ -292,6 +292,22 @@ impl DiskLight {
         self.technique
     }
 
+    /// The world disk — centre, unit normal (the local ±Z axis), radius `s · inputs:radius` —
+    /// when the transform is a similarity of scale s (rotation, uniform scale, translation);
+    /// `None` under a non-uniform scale or shear, where it is an ellipse. What
+    /// [`crate::projected::disk`] takes.
+    pub fn world_disk(&self) -> Option<(DVec3, DVec3, f64)> {
+        if !self.xf.is_similarity() {
+            return None;
+        }
+        let r = self.radius * self.xf.vector(DVec3::X).length();
+        self.xf
+            .normal(DVec3::Z)
+            .try_normalize()
+            .filter(|_| r > 0.0 && r.is_finite())
+            .map(|axis| (self.xf.point(DVec3::ZERO), axis, r))
+    }
+
     /// Angular extent of the disk around the foot point: (start azimuth, width Φ).
     #[inline]
     fn extent(&self, f: DVec2) -> (f64, f64) {
@@ -449,5 +465,28 @@ impl DiskLight {
             }
         };
         pdf * jac
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DMat4;
+
+    #[test]
+    fn world_disk_under_a_similarity_and_none_under_a_stretch() {
+        // Scale 2, a quarter turn about +X (local +Z → world −Y), moved to (1, 2, 3).
+        let m = DMat4::from_translation(DVec3::new(1.0, 2.0, 3.0))
+            * DMat4::from_rotation_x(std::f64::consts::FRAC_PI_2)
+            * DMat4::from_scale(DVec3::splat(2.0));
+        let xf = LightTransform::new(m).unwrap();
+        let disk = DiskLight::new(0.25, xf, DiskTechnique::EllipticCone).unwrap();
+        let (c, axis, r) = disk.world_disk().unwrap();
+        assert!(c.distance(DVec3::new(1.0, 2.0, 3.0)) < 1e-12);
+        assert!(axis.distance(DVec3::new(0.0, -1.0, 0.0)) < 1e-12, "{axis}");
+        assert!((r - 0.5).abs() < 1e-12);
+        let stretched = LightTransform::new(DMat4::from_scale(DVec3::new(1.0, 3.0, 1.0))).unwrap();
+        let ellipse = DiskLight::new(0.25, stretched, DiskTechnique::EllipticCone).unwrap();
+        assert_eq!(ellipse.world_disk(), None);
     }
 }

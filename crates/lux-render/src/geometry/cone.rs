@@ -162,11 +162,6 @@ impl ShadowCone {
         })
     }
 
-    /// The axis, towards the ball's centre.
-    pub fn axis(&self) -> DVec3 {
-        self.axis
-    }
-
     /// True when the sphere (`c`, `rho`) is certainly outside the cone.
     #[inline]
     fn misses_sphere(&self, c: DVec3, rho: f64) -> bool {
@@ -185,6 +180,7 @@ impl ShadowCone {
 }
 
 impl ShadowRegion for ShadowCone {
+    /// The axis, towards the ball's centre.
     fn axis(&self) -> DVec3 {
         self.axis
     }

@@ -12,7 +12,7 @@ mod path;
 mod trace;
 
 pub use direct::DirectIntegrator;
-pub use patches::{CELL_PER_RADIUS, ClearPatches};
+pub use patches::ClearPatches;
 pub use path::{PathIntegrator, ROULETTE_DEPTH};
 pub use trace::closest;
 

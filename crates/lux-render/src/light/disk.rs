@@ -24,16 +24,7 @@ impl DiskLight {
         let sampler =
             lux_sample::DiskLight::new(radius, base.xf, lux_sample::DiskTechnique::EllipticCone)
                 .map_err(|e| e.to_string())?;
-        let xf = &base.xf;
-        let world = if xf.is_similarity() {
-            let r = radius * xf.vector(DVec3::X).length();
-            xf.normal(DVec3::Z)
-                .try_normalize()
-                .filter(|_| r > 0.0 && r.is_finite())
-                .map(|axis| (xf.point(DVec3::ZERO), axis, r))
-        } else {
-            None
-        };
+        let world = sampler.world_disk();
         Ok(DiskLight {
             base,
             radius,
@@ -81,9 +72,8 @@ impl DiskLight {
         DVec3::ZERO
     }
 
-    /// The world disk — centre, unit normal (the local ±Z axis), radius `s · inputs:radius` —
-    /// when the transform is a similarity of scale s (rotation, uniform scale, translation);
-    /// `None` under a non-uniform scale or shear, where it is an ellipse.
+    /// The world disk — centre, unit normal, radius `s · inputs:radius` — under a similarity
+    /// transform of scale s ([`lux_sample::DiskLight::world_disk`], kept per light).
     #[inline]
     pub fn world_disk(&self) -> Option<(DVec3, DVec3, f64)> {
         self.world

@@ -51,9 +51,7 @@ impl RectLight {
         .map_err(|e| e.to_string())?
         // only the part of the rect inside the shaping's emission cone
         .with_emission_cone(cut);
-        let [hw, hh] = [0.5 * width, 0.5 * height];
-        let corners = [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh)]
-            .map(|(x, y)| base.xf.point(DVec3::new(x, y, 0.0)));
+        let corners = sampler.corners();
         let centre = base.xf.point(DVec3::ZERO);
         let radius = corners
             .iter()
@@ -61,7 +59,7 @@ impl RectLight {
             .fold(0.0, f64::max);
         Ok(RectLight {
             base,
-            half: [hw, hh],
+            half: [0.5 * width, 0.5 * height],
             texture,
             mirror_u,
             sampler,
@@ -72,7 +70,7 @@ impl RectLight {
 
     /// The world corners, in order around the rect: local (±w/2, ±h/2, 0) for UsdLux
     /// `inputs:width` w and `inputs:height` h, placed by the light's transform (a parallelogram
-    /// under any affine one).
+    /// under any affine one; [`lux_sample::RectLight::corners`], kept per light).
     #[inline]
     pub fn world_corners(&self) -> [DVec3; 4] {
         self.corners

@@ -79,6 +79,15 @@ pub fn png_bytes(path: &Path) -> (u32, u32, Vec<u8>) {
     (rgba.width(), rgba.height(), rgba.into_raw())
 }
 
+/// A `width × height` image of `pixels` (row 0 = top).
+pub fn image_of(width: usize, height: usize, pixels: &[[f32; 4]]) -> ImageRgba {
+    ImageRgba {
+        width,
+        height,
+        pixels: pixels.to_vec(),
+    }
+}
+
 pub fn row(values: &[[f32; 4]]) -> ImageRgba {
     ImageRgba {
         width: values.len(),
