@@ -112,9 +112,10 @@ pub fn stage_exr_band(
             let encoded: Vec<(usize, Chunk)> = blocks
                 .into_par_iter()
                 .map_init(ZipScratch::default, |scratch, (i, index)| {
-                    block_bytes(pixels, width, &order, &index, &mut scratch.raw);
+                    let values = block_values(pixels, width, &order, &index);
+                    let n = index.pixel_size.area() * order.len();
                     let y = (y0 + index.pixel_position.y()) as i32;
-                    (i, scratch.chunk(y))
+                    (i, scratch.chunk(values, n, y))
                 })
                 .collect();
             for (i, chunk) in encoded {
@@ -132,19 +133,17 @@ pub fn stage_exr_band(
 const ZIP_LEVEL: i32 = 1;
 
 /// A worker's buffers for ZIP-compressing scan-line blocks (OpenEXR `ZIP_COMPRESSION`, 16
-/// lines), reused from block to block. The OpenEXR scheme: the block's bytes `b`, even-indexed
-/// ones first, then odd-indexed (`s`); each replaced by its difference to the previous one plus
-/// 128 (mod 256; `s[0]` kept); zlib. Kept raw when that is not smaller (the format's rule: a
-/// block of the uncompressed size is read as uncompressed). Written here, rather than by
-/// `UncompressedBlock::compress_to_chunk`, for speed: the exr crate uses miniz_oxide at level
-/// 4 and a fresh compressor per block.
+/// lines), reused from block to block. The OpenEXR scheme: the block's little-endian bytes
+/// `b`, even-indexed ones first, then odd-indexed (`s`); each replaced by its difference to the
+/// previous one plus 128 (mod 256; `s[0]` kept); zlib. Kept raw when that is not smaller (the
+/// format's rule: a block of the uncompressed size is read as uncompressed). Written here,
+/// rather than by `UncompressedBlock::compress_to_chunk`, for speed: the exr crate uses
+/// miniz_oxide at level 4 and a fresh compressor per block.
 #[derive(Default)]
 struct ZipScratch {
-    /// The block's little-endian bytes.
-    raw: Vec<u8>,
-    /// Its even-indexed bytes, then its odd-indexed ones.
+    /// `s`: the even-indexed bytes of the block, then the odd-indexed ones.
     split: Vec<u8>,
-    /// The predicted bytes: differences (+128) of the split bytes.
+    /// The predicted bytes: differences (+128) of `s`.
     delta: Vec<u8>,
     /// Deflate's output.
     out: Vec<u8>,
@@ -153,22 +152,22 @@ struct ZipScratch {
 }
 
 impl ZipScratch {
-    /// The chunk of the block in `self.raw`, first line at frame row `y`.
-    fn chunk(&mut self, y: i32) -> Chunk {
+    /// The chunk of the block of the `n` `values` (in file order), first line at frame row `y`.
+    fn chunk(&mut self, values: impl Iterator<Item = f32> + Clone, n: usize, y: i32) -> Chunk {
         let Self {
-            raw,
             split,
             delta,
             out,
             deflate,
         } = self;
-        predict(raw, split, delta);
+        split_bytes(values.clone(), n, split);
+        predict(split, delta);
         out.resize(zlib_rs::compress_bound(delta.len()), 0);
         let deflate = deflate.get_or_insert_with(|| zlib_rs::Deflate::new(ZIP_LEVEL, true, 15));
         deflate.reset();
         let done = deflate.compress(delta, out, zlib_rs::DeflateFlush::Finish);
         let n = deflate.total_out() as usize;
-        let compressed = matches!(done, Ok(zlib_rs::Status::StreamEnd)) && n < raw.len();
+        let compressed = matches!(done, Ok(zlib_rs::Status::StreamEnd)) && n < split.len();
         Chunk {
             layer_index: 0,
             compressed_block: CompressedBlock::ScanLine(CompressedScanLineBlock {
@@ -176,56 +175,58 @@ impl ZipScratch {
                 compressed_pixels_le: if compressed {
                     out[..n].to_vec()
                 } else {
-                    raw.clone()
+                    values.flat_map(f32::to_le_bytes).collect()
                 },
             }),
         }
     }
 }
 
-/// OpenEXR's ZIP predictor of `raw` into `delta`: the even-indexed bytes, then the odd-indexed
-/// ones, as `s` (in `split`); `delta[0] = s[0]`, `delta[i] = s[i] − s[i−1] + 128` (mod 256).
-fn predict(raw: &[u8], split: &mut Vec<u8>, delta: &mut Vec<u8>) {
-    let n = raw.len();
-    split.resize(n, 0);
-    let (even, odd) = split.split_at_mut(n.div_ceil(2));
-    for (i, &b) in raw.iter().enumerate() {
-        if i % 2 == 0 {
-            even[i / 2] = b;
-        } else {
-            odd[i / 2] = b;
-        }
-    }
-    delta.resize(n, 0);
-    if let (Some(d0), Some(&s0)) = (delta.first_mut(), split.first()) {
-        *d0 = s0;
-    }
-    for ((d, &s), &p) in delta.iter_mut().skip(1).zip(&split[1..]).zip(split.iter()) {
-        *d = s.wrapping_sub(p).wrapping_add(128);
+/// The little-endian bytes of the `n` `values`, even-indexed ones first, then odd-indexed:
+/// value `j`'s bytes `b0 b1 b2 b3` go to `2j`, `2j + 1` of the first half (`b0`, `b2`) and of
+/// the second (`b1`, `b3`).
+fn split_bytes(values: impl Iterator<Item = f32>, n: usize, split: &mut Vec<u8>) {
+    split.resize(4 * n, 0);
+    let (even, odd) = split.split_at_mut(2 * n);
+    for ((v, e), o) in values
+        .zip(even.chunks_exact_mut(2))
+        .zip(odd.chunks_exact_mut(2))
+    {
+        let [b0, b1, b2, b3] = v.to_le_bytes();
+        e.copy_from_slice(&[b0, b2]);
+        o.copy_from_slice(&[b1, b3]);
     }
 }
 
-/// A scan-line block's uncompressed bytes as OpenEXR lays them out: for each line, each
-/// channel's row of little-endian `f32` values, channels in the header's order.
-fn block_bytes(
-    pixels: &[[f32; 4]],
+/// OpenEXR's ZIP predictor of the split bytes `s` into `delta`: `delta[0] = s[0]`,
+/// `delta[i] = s[i] − s[i−1] + 128` (mod 256).
+fn predict(s: &[u8], delta: &mut Vec<u8>) {
+    delta.clear();
+    delta.extend(s.first());
+    delta.extend(
+        s[1..]
+            .iter()
+            .zip(s)
+            .map(|(&x, &prev)| x.wrapping_sub(prev).wrapping_add(128)),
+    );
+}
+
+/// A scan-line block's values as OpenEXR lays them out: for each line, each channel's row of
+/// `f32` values, channels in the header's order.
+fn block_values<'a>(
+    pixels: &'a [[f32; 4]],
     width: usize,
-    order: &[usize],
+    order: &'a [usize],
     index: &BlockIndex,
-    out: &mut Vec<u8>,
-) {
+) -> impl Iterator<Item = f32> + Clone + 'a {
     let (x0, y0) = (index.pixel_position.x(), index.pixel_position.y());
     let (w, h) = (index.pixel_size.width(), index.pixel_size.height());
-    out.resize(w * h * order.len() * 4, 0);
-    let mut lines = out.chunks_exact_mut(4 * w);
-    for y in y0..y0 + h {
+    (y0..y0 + h).flat_map(move |y| {
         let row = &pixels[y * width + x0..y * width + x0 + w];
-        for (&c, line) in order.iter().zip(&mut lines) {
-            for (p, b) in row.iter().zip(line.chunks_exact_mut(4)) {
-                b.copy_from_slice(&p[c].to_le_bytes());
-            }
-        }
-    }
+        order
+            .iter()
+            .flat_map(move |&c| row.iter().map(move |p| p[c]))
+    })
 }
 
 /// Reads an EXR's first RGBA layer exactly (`f32` bits unchanged), its data window's top row,
