@@ -116,6 +116,45 @@ struct FirstPass {
     factor: u32,
 }
 
+/// The count of the (up to 8) neighbours of cell `[i, j]` of the `[w, h]` grid `first` and the
+/// sums of their luminances and squared luminances, row by row from the top, left to right
+/// (one order for every pixel, so the sums do not depend on the tile).
+#[inline]
+fn neighbours(first: &[FirstPass], [w, h]: [usize; 2], [i, j]: [usize; 2]) -> (u32, f64, f64) {
+    let (mut sy, mut sy2) = (0.0f64, 0.0f64);
+    if i > 0 && j > 0 && i + 1 < w && j + 1 < h {
+        // Inside: the 8 cells at fixed offsets.
+        let c = j * w + i;
+        for at in [
+            c - w - 1,
+            c - w,
+            c - w + 1,
+            c - 1,
+            c + 1,
+            c + w - 1,
+            c + w,
+            c + w + 1,
+        ] {
+            let q = &first[at];
+            sy += q.y as f64;
+            sy2 += q.y2 as f64;
+        }
+        return (8, sy, sy2);
+    }
+    let mut k = 0;
+    for nj in j.saturating_sub(1)..(j + 2).min(h) {
+        for ni in i.saturating_sub(1)..(i + 2).min(w) {
+            if (ni, nj) != (i, j) {
+                let q = &first[nj * w + ni];
+                k += 1;
+                sy += q.y as f64;
+                sy2 += q.y2 as f64;
+            }
+        }
+    }
+    (k, sy, sy2)
+}
+
 /// Sums over a run of a pixel's camera samples: RGB radiance and alpha, luminance and its
 /// square.
 #[derive(Clone, Copy, Debug, Default)]
@@ -247,24 +286,15 @@ impl Film {
                     },
                     (&mut first, rw, [x0, hy0]),
                 );
-                let at = |x: u32, y: u32| &first[(y - hy0) as usize * rw + (x - x0) as usize];
+                let rows = (hy1 - hy0) as usize;
                 par_tiles(
                     self.window,
                     &shared,
                     &|x, y, c, extra| {
-                        let p = at(x, y);
+                        let (i, j) = ((x - x0) as usize, (y - hy0) as usize);
+                        let p = &first[j * rw + i];
                         // Pooled luminance statistics of the neighbours' first samples.
-                        let (mut k, mut sy, mut sy2) = (0u32, 0.0f64, 0.0f64);
-                        for ny in y.saturating_sub(1).max(hy0)..(y + 2).min(hy1) {
-                            for nx in x.saturating_sub(1).max(x0)..(x + 2).min(x1) {
-                                if (nx, ny) != (x, y) {
-                                    let q = at(nx, ny);
-                                    k += 1;
-                                    sy += q.y as f64;
-                                    sy2 += q.y2 as f64;
-                                }
-                            }
-                        }
+                        let (k, sy, sy2) = neighbours(&first, [rw, rows], [i, j]);
                         let m = k * self.spp;
                         let (mean, var) = if k == 0 {
                             (0.0, 0.0)
@@ -455,5 +485,50 @@ impl Film {
             sums.y2 += l * l;
         }
         sums
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The neighbourhood sums equal a direct count over the 3 × 3 block clipped to the grid,
+    /// inside (the fast path), along edges and at corners, in grids down to one cell.
+    #[test]
+    fn neighbour_sums_match_the_clipped_block() {
+        for [w, h] in [[1, 1], [1, 4], [3, 1], [2, 2], [5, 4], [7, 6]] {
+            let first: Vec<FirstPass> = (0..w * h)
+                .map(|n| FirstPass {
+                    y: (n * n % 11) as f32 + 0.25,
+                    y2: (n % 7) as f32 * 1.5,
+                    ..FirstPass::default()
+                })
+                .collect();
+            for j in 0..h {
+                for i in 0..w {
+                    let (mut k, mut sy, mut sy2) = (0, 0.0, 0.0);
+                    for nj in j as i64 - 1..=j as i64 + 1 {
+                        for ni in i as i64 - 1..=i as i64 + 1 {
+                            let inside = (0..w as i64).contains(&ni) && (0..h as i64).contains(&nj);
+                            if inside && (ni, nj) != (i as i64, j as i64) {
+                                let q = &first[nj as usize * w + ni as usize];
+                                k += 1;
+                                sy += q.y as f64;
+                                sy2 += q.y2 as f64;
+                            }
+                        }
+                    }
+                    let expected_k = (i.min(1) + 1 + (w - 1 - i).min(1))
+                        * (j.min(1) + 1 + (h - 1 - j).min(1))
+                        - 1;
+                    assert_eq!(k as usize, expected_k);
+                    assert_eq!(
+                        neighbours(&first, [w, h], [i, j]),
+                        (k, sy, sy2),
+                        "{w}×{h} at {i},{j}"
+                    );
+                }
+            }
+        }
     }
 }
