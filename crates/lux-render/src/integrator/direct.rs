@@ -308,6 +308,11 @@ impl<'a> DirectIntegrator<'a> {
                             ConeSearch::Clear => from
                                 .shadow_ball()
                                 .map(|(centre, ..)| (centre - sp.p).normalize()),
+                            // Something may block the patch, and the light's samples are its
+                            // closed form where unblocked: a search of the point's own region
+                            // would only spare its shadow rays, at about their cost, and most
+                            // often (in a penumbra) find a blocker.
+                            ConeSearch::Blocked(_) if from.samples_exactly() => None,
                             // A rect's pyramid (tighter than its ball's cone), else the cone.
                             _ => match from.shadow_pyramid(sp.p, sp.ng, sp.offset) {
                                 Some(pyramid) => clear_from(w, base, &pyramid, patch, &casts)

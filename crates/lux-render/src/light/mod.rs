@@ -271,6 +271,15 @@ impl LightFrom<'_> {
         }
     }
 
+    /// Whether each light sample from this receiver returns its closed form
+    /// ([`LightFrom::unshadowed`]) exactly where it is unblocked: a uniform sphere drawn from
+    /// its projected cap (`L·cos θ / pdf = L·Π` for every sample). Its closed form then saves
+    /// the shadow rays but removes no noise.
+    #[inline]
+    pub fn samples_exactly(&self) -> bool {
+        matches!(self, LightFrom::Sphere(l, from) if l.uniform_area() && from.projected_cap().is_some())
+    }
+
     /// The ball holding every point a shadow ray of [`LightFrom::shadow_cone`] ends at, and
     /// where in it they end: the sphere light itself (`inputs:radius`, scaled), the rect's
     /// circumscribed ball, the disk's. The same from every receiver.
@@ -610,6 +619,76 @@ fn planar_emission_half_angle(base: &LightBase) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Only a sphere seen as its projected cap samples its closed form exactly (what lets the
+    /// direct integrator skip a point's own search for it): every sample's `L·cos θ / pdf`
+    /// is `L·Π` there; not so for a disk or a rect, nor for a sphere cut by the horizon.
+    #[test]
+    fn only_a_sphere_seen_as_its_cap_samples_exactly() {
+        use lux_math::{LightShape, Profile};
+        let down = |c: DVec3| {
+            let q = glam::DQuat::from_rotation_arc(DVec3::NEG_Z, DVec3::NEG_Y);
+            glam::DMat4::from_rotation_translation(q, c)
+        };
+        let mut scene = lux_usd::Scene::empty("lights.usda");
+        for (path, shape, c) in [
+            (
+                "/Cap",
+                LightShape::Sphere { radius: 0.3 },
+                DVec3::new(0.4, 1.5, -0.2),
+            ),
+            (
+                "/Cut",
+                LightShape::Sphere { radius: 0.5 },
+                DVec3::new(1.0, 0.3, 0.0),
+            ),
+            (
+                "/Disk",
+                LightShape::Disk { radius: 0.3 },
+                DVec3::new(0.4, 1.5, -0.2),
+            ),
+            (
+                "/Rect",
+                LightShape::Rect {
+                    width: 0.6,
+                    height: 0.4,
+                },
+                DVec3::new(0.4, 1.5, -0.2),
+            ),
+        ] {
+            scene
+                .lights
+                .push(lux_usd::Light::with_defaults(path, shape, down(c)));
+        }
+        let options = LightOptions {
+            profile: Profile::Spec,
+            selection: LightSelection::All,
+            strict: false,
+            cone_clipping: true,
+        };
+        let set = LightSet::new(&scene, options).unwrap();
+        let r = Reference::surface(DVec3::ZERO, DVec3::Y);
+        let exact: Vec<bool> = set
+            .lights
+            .iter()
+            .map(|l| {
+                l.seen_from(&r, Strategy::Lux, |from| {
+                    let closed = from.unshadowed(DVec3::ZERO, DVec3::Y);
+                    let mut same = closed.is_some();
+                    for i in 0..64 {
+                        let u = [(i % 8) as f64 / 8.0 + 0.03, (i / 8) as f64 / 8.0 + 0.05];
+                        if let (Some(s), Some(c)) = (from.sample_li(u), closed) {
+                            let v = s.l * (s.wi.y / s.pdf);
+                            same &= (v - c).abs().max_element() <= 1e-9 * c.max_element();
+                        }
+                    }
+                    assert_eq!(from.samples_exactly(), same, "{:?}", l.base().path);
+                    same
+                })
+            })
+            .collect();
+        assert_eq!(exact, [true, false, false, false]);
+    }
 
     #[test]
     fn quadratic_roots() {
