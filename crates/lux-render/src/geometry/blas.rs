@@ -21,7 +21,8 @@ use std::time::Duration;
 pub(super) struct PrimRef {
     /// Index into `Scene::meshes`.
     pub mesh: u32,
-    /// Triangle index within the mesh.
+    /// Triangle index within the mesh (in [`super::Geometry`]'s shadow BVH, for a planar mesh
+    /// it replaced by its outline, the index of the outline's fan triangle: never shaded).
     pub tri: u32,
     /// The mesh's `doubleSided`: false = invisible from behind to closest-hit queries.
     pub double_sided: bool,
@@ -49,38 +50,53 @@ impl Blas {
         meshes: impl Iterator<Item = usize>,
         stored: &mut usize,
     ) -> Option<Blas> {
+        Blas::from_triangles(
+            meshes.flat_map(|mi| {
+                let m = &scene.meshes[mi];
+                m.triangles.iter().enumerate().filter_map(move |(ti, t)| {
+                    let v = t.map(|i| m.positions.get(i as usize).copied());
+                    let [Some(a), Some(b), Some(c)] = v else {
+                        return None;
+                    };
+                    let prim = PrimRef {
+                        mesh: mi as u32,
+                        tri: ti as u32,
+                        double_sided: m.double_sided,
+                    };
+                    Some((prim, [a, b, c]))
+                })
+            }),
+            stored,
+        )
+    }
+
+    /// [`Blas::build`] over the triangles `items` (each with where it comes from): those with
+    /// a non-finite vertex or zero area are kept out.
+    pub fn from_triangles(
+        items: impl Iterator<Item = (PrimRef, [DVec3; 3])>,
+        stored: &mut usize,
+    ) -> Option<Blas> {
         let mut tris = Vec::new();
         let mut prims = Vec::new();
         let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-        for mi in meshes {
-            let m = &scene.meshes[mi];
-            for (ti, t) in m.triangles.iter().enumerate() {
-                let v = t.map(|i| m.positions.get(i as usize).copied());
-                let [Some(a), Some(b), Some(c)] = v else {
-                    continue;
-                };
-                if !(a.is_finite() && b.is_finite() && c.is_finite())
-                    || (b - a).cross(c - a).length_squared() == 0.0
-                {
-                    continue;
-                }
-                if *stored >= MAX_TRIANGLES {
-                    break;
-                }
-                *stored += 1;
-                lo = lo.min(a).min(b).min(c);
-                hi = hi.max(a).max(b).max(c);
-                tris.push(Triangle {
-                    v0: a.as_vec3().into(),
-                    v1: b.as_vec3().into(),
-                    v2: c.as_vec3().into(),
-                });
-                prims.push(PrimRef {
-                    mesh: mi as u32,
-                    tri: ti as u32,
-                    double_sided: m.double_sided,
-                });
+        for (prim, [a, b, c]) in items {
+            if !(a.is_finite() && b.is_finite() && c.is_finite())
+                || (b - a).cross(c - a).length_squared() == 0.0
+            {
+                continue;
             }
+            if *stored >= MAX_TRIANGLES {
+                break;
+            }
+            *stored += 1;
+            lo = lo.min(a).min(b).min(c);
+            hi = hi.max(a).max(b).max(c);
+            tris.push(Triangle {
+                v0: a.as_vec3().into(),
+                v1: b.as_vec3().into(),
+                v2: c.as_vec3().into(),
+            });
+            prims.push(prim);
         }
         if tris.is_empty() {
             return None;

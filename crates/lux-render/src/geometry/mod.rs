@@ -16,6 +16,10 @@
 //! ulps of the largest coordinate involved), so shadow and continuation rays never re-hit the
 //! surface they leave.
 //!
+//! Shadow rays ([`Geometry::occluded`], [`Geometry::first_occluder`]) query a second BVH when
+//! some world meshes are flat cards tiling a convex polygon (`geometry/planar.rs`): those
+//! meshes as their outline's fan triangles, which block exactly what their triangles block.
+//!
 //! Back faces: a triangle of a mesh that is not `doubleSided` is invisible from behind to
 //! closest-hit queries (UsdGeom: single-sided geometry may be back-face culled), but it
 //! occludes shadow rays from both sides, so a one-sided wall still casts a shadow.
@@ -24,6 +28,7 @@ mod blas;
 pub(crate) mod cone;
 mod instances;
 mod lights;
+mod planar;
 pub(crate) mod pyramid;
 
 use crate::light::{Light, LightHit};
@@ -169,6 +174,10 @@ pub struct Occluder {
 pub struct Geometry {
     /// The world-space meshes (`Mesh::prototype == None`).
     world: Option<Blas>,
+    /// What shadow rays and shadow-region searches test instead of `world` when some of its
+    /// meshes are planar tilings of a convex polygon (`geometry/planar.rs`): those meshes as
+    /// their outlines' fan triangles, the others as in `world`. `None` when no mesh is.
+    shadow: Option<Blas>,
     /// Instanced prototypes and their placements.
     instances: Option<Instances>,
     /// The analytic area lights.
@@ -276,17 +285,56 @@ impl Geometry {
     /// which must then be given the same slice.
     pub fn with_lights(scene: &Scene, lights: &[Light]) -> Geometry {
         let mut stored = 0;
-        let world = Blas::build(
-            scene,
-            (0..scene.meshes.len()).filter(|&i| scene.meshes[i].prototype.is_none()),
-            &mut stored,
-        );
+        let world_meshes =
+            || (0..scene.meshes.len()).filter(|&i| scene.meshes[i].prototype.is_none());
+        let world = Blas::build(scene, world_meshes(), &mut stored);
         let instances = Instances::build(scene, &mut stored);
         Geometry {
+            shadow: world
+                .as_ref()
+                .and_then(|_| Self::shadow_blas(scene, world_meshes())),
             world,
             instances,
             lights: LightShapes::new(lights),
         }
+    }
+
+    /// The shadow BVH of [`Geometry::shadow`]: the meshes `meshes`, each planar tiling of a
+    /// convex polygon as its outline's fan (`planar::tiled_hull`); `None` when none is.
+    fn shadow_blas(scene: &Scene, meshes: impl Iterator<Item = usize>) -> Option<Blas> {
+        let mut replaced = false;
+        let mut items = Vec::new();
+        for mi in meshes {
+            let m = &scene.meshes[mi];
+            let prim = |tri: usize| blas::PrimRef {
+                mesh: mi as u32,
+                tri: tri as u32,
+                double_sided: m.double_sided,
+            };
+            match planar::tiled_hull(&m.positions, &m.triangles) {
+                Some(fan) => {
+                    replaced = true;
+                    items.extend(fan.into_iter().enumerate().map(|(k, t)| (prim(k), t)));
+                }
+                None => items.extend(m.triangles.iter().enumerate().filter_map(|(ti, t)| {
+                    let v = t.map(|i| m.positions.get(i as usize).copied());
+                    let [Some(a), Some(b), Some(c)] = v else {
+                        return None;
+                    };
+                    Some((prim(ti), [a, b, c]))
+                })),
+            }
+        }
+        // (its own count: these triangles stand for the world's, already counted)
+        replaced
+            .then(|| Blas::from_triangles(items.into_iter(), &mut 0))
+            .flatten()
+    }
+
+    /// What shadow rays test: the shadow BVH, else the world's.
+    #[inline]
+    fn blockers(&self) -> Option<&Blas> {
+        self.shadow.as_ref().or(self.world.as_ref())
     }
 
     /// Number of analytic area lights indexed.
@@ -353,6 +401,7 @@ impl Geometry {
     /// Bytes held by the BVHs, their triangles and the instance placements.
     pub fn heap_bytes(&self) -> usize {
         self.world.as_ref().map_or(0, Blas::heap_bytes)
+            + self.shadow.as_ref().map_or(0, Blas::heap_bytes)
             + self.instances.as_ref().map_or(0, Instances::heap_bytes)
     }
 
@@ -501,7 +550,7 @@ impl Geometry {
             return self.first_occluder_instanced(inst, ray, origin, dir);
         }
         let mut hit = RayHit::none();
-        (self.world.as_ref()?.nearest(ray, &mut hit)).then_some(hit.t as f64)
+        (self.blockers()?.nearest(ray, &mut hit)).then_some(hit.t as f64)
     }
 
     /// [`Geometry::first_occluder`] with instances.
@@ -514,10 +563,7 @@ impl Geometry {
         dir: DVec3,
     ) -> Option<f64> {
         let mut hit = RayHit::none();
-        let found = self
-            .world
-            .as_ref()
-            .is_some_and(|w| w.nearest(ray, &mut hit));
+        let found = self.blockers().is_some_and(|w| w.nearest(ray, &mut hit));
         let mut r = ray;
         if found {
             r.tmax = hit.t;
@@ -540,7 +586,7 @@ impl Geometry {
     ) -> Option<Occluder> {
         let ray = Self::ray(origin, dir, tmin, tmax)?;
         let mut hit = RayHit::none();
-        let world = self.world.as_ref().filter(|w| w.nearest(ray, &mut hit));
+        let world = self.blockers().filter(|w| w.nearest(ray, &mut hit));
         let mut r = ray;
         if world.is_some() {
             r.tmax = hit.t;
@@ -608,13 +654,13 @@ impl Geometry {
         if let Some(inst) = &self.instances {
             return self.occluded_instanced(inst, ray, origin, dir);
         }
-        self.world.as_ref().is_some_and(|w| w.any(ray))
+        self.blockers().is_some_and(|w| w.any(ray))
     }
 
     /// [`Geometry::occluded`] with instances: the world BVH, then the instances.
     #[inline(never)]
     fn occluded_instanced(&self, inst: &Instances, ray: Ray, origin: DVec3, dir: DVec3) -> bool {
-        self.world.as_ref().is_some_and(|w| w.any(ray)) || inst.any(origin, dir, ray)
+        self.blockers().is_some_and(|w| w.any(ray)) || inst.any(origin, dir, ray)
     }
 }
 
@@ -701,6 +747,116 @@ pub(crate) mod tests {
             g.intersect(&scene, DVec3::new(0.25, 5.0, 0.5), DVec3::NEG_Y, 0.0, 3.5)
                 .is_none()
         );
+    }
+
+    /// A subdivided floor and a subdivided tilted card (planar tilings) and a bent strip (not
+    /// planar): the shadow BVH holds the two cards as 2 triangles each and the strip as it is,
+    /// and answers 20,000 shadow rays (from the floor, from above, grazing, through the card's
+    /// edges) as the world BVH does, with the same first occluder's mesh and distance.
+    #[test]
+    fn shadow_bvh_of_planar_tilings_answers_as_the_meshes() {
+        let grid = |path: &str, n: u32, map: &dyn Fn(f64, f64) -> DVec3| {
+            let mut p = Vec::new();
+            for j in 0..=n {
+                for i in 0..=n {
+                    p.push(map(i as f64 / n as f64, j as f64 / n as f64));
+                }
+            }
+            let at = |i: u32, j: u32| j * (n + 1) + i;
+            let mut t = Vec::new();
+            for j in 0..n {
+                for i in 0..n {
+                    t.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                    t.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+                }
+            }
+            Mesh::new(path, p, t)
+        };
+        let floor = grid("/floor", 9, &|u, v| {
+            DVec3::new(10.0 * u - 5.0, 0.0, 10.0 * v - 5.0)
+        });
+        let card = grid("/card", 9, &|u, v| {
+            DVec3::new(u - 0.5, 1.0 + 0.3 * v, 0.8 * v - 0.4)
+        });
+        let strip = grid("/strip", 6, &|u, v| {
+            DVec3::new(2.0 + u, 0.5 + 0.4 * (3.0 * u).sin(), v - 0.5)
+        });
+        let scene = scene_with(vec![floor, card, strip]);
+        let g = Geometry::new(&scene);
+        let (world, shadow) = (g.world.as_ref().unwrap(), g.shadow.as_ref().unwrap());
+        assert_eq!(world.len(), 162 + 162 + 72);
+        assert_eq!(shadow.len(), 2 + 2 + 72);
+        let mut rng = lux_sample::SplitMix64::new(5);
+        let mut u = || rng.next_f64();
+        let (mut hits, mut misses) = (0, 0);
+        for i in 0..20_000 {
+            let (o, d) = match i % 4 {
+                // From the floor towards the card's region.
+                0 => {
+                    let o = DVec3::new(6.0 * u() - 3.0, 0.0, 6.0 * u() - 3.0);
+                    let o = o + DVec3::Y * offset_scale(o);
+                    (
+                        o,
+                        (DVec3::new(u() - 0.5, 1.2, 0.8 * u() - 0.4) - o).normalize(),
+                    )
+                }
+                // From above, down through everything.
+                1 => (
+                    DVec3::new(8.0 * u() - 4.0, 4.0, 8.0 * u() - 4.0),
+                    DVec3::new(u() - 0.5, -1.0, u() - 0.5).normalize(),
+                ),
+                // Grazing over the floor.
+                2 => (
+                    DVec3::new(-6.0, 1e-3 + 0.01 * u(), 6.0 * u() - 3.0),
+                    DVec3::new(1.0, 0.02 * (u() - 0.5), 0.3 * (u() - 0.5)).normalize(),
+                ),
+                // Aimed at the card's edges and grid lines.
+                _ => {
+                    let k = (9.0 * u()).round() / 9.0;
+                    let target = DVec3::new(k - 0.5, 1.0 + 0.3 * u(), 0.8 * u() - 0.4);
+                    let o = DVec3::new(2.0 * u() - 1.0, 3.0, 2.0 * u() - 1.0);
+                    (o, (target - o).normalize())
+                }
+            };
+            let ray = Geometry::ray(o, d, 0.0, 50.0).unwrap();
+            let (mut a, mut b) = (RayHit::none(), RayHit::none());
+            let (wa, wb) = (world.nearest(ray, &mut a), shadow.nearest(ray, &mut b));
+            assert_eq!(
+                world.any(ray),
+                shadow.any(ray),
+                "ray {i} from {o} along {d}"
+            );
+            assert_eq!(wa, wb, "ray {i}");
+            if wa {
+                hits += 1;
+                let (ma, mb) = (
+                    world.prims[a.primitive_id as usize],
+                    shadow.prims[b.primitive_id as usize],
+                );
+                assert_eq!(ma.mesh, mb.mesh, "ray {i}");
+                assert!(
+                    (a.t - b.t).abs() <= 1e-5 * a.t.max(1.0),
+                    "ray {i}: {} vs {}",
+                    a.t,
+                    b.t
+                );
+            } else {
+                misses += 1;
+            }
+        }
+        assert!(
+            hits > 5_000 && misses > 2_000,
+            "{hits} hits, {misses} misses"
+        );
+        // The queries go to the shadow BVH (off the fans' diagonals, which `f32` ray-triangle
+        // tests, like any shared edge, may let an exactly aimed ray through).
+        let o = DVec3::new(0.1, 3.0, 0.07);
+        assert_eq!(
+            g.first_occluder_at(o, DVec3::NEG_Y, 0.0, 10.0)
+                .map(|h| h.mesh),
+            Some(1)
+        );
+        assert!(g.occluded(o, DVec3::NEG_Y, 0.0, 10.0));
     }
 
     /// The exact hit's normal is `normalize(±(b − a) × (c − a))` and its barycentrics use
