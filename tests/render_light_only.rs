@@ -15,7 +15,7 @@ use lux::math::{LightShape, Profile};
 use lux::render::light::LightSelection;
 use lux::render::render::Renderer;
 use lux::render::settings::IntegratorKind;
-use lux::usd::{Light, Mesh, Scene};
+use lux::usd::{Instance, Light, Mesh, Prototype, Scene};
 use std::f64::consts::PI;
 
 /// A light at `pos` whose emitting −Z axis points along `dir`.
@@ -205,6 +205,51 @@ fn lights_nothing_can_block_take_their_closed_form_without_shadow_rays() {
             mis,
             3e-3,
             &format!("{what}: light sampling alone vs MIS"),
+        );
+
+        // The same square as an instance (geometry/instances.rs: its world box is what the
+        // search sees): far to the side, the closed form still holds without a shadow ray;
+        // halfway, the light is sampled and shadowed as by the world square.
+        let square = blocked.meshes.pop().unwrap();
+        let instanced = |at: DVec3| {
+            let mut s = blocked.clone();
+            let proto = s.meshes.len();
+            s.meshes.push(Mesh {
+                prototype: Some(0),
+                positions: square.positions.iter().map(|&p| p - m).collect(),
+                ..square.clone()
+            });
+            s.prototypes.push(Prototype {
+                path: "/Proto".into(),
+                meshes: vec![proto],
+            });
+            s.instances.push(Instance {
+                path: "/Blocker".into(),
+                prototype: 0,
+                to_world: DMat4::from_translation(at),
+                material: None,
+            });
+            s
+        };
+        let (img, stats) = render(
+            &instanced(DVec3::new(-3.0, 0.2, 2.5)),
+            4,
+            LightSelection::All,
+        );
+        assert_eq!(stats.shadow_rays, 0, "{what}: an instance far away");
+        close(
+            img.pixels[0][0] as f64,
+            want,
+            1e-5,
+            &format!("{what}: closed form beside an instance"),
+        );
+        let (img, stats) = render(&instanced(m), 1 << 14, LightSelection::All);
+        assert!(stats.shadow_rays > 0, "{what}: an instance halfway");
+        close(
+            img.pixels[0][0] as f64,
+            mis,
+            3e-3,
+            &format!("{what}: instanced square vs MIS"),
         );
     }
 }

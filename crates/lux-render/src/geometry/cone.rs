@@ -34,14 +34,19 @@ pub enum RayEnds {
     Anywhere,
 }
 
+/// The [`ConeSearch::Blocked`] id of instanced geometry: some instance's world box meets the
+/// region (its prototype is not searched).
+pub const INSTANCED: u32 = u32::MAX;
+
 /// What a search of the BVH against a [`ShadowCone`] found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ConeSearch {
     /// No triangle can stop any of its rays.
     Clear,
-    /// This triangle (an index into the world BVH's triangles) might.
+    /// This triangle (an index into the world BVH's triangles) might; or, for
+    /// [`INSTANCED`], an instance's box meets the region.
     Blocked(u32),
-    /// Not searched (instanced geometry).
+    /// Not searched (a point on instanced geometry).
     Unsearched,
 }
 

@@ -22,8 +22,8 @@
 //! `(M⁻ᵀn)·d = n·(M⁻¹d) = n·d'`.
 
 use super::blas::Blas;
-use super::{Hit, exact_hit, offset_scale};
-use glam::{DAffine3, DMat3, DVec3, Vec3, Vec3A};
+use super::{Hit, ShadowRegion, exact_hit, offset_scale};
+use glam::{DAffine3, DMat3, DVec3, UVec2, Vec3, Vec3A};
 use lux_usd::Scene;
 use obvhs::BvhBuildParams;
 use obvhs::aabb::Aabb;
@@ -287,6 +287,28 @@ impl Instances {
                 _ => f32::INFINITY,
             }
         })
+    }
+
+    /// Whether the (padded, `f32`) world box of some instance may meet `region`: what a
+    /// shadow-region search can say of instanced geometry without looking inside the
+    /// prototypes (conservative: `false` only when no instance can block a ray of the region).
+    pub fn may_block(&self, region: &impl ShadowRegion) -> bool {
+        let mut state = self.tlas.new_traversal(region.axis().as_vec3a());
+        let mut node;
+        let mut found = false;
+        'outer: {
+            obvhs::traverse!(
+                self.tlas,
+                node,
+                state,
+                region.node_mask(node, state.oct_inv4),
+                {
+                    found = true;
+                    break 'outer;
+                }
+            );
+        }
+        found
     }
 
     /// The exact hit of `h` on `origin + t·dir`: the prototype triangle's vertices mapped to

@@ -33,7 +33,7 @@ pub(crate) mod pyramid;
 
 use crate::light::{Light, LightHit};
 use blas::Blas;
-pub use cone::{ConeSearch, RayEnds, ShadowCone};
+pub use cone::{ConeSearch, INSTANCED, RayEnds, ShadowCone};
 use glam::{DVec2, DVec3, Vec3A, Vec4};
 use instances::Instances;
 pub(crate) use instances::drawable_transform;
@@ -609,40 +609,44 @@ impl Geometry {
     }
 
     /// True when no triangle of a mesh that `casts` (a `Scene::meshes` index: what a light's
-    /// shadow linking keeps) can stop a shadow ray inside `cone` ([`ShadowCone`]); false when
-    /// unsure, and always with instances (their prototypes are not searched).
+    /// shadow linking keeps) can stop a shadow ray inside `cone` ([`ShadowCone`]), and no
+    /// instance's world box meets it (instances are not searched inside, and are taken to cast
+    /// every light's shadow); false when unsure.
     pub fn cone_clear(&self, cone: &impl ShadowRegion, casts: &impl Fn(usize) -> bool) -> bool {
-        self.instances.is_none()
-            && self
-                .world
-                .as_ref()
-                .is_none_or(|w| w.cone_clear(cone, casts))
+        self.world
+            .as_ref()
+            .is_none_or(|w| w.cone_clear(cone, casts))
+            && self.instances.as_ref().is_none_or(|i| !i.may_block(cone))
     }
 
     /// What can stop the shadow rays inside `cone` ([`ShadowCone`]) among the triangles of
-    /// meshes that `casts`: nothing, or the first triangle found that `cone` does not rule out
-    /// ([`ConeSearch`]); [`ConeSearch::Unsearched`] with instances.
+    /// meshes that `casts`: nothing, or the first world triangle found that `cone` does not
+    /// rule out, else [`INSTANCED`] when an instance's world box meets it ([`ConeSearch`]).
     pub fn cone_search(
         &self,
         cone: &impl ShadowRegion,
         casts: &impl Fn(usize) -> bool,
     ) -> ConeSearch {
-        if self.instances.is_some() {
-            return ConeSearch::Unsearched;
-        }
         match self
             .world
             .as_ref()
             .and_then(|w| w.cone_blocker(cone, casts))
         {
-            None => ConeSearch::Clear,
             Some(id) => ConeSearch::Blocked(id),
+            None if self.instances.as_ref().is_some_and(|i| i.may_block(cone)) => {
+                ConeSearch::Blocked(INSTANCED)
+            }
+            None => ConeSearch::Clear,
         }
     }
 
-    /// Whether `cone` rules out the world triangle `id` of a [`ConeSearch::Blocked`].
+    /// Whether `cone` rules out the blocker `id` of a [`ConeSearch::Blocked`]: a world
+    /// triangle, or for [`INSTANCED`] every instance's box.
     #[inline]
     pub fn culls(&self, cone: &impl ShadowRegion, id: u32) -> bool {
+        if id == INSTANCED {
+            return self.instances.as_ref().is_none_or(|i| !i.may_block(cone));
+        }
         self.world.as_ref().is_none_or(|w| w.culls(cone, id))
     }
 

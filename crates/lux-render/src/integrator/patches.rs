@@ -64,8 +64,8 @@ impl ClearPatches {
     /// from some point of the patch around the shading point `sp` ([`ConeSearch`]): rays
     /// towards the ball (`centre`, `radius`, `ends`), or with `corners` towards that rect
     /// (its pyramid, [`ShadowPyramid::patch`]; the ball then holds it and sizes the cells).
-    /// [`ConeSearch::Unsearched`] for instances and out-of-range coordinates, which are not
-    /// searched here.
+    /// [`ConeSearch::Unsearched`] for points on instances and out-of-range coordinates, which
+    /// are not searched here.
     #[allow(clippy::too_many_arguments)]
     pub fn search(
         &mut self,
