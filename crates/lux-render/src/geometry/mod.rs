@@ -174,9 +174,9 @@ pub struct Occluder {
 pub struct Geometry {
     /// The world-space meshes (`Mesh::prototype == None`).
     world: Option<Blas>,
-    /// What shadow rays and shadow-region searches test instead of `world` when some of its
-    /// meshes are planar tilings of a convex polygon (`geometry/planar.rs`): those meshes as
-    /// their outlines' fan triangles, the others as in `world`. `None` when no mesh is.
+    /// What shadow rays test instead of `world` when planar tilings of a convex polygon
+    /// (`geometry/planar.rs`) make most of it: those meshes as their outlines' fan triangles,
+    /// the others as in `world` ([`Geometry::shadow_blas`]). `None` otherwise.
     shadow: Option<Blas>,
     /// Instanced prototypes and their placements.
     instances: Option<Instances>,
@@ -288,20 +288,30 @@ impl Geometry {
         let world_meshes =
             || (0..scene.meshes.len()).filter(|&i| scene.meshes[i].prototype.is_none());
         let world = Blas::build(scene, world_meshes(), &mut stored);
+        // (not when the world stopped at MAX_TRIANGLES: shadow rays would see what it left out)
+        let shadow = world
+            .as_ref()
+            .filter(|_| stored < MAX_TRIANGLES)
+            .and_then(|w| Self::shadow_blas(scene, world_meshes(), w.len()));
         let instances = Instances::build(scene, &mut stored);
         Geometry {
-            shadow: world
-                .as_ref()
-                .and_then(|_| Self::shadow_blas(scene, world_meshes())),
+            shadow,
             world,
             instances,
             lights: LightShapes::new(lights),
         }
     }
 
-    /// The shadow BVH of [`Geometry::shadow`]: the meshes `meshes`, each planar tiling of a
-    /// convex polygon as its outline's fan (`planar::tiled_hull`); `None` when none is.
-    fn shadow_blas(scene: &Scene, meshes: impl Iterator<Item = usize>) -> Option<Blas> {
+    /// The shadow BVH of [`Geometry::shadow`]: the meshes `meshes` (the world BVH's, of
+    /// `world_len` triangles), each planar tiling of a convex polygon as its outline's fan
+    /// (`planar::tiled_hull`). Only when it holds at most a quarter of the world's triangles:
+    /// it repeats the other meshes' triangles, so its memory stays under a quarter of the
+    /// world BVH's, and it is built only where it saves most of the shadow rays' work.
+    fn shadow_blas(
+        scene: &Scene,
+        meshes: impl Iterator<Item = usize>,
+        world_len: usize,
+    ) -> Option<Blas> {
         let mut replaced = false;
         let mut items = Vec::new();
         for mi in meshes {
@@ -326,7 +336,7 @@ impl Geometry {
             }
         }
         // (its own count: these triangles stand for the world's, already counted)
-        replaced
+        (replaced && 4 * items.len() <= world_len)
             .then(|| Blas::from_triangles(items.into_iter(), &mut 0))
             .flatten()
     }
@@ -854,6 +864,7 @@ pub(crate) mod tests {
         );
         // The queries go to the shadow BVH (off the fans' diagonals, which `f32` ray-triangle
         // tests, like any shared edge, may let an exactly aimed ray through).
+        assert!(std::ptr::eq(g.blockers().unwrap(), shadow));
         let o = DVec3::new(0.1, 3.0, 0.07);
         assert_eq!(
             g.first_occluder_at(o, DVec3::NEG_Y, 0.0, 10.0)
@@ -861,6 +872,14 @@ pub(crate) mod tests {
             Some(1)
         );
         assert!(g.occluded(o, DVec3::NEG_Y, 0.0, 10.0));
+        // No shadow BVH without planar tilings, nor where they are a small part (the card and
+        // three strips: 2 + 216 of 378 triangles, more than a quarter).
+        let g = Geometry::new(&scene_with(vec![scene.meshes[2].clone()]));
+        assert!(
+            g.shadow.is_none() && std::ptr::eq(g.blockers().unwrap(), g.world.as_ref().unwrap())
+        );
+        let mostly_strips = [1, 2, 2, 2].map(|i| scene.meshes[i].clone()).to_vec();
+        assert!(Geometry::new(&scene_with(mostly_strips)).shadow.is_none());
     }
 
     /// The exact hit's normal is `normalize(±(b − a) × (c − a))` and its barycentrics use

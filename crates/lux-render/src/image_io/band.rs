@@ -203,9 +203,9 @@ fn split_bytes(values: impl Iterator<Item = f32>, n: usize, split: &mut Vec<u8>)
 fn predict(s: &[u8], delta: &mut Vec<u8>) {
     delta.clear();
     delta.extend(s.first());
+    let rest = s.get(1..).unwrap_or_default();
     delta.extend(
-        s[1..]
-            .iter()
+        rest.iter()
             .zip(s)
             .map(|(&x, &prev)| x.wrapping_sub(prev).wrapping_add(128)),
     );
