@@ -223,7 +223,7 @@ impl ShadowRegion for ShadowCone {
     /// `q ∈ [0, 255]³`), in `f32`: the projections onto `ng` and the axis, and the distance to
     /// the apex, are a few multiply-adds per child there. Their rounding (a few ulps of the
     /// coordinates) is far inside the margins (1e-5 of the scene scale, the offset).
-    #[inline]
+    #[inline(always)]
     fn node_mask(&self, node: &CwBvhNode, oct_inv4: u32) -> u32 {
         let e = node.compute_extent();
         let origin = Vec3A::from(node.p);

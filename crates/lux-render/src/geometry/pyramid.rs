@@ -132,7 +132,7 @@ impl ShadowRegion for ShadowPyramid {
     /// order of `oct_inv4` (as the cone's, [`super::ShadowCone`]): the
     /// children's boxes in the node's quantized frame, in `f32`, each plane's largest value
     /// over a box from its corner farthest along the normal.
-    #[inline]
+    #[inline(always)]
     fn node_mask(&self, node: &CwBvhNode, oct_inv4: u32) -> u32 {
         let e = node.compute_extent();
         let origin = Vec3A::from(node.p);
