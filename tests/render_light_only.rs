@@ -162,20 +162,21 @@ fn lights_nothing_can_block_take_their_closed_form_without_shadow_rays() {
         let what = light.path.clone();
         // (the light's radiance: intensity 3 on a white Lambertian floor, ρ/π · L · Π)
         let want = 3.0 * pi / PI;
+        // The closed form, without a light sample or a shadow ray (to the pixel footprint's
+        // variation of E).
+        let closed_form = |s: &Scene, case: &str| {
+            let (img, stats) = render(s, 4, LightSelection::All);
+            assert_eq!(stats.shadow_rays, 0, "{what}, {case}: no shadow ray");
+            assert_eq!(stats.light_samples, 0, "{what}, {case}");
+            close(
+                img.pixels[0][0] as f64,
+                want,
+                1e-5,
+                &format!("{what}, {case}"),
+            );
+        };
         let clear = probe_scene(vec![light], 0.0, 0.0);
-        let (img, stats) = render(&clear, 4, LightSelection::All);
-        assert_eq!(
-            stats.shadow_rays, 0,
-            "{what}: no shadow ray where nothing can block"
-        );
-        assert_eq!(stats.light_samples, 0, "{what}");
-        // (the pixel footprint's variation of E)
-        close(
-            img.pixels[0][0] as f64,
-            want,
-            1e-5,
-            &format!("{what}: closed form"),
-        );
+        closed_form(&clear, "nothing can block");
 
         // A small square halfway to the light, in its cone or pyramid: sampled, shadowed, and
         // converging to what MIS (one light chosen by power, light and BSDF samples: no
@@ -231,17 +232,9 @@ fn lights_nothing_can_block_take_their_closed_form_without_shadow_rays() {
             });
             s
         };
-        let (img, stats) = render(
+        closed_form(
             &instanced(DVec3::new(-3.0, 0.2, 2.5)),
-            4,
-            LightSelection::All,
-        );
-        assert_eq!(stats.shadow_rays, 0, "{what}: an instance far away");
-        close(
-            img.pixels[0][0] as f64,
-            want,
-            1e-5,
-            &format!("{what}: closed form beside an instance"),
+            "an instance far away",
         );
         let (img, stats) = render(&instanced(m), 1 << 14, LightSelection::All);
         assert!(stats.shadow_rays > 0, "{what}: an instance halfway");

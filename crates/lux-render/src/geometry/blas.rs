@@ -7,7 +7,6 @@
 use super::MAX_TRIANGLES;
 use super::ShadowRegion;
 use glam::DVec3;
-use glam::UVec2;
 use lux_usd::Scene;
 use obvhs::BvhBuildParams;
 use obvhs::cwbvh::CwBvh;
@@ -191,25 +190,9 @@ impl Blas {
         cone: &impl ShadowRegion,
         casts: &impl Fn(usize) -> bool,
     ) -> Option<u32> {
-        let mut state = self.bvh.new_traversal(cone.axis().as_vec3a());
-        let mut node;
-        let mut found = None;
-        'outer: {
-            obvhs::traverse!(
-                self.bvh,
-                node,
-                state,
-                cone.node_mask(node, state.oct_inv4),
-                {
-                    let id = state.primitive_id as usize;
-                    if !cone.culls_triangle(&self.tris[id]) && casts(self.prims[id].mesh as usize) {
-                        found = Some(id as u32);
-                        break 'outer;
-                    }
-                }
-            );
-        }
-        found
+        super::region_search(&self.bvh, cone, |id| {
+            !cone.culls_triangle(&self.tris[id]) && casts(self.prims[id].mesh as usize)
+        })
     }
 
     /// Whether `cone` rules out triangle `id` (an index into the BVH's triangles).

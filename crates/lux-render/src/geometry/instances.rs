@@ -23,7 +23,7 @@
 
 use super::blas::Blas;
 use super::{Hit, ShadowRegion, exact_hit, offset_scale};
-use glam::{DAffine3, DMat3, DVec3, UVec2, Vec3, Vec3A};
+use glam::{DAffine3, DMat3, DVec3, Vec3, Vec3A};
 use lux_usd::Scene;
 use obvhs::BvhBuildParams;
 use obvhs::aabb::Aabb;
@@ -293,22 +293,7 @@ impl Instances {
     /// shadow-region search can say of instanced geometry without looking inside the
     /// prototypes (conservative: `false` only when no instance can block a ray of the region).
     pub fn may_block(&self, region: &impl ShadowRegion) -> bool {
-        let mut state = self.tlas.new_traversal(region.axis().as_vec3a());
-        let mut node;
-        let mut found = false;
-        'outer: {
-            obvhs::traverse!(
-                self.tlas,
-                node,
-                state,
-                region.node_mask(node, state.oct_inv4),
-                {
-                    found = true;
-                    break 'outer;
-                }
-            );
-        }
-        found
+        super::region_search(&self.tlas, region, |_| true).is_some()
     }
 
     /// The exact hit of `h` on `origin + t·dir`: the prototype triangle's vertices mapped to

@@ -34,7 +34,7 @@ pub(crate) mod pyramid;
 use crate::light::{Light, LightHit};
 use blas::Blas;
 pub use cone::{ConeSearch, INSTANCED, RayEnds, ShadowCone};
-use glam::{DVec2, DVec3, Vec3A, Vec4};
+use glam::{DVec2, DVec3, UVec2, Vec3A, Vec4};
 use instances::Instances;
 pub(crate) use instances::drawable_transform;
 pub use lights::LINEAR_LIGHTS;
@@ -127,6 +127,31 @@ fn child_mask(
         }
     }
     mask
+}
+
+/// The first primitive of `bvh` in a leaf that `region` may reach (its node test) and that
+/// `keep` accepts, `None` when there is none: the traversal shared by the shadow-region
+/// searches of triangles ([`Blas::cone_blocker`]) and of instance boxes
+/// (`Instances::may_block`).
+#[inline(always)]
+fn region_search(
+    bvh: &obvhs::cwbvh::CwBvh,
+    region: &impl ShadowRegion,
+    mut keep: impl FnMut(usize) -> bool,
+) -> Option<u32> {
+    let mut state = bvh.new_traversal(region.axis().as_vec3a());
+    let mut node;
+    let mut found = None;
+    'outer: {
+        obvhs::traverse!(bvh, node, state, region.node_mask(node, state.oct_inv4), {
+            let id = state.primitive_id as usize;
+            if keep(id) {
+                found = Some(id as u32);
+                break 'outer;
+            }
+        });
+    }
+    found
 }
 
 /// A closest hit.
