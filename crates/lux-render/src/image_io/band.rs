@@ -104,27 +104,93 @@ pub fn stage_exr_band(
             _ => 3,
         })
         .collect();
-    stage_atomically(path, |writer| {
-        exr::block::write(writer, headers, true, |meta, chunks| {
-            let blocks: Vec<(usize, BlockIndex)> =
-                meta.enumerate_ordered_header_block_indices().collect();
-            // Each block encoded on the current rayon pool; written in file order.
-            let encoded: Vec<(usize, Chunk)> = blocks
-                .into_par_iter()
-                .map_init(ZipScratch::default, |scratch, (i, index)| {
-                    let values = block_values(pixels, width, &order, &index);
-                    let n = index.pixel_size.area() * order.len();
-                    let y = (y0 + index.pixel_position.y()) as i32;
-                    (i, scratch.chunk(values, n, y))
-                })
-                .collect();
-            for (i, chunk) in encoded {
-                chunks.write_chunk(i, chunk)?;
-            }
-            Ok(())
-        })
-        .map_err(encode_error)
+    // Encoded in memory first: the exr crate writes the string attributes last, in the order
+    // of a hash map, which changes from run to run; they are put in name order before the
+    // bytes are staged, so that one render always writes the same file.
+    let mut file = std::io::Cursor::new(Vec::new());
+    exr::block::write(&mut file, headers, true, |meta, chunks| {
+        let blocks: Vec<(usize, BlockIndex)> =
+            meta.enumerate_ordered_header_block_indices().collect();
+        // Each block encoded on the current rayon pool; written in file order.
+        let encoded: Vec<(usize, Chunk)> = blocks
+            .into_par_iter()
+            .map_init(ZipScratch::default, |scratch, (i, index)| {
+                let values = block_values(pixels, width, &order, &index);
+                let n = index.pixel_size.area() * order.len();
+                let y = (y0 + index.pixel_position.y()) as i32;
+                (i, scratch.chunk(values, n, y))
+            })
+            .collect();
+        for (i, chunk) in encoded {
+            chunks.write_chunk(i, chunk)?;
+        }
+        Ok(())
     })
+    .map_err(encode_error)?;
+    let mut bytes = file.into_inner();
+    if !sort_last_attributes(&mut bytes, attributes.len()) {
+        return Err(ImageError::Encode {
+            path: path.to_path_buf(),
+            format: "OpenEXR",
+            message: "the header's attributes could not be put in order".into(),
+        });
+    }
+    stage_atomically(path, |writer| {
+        std::io::Write::write_all(writer, &bytes).map_err(|source| ImageError::Io {
+            path: path.to_path_buf(),
+            action: "write",
+            source,
+        })
+    })
+}
+
+/// Puts the last `n` attributes of the single-part EXR header in `bytes` in name order, in
+/// place (the same bytes in another order: the offset table after the header does not move).
+/// An attribute is `name\0 type\0 size value` (`size` a little-endian `i32`); the list ends at
+/// an empty name. False when the header does not parse that way.
+fn sort_last_attributes(bytes: &mut [u8], n: usize) -> bool {
+    let mut spans = Vec::new();
+    let mut at = 8; // magic number and version
+    loop {
+        let Some(name_len) = bytes.get(at..).and_then(|b| b.iter().position(|&c| c == 0)) else {
+            return false;
+        };
+        if name_len == 0 {
+            break;
+        }
+        let Some(type_len) = bytes
+            .get(at + name_len + 1..)
+            .and_then(|b| b.iter().position(|&c| c == 0))
+        else {
+            return false;
+        };
+        let size_at = at + name_len + 1 + type_len + 1;
+        let Some(size) = bytes.get(size_at..size_at + 4) else {
+            return false;
+        };
+        let size = i32::from_le_bytes([size[0], size[1], size[2], size[3]]);
+        let end = size_at + 4 + size.max(0) as usize;
+        if size < 0 || end > bytes.len() {
+            return false;
+        }
+        spans.push((at, name_len, end));
+        at = end;
+    }
+    if spans.len() < n {
+        return false;
+    }
+    let last = &spans[spans.len() - n..];
+    let Some(&(start, ..)) = last.first() else {
+        return true;
+    };
+    let mut sorted: Vec<&(usize, usize, usize)> = last.iter().collect();
+    sorted.sort_by_key(|&&(a, len, _)| &bytes[a..a + len]);
+    let reordered: Vec<u8> = sorted
+        .iter()
+        .flat_map(|&&(a, _, e)| bytes[a..e].iter().copied())
+        .collect();
+    bytes[start..start + reordered.len()].copy_from_slice(&reordered);
+    true
 }
 
 /// deflate level of the ZIP blocks: zlib-ng's fastest (1, its "quick" strategy), as zlib-rs
@@ -325,6 +391,52 @@ mod tests {
             im.pixels.iter().flatten().map(|v| v.to_bits()).collect()
         };
         assert_eq!(bits(&band.image), bits(&image));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// The exr crate writes string attributes in a hash map's order, new for every map: the
+    /// same band staged ten times is the same file, its attributes in name order.
+    #[test]
+    fn the_same_band_is_the_same_file() {
+        let dir = std::env::temp_dir().join(format!("lux-band-same-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let image = ImageRgba {
+            width: 5,
+            height: 3,
+            pixels: (0..15).map(|i| [i as f32, 0.5, 0.25, 1.0]).collect(),
+        };
+        let attrs: Vec<(String, String)> =
+            ["lux:scene", "lux:frame", "lux:rows", "lux:tile", "a", "zz"]
+                .iter()
+                .map(|&k| (k.to_string(), format!("value of {k}")))
+                .collect();
+        let files: Vec<Vec<u8>> = (0..10)
+            .map(|i| {
+                let path = dir.join(format!("b{i}.exr"));
+                stage_exr_band(&path, &image, 0, 3, &attrs)
+                    .unwrap()
+                    .commit()
+                    .unwrap();
+                std::fs::read(&path).unwrap()
+            })
+            .collect();
+        assert!(files.iter().all(|f| f == &files[0]));
+        let text = String::from_utf8_lossy(&files[0]);
+        let order: Vec<usize> = [
+            "a\0",
+            "lux:frame\0",
+            "lux:rows\0",
+            "lux:scene\0",
+            "lux:tile\0",
+            "zz\0",
+        ]
+        .iter()
+        .map(|k| text.find(k).unwrap())
+        .collect();
+        assert!(order.windows(2).all(|w| w[0] < w[1]), "{order:?}");
+        let band = read_exr_band(&dir.join("b3.exr")).unwrap();
+        assert_eq!(band.attributes["lux:rows"], "value of lux:rows");
+        assert_eq!(band.attributes.len(), 6);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
