@@ -216,6 +216,23 @@ impl ShadowRegion for ShadowCone {
         self.misses_sphere(c, rho)
     }
 
+    fn to_prototype(&self, qt: &glam::DMat3, t: DVec3, s: f64, extra: f64) -> ShadowCone {
+        let (ng, axis, apex) = (*qt * self.ng, *qt * self.axis, *qt * (self.apex - t) / s);
+        ShadowCone {
+            ng,
+            floor: self.floor / s,
+            ng_apex: ng.dot(apex),
+            axis_apex: axis.dot(apex),
+            sin_e2: self.sin_e2,
+            apex,
+            axis,
+            sin_a: self.sin_a,
+            cos_a: self.cos_a,
+            far: self.far / s,
+            margin: self.margin / s + extra,
+        }
+    }
+
     /// The CWBVH hit mask of the node's children the cone may reach (what
     /// `CwBvhNode::intersect_ray` returns for a ray), in the traversal order of `oct_inv4`.
     ///
@@ -233,7 +250,7 @@ impl ShadowRegion for ShadowCone {
         let rise0 = ng.dot(origin) - self.ng_apex as f32;
         let along0 = axis.dot(origin) - self.axis_apex as f32;
         let a = ((self.apex.as_vec3a() - origin) / e).to_array();
-        let ee = (e * e).to_array();
+        let es = e.to_array();
         let (floor, margin) = (self.floor as f32, self.margin as f32);
         let (far, sin_e2) = (self.far as f32, self.sin_e2 as f32);
         let [nx, ny, nz] = ng_q.to_array();
@@ -247,9 +264,11 @@ impl ShadowRegion for ShadowCone {
             let rise = far_along([nx, ny, nz]) + rise0;
             let reach = far_along([ax, ay, az]) + along0;
             let back = along0 - far_along([-ax, -ay, -az]);
+            // (back in world units before squaring: in a flat node, e.g. of a horizontal card,
+            // `e` is as small as 2⁻⁷⁴ and the quantized gap overflows `f32` when squared)
             let gap = |k: usize| {
-                let g = (lo[k] - a[k]).max(a[k] - hi[k]).max(Vec4::ZERO);
-                g * g * ee[k]
+                let g = (lo[k] - a[k]).max(a[k] - hi[k]).max(Vec4::ZERO) * es[k];
+                g * g
             };
             let lift = rise + margin;
             let out = rise.cmplt(Vec4::splat(floor))

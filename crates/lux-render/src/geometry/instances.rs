@@ -54,6 +54,9 @@ struct Placement {
     from_world: DAffine3,
     /// `det M < 0`: the front side is opposite to the world-space winding.
     mirror: bool,
+    /// `M = s·Q`, `Q` orthogonal (within 1e-9 relative): a similarity (rotation, mirror,
+    /// uniform scale `s` = `stretch`), under which shadow regions map to prototype space.
+    similar: bool,
     /// `s = √‖MᵀM‖_∞` (the largest absolute row sum of `MᵀM`, `M` the linear part): no
     /// prototype-space length grows by more than `s` in world space, as
     /// `σ_max(M)² = ρ(MᵀM) ≤ ‖MᵀM‖_∞`. Exact (1, up to rounding) for rotations, and at most
@@ -88,7 +91,7 @@ pub(super) struct InstanceHit {
 /// The instances of a scene and the prototypes they draw.
 pub(super) struct Instances {
     /// Top-level BVH over the placements' world boxes.
-    tlas: CwBvh,
+    pub(super) tlas: CwBvh,
     /// Placements in top-level BVH primitive order.
     placements: Vec<Placement>,
     /// One BVH per drawn prototype, in prototype space.
@@ -189,6 +192,13 @@ impl Instances {
                 to_world,
                 from_world: to_world.inverse(),
                 mirror: m.determinant() < 0.0,
+                similar: {
+                    let s2 = mtm.x_axis.x;
+                    let diff = mtm - DMat3::from_diagonal(DVec3::splat(s2));
+                    [diff.x_axis, diff.y_axis, diff.z_axis]
+                        .iter()
+                        .all(|c| c.abs().max_element() <= 1e-9 * s2)
+                },
                 stretch,
             });
         }
@@ -289,11 +299,26 @@ impl Instances {
         })
     }
 
-    /// Whether the (padded, `f32`) world box of some instance may meet `region`: what a
-    /// shadow-region search can say of instanced geometry without looking inside the
-    /// prototypes (conservative: `false` only when no instance can block a ray of the region).
-    pub fn may_block(&self, region: &impl ShadowRegion) -> bool {
-        super::region_search(&self.tlas, region, |_| true).is_some()
+    /// Whether some instance may block a ray of `region` (conservative: `false` only when none
+    /// can). An instance whose (padded, `f32`) world box meets the region is searched inside
+    /// when it is a similarity (`Placement::similar`): the region mapped to prototype space
+    /// ([`ShadowRegion::to_prototype`], its margin grown by 1e-5 of the prototype's and the
+    /// mapped translation's scale, for the `f32` prototype triangles and the `f32` mapping of
+    /// shadow rays), tested against the prototype's triangles; any other counts as a blocker.
+    pub fn may_block<R: ShadowRegion>(&self, region: &R) -> bool {
+        super::region_search(&self.tlas, region, |k| {
+            let pl = &self.placements[k];
+            if !pl.similar {
+                return true;
+            }
+            let blas = &self.blas[pl.blas as usize];
+            let (s, t) = (pl.stretch, pl.to_world.translation);
+            let (lo, hi) = blas.bounds;
+            let scale = lo.abs().max(hi.abs()).max_element().max(1.0) + t.length() / s;
+            let local = region.to_prototype(&(pl.from_world.matrix3 * s), t, s, 1e-5 * scale);
+            blas.cone_blocker(&local, &|_| true).is_some()
+        })
+        .is_some()
     }
 
     /// The exact hit of `h` on `origin + t·dir`: the prototype triangle's vertices mapped to

@@ -58,6 +58,12 @@ pub trait ShadowRegion {
     /// The CWBVH hit mask of the node's children the region may reach (what
     /// `CwBvhNode::intersect_ray` returns for a ray), in the traversal order of `oct_inv4`.
     fn node_mask(&self, node: &obvhs::cwbvh::node::CwBvhNode, oct_inv4: u32) -> u32;
+    /// The region in the space of an instance's prototype, `x' = Qᵀ·(x − t) / s` (`qt` = Qᵀ,
+    /// `Q` orthogonal, `s > 0`: a similarity), its margin grown by `extra` (prototype units):
+    /// distances scale by `1/s`, directions turn by `Qᵀ`, angles stay.
+    fn to_prototype(&self, qt: &glam::DMat3, t: DVec3, s: f64, extra: f64) -> Self
+    where
+        Self: Sized;
 }
 
 /// The least and most ray-origin offset ([`offset_scale`]) over the points within `spread` of
@@ -905,6 +911,183 @@ pub(crate) mod tests {
         );
         let mostly_strips = [1, 2, 2, 2].map(|i| scene.meshes[i].clone()).to_vec();
         assert!(Geometry::new(&scene_with(mostly_strips)).shadow.is_none());
+    }
+
+    /// A subdivided horizontal card (162 triangles at y = 0.5: the BVH nodes holding only its
+    /// triangles are flat, their quantization step along y as small as 2⁻⁷⁴) blocks the cone
+    /// and the pyramid from the floor under it to a light above, alone in a BVH or over the
+    /// floor; beside it, the regions are clear. (The cone's node test once squared the
+    /// quantized distance before scaling it back, which overflowed `f32` in such nodes: the
+    /// card was culled, and light went through it.)
+    #[test]
+    fn flat_nodes_of_a_horizontal_card_block_the_regions_they_meet() {
+        let mut pos = Vec::new();
+        let mut tri = Vec::new();
+        for j in 0..=9u32 {
+            for i in 0..=9u32 {
+                pos.push(DVec3::new(
+                    -0.5 + i as f64 / 9.0,
+                    0.5,
+                    -0.5 + j as f64 / 9.0,
+                ));
+            }
+        }
+        for j in 0..9u32 {
+            for i in 0..9u32 {
+                let a = j * 10 + i;
+                tri.push([a, a + 1, a + 11]);
+                tri.push([a, a + 11, a + 10]);
+            }
+        }
+        let card = Mesh::new("/card", pos, tri);
+        for scene in [
+            scene_with(vec![card.clone()]),
+            scene_with(vec![cone::tests::floor(), card]),
+        ] {
+            let g = Geometry::new(&scene);
+            let region = |x: f64| {
+                let p = DVec3::new(x, 0.0, 0.1);
+                let offset = offset_scale(p);
+                let light = DVec3::new(x, 1.5, 0.1);
+                let corners = pyramid::tests::rect(light, -DVec3::Y, DVec3::X, (0.2, 0.2));
+                (
+                    ShadowCone::new(p, DVec3::Y, offset, light, 0.2, RayEnds::NearSide).unwrap(),
+                    ShadowPyramid::new(p, DVec3::Y, offset, &corners).unwrap(),
+                )
+            };
+            let (cone, pyramid) = region(0.0);
+            assert!(matches!(
+                g.cone_search(&cone, &|_| true),
+                ConeSearch::Blocked(_)
+            ));
+            assert!(matches!(
+                g.cone_search(&pyramid, &|_| true),
+                ConeSearch::Blocked(_)
+            ));
+            let (cone, pyramid) = region(3.0);
+            assert_eq!(g.cone_search(&cone, &|_| true), ConeSearch::Clear);
+            assert_eq!(g.cone_search(&pyramid, &|_| true), ConeSearch::Clear);
+        }
+    }
+
+    /// Instanced blockers under similarities (rotated, mirrored, scaled 0.3–3, moved) and under
+    /// a stretch: wherever the search of the instances says nothing can block a light (a cone
+    /// of a point and of a patch, a rect's pyramid), no shadow ray from the point (traced in
+    /// `f64` against the instance's world triangles) is blocked; and searching inside the
+    /// similar instances finds clear regions the instances' boxes alone would not.
+    #[test]
+    fn instance_searches_inside_similar_prototypes_are_sound() {
+        use glam::{DMat4, DQuat};
+        use lux_usd::{Instance, Prototype};
+        let mut rng = lux_sample::SplitMix64::new(17);
+        let mut u = move || rng.next_f64();
+        let (mut clear, mut inside_only, mut blocked) = (0, 0, 0);
+        for case in 0..60 {
+            // A thin tilted card as the prototype (its box is much larger than it).
+            let proto = Mesh {
+                prototype: Some(0),
+                ..Mesh::new(
+                    "/card",
+                    vec![
+                        DVec3::new(-0.3, -0.2, -0.2),
+                        DVec3::new(0.3, -0.2, -0.2),
+                        DVec3::new(0.3, 0.2, 0.2),
+                        DVec3::new(-0.3, 0.2, 0.2),
+                    ],
+                    vec![[0, 1, 2], [0, 2, 3]],
+                )
+            };
+            let q = DQuat::from_axis_angle(
+                DVec3::new(u() - 0.5, u() - 0.5, u() - 0.5).normalize(),
+                6.3 * u(),
+            );
+            let s = 0.3 + 2.7 * u();
+            let mirror = if case % 3 == 0 { -1.0 } else { 1.0 };
+            let stretch = if case % 10 == 9 {
+                DVec3::new(1.0, 0.4, 1.0)
+            } else {
+                DVec3::ONE
+            };
+            let at = DVec3::new(1.2 * (u() - 0.5), 0.6 + 0.8 * u(), 1.2 * (u() - 0.5));
+            let m = DMat4::from_scale_rotation_translation(
+                DVec3::new(mirror * s, s, s) * stretch / s.max(1.0),
+                q,
+                at,
+            );
+            let mut scene = scene_with(vec![cone::tests::floor(), proto.clone()]);
+            scene.prototypes.push(Prototype {
+                path: "/P".into(),
+                meshes: vec![1],
+            });
+            scene.instances.push(Instance {
+                path: "/I".into(),
+                prototype: 0,
+                to_world: m,
+                material: None,
+            });
+            let g = Geometry::new(&scene);
+            let inst = g.instances.as_ref().unwrap();
+            let world_tris: Vec<[DVec3; 3]> = proto
+                .triangles
+                .iter()
+                .map(|t| t.map(|i| m.transform_point3(proto.positions[i as usize])))
+                .collect();
+            let hits = |o: DVec3, w: DVec3, tmax: f64| {
+                world_tris.iter().any(|&[a, b, c]| {
+                    let (e1, e2) = (b - a, c - a);
+                    let p = w.cross(e2);
+                    let det = e1.dot(p);
+                    let tv = o - a;
+                    let (b1, qv) = (tv.dot(p) / det, tv.cross(e1));
+                    let (b2, t) = (w.dot(qv) / det, e2.dot(qv) / det);
+                    b1 >= -1e-9 && b2 >= -1e-9 && b1 + b2 <= 1.0 + 1e-9 && t > 0.0 && t < tmax
+                })
+            };
+            for k in 0..12 {
+                let p = DVec3::new(2.4 * (u() - 0.5), 0.0, 2.4 * (u() - 0.5));
+                let light = DVec3::new(2.0 * (u() - 0.5), 2.2 + u(), 2.0 * (u() - 0.5));
+                let radius = 0.1 + 0.3 * u();
+                let offset = offset_scale(p);
+                let spread = if k % 2 == 0 { 0.0 } else { 0.1 };
+                let Some(cone) = (if spread == 0.0 {
+                    ShadowCone::new(p, DVec3::Y, offset, light, radius, RayEnds::NearSide)
+                } else {
+                    ShadowCone::patch(p, DVec3::Y, spread, light, radius, RayEnds::NearSide)
+                }) else {
+                    continue;
+                };
+                let corners = pyramid::tests::rect(light, -DVec3::Y, DVec3::X, (radius, radius));
+                let pyramid = ShadowPyramid::new(p, DVec3::Y, offset, &corners).unwrap();
+                let boxed = region_search(&inst.tlas, &cone, |_| true).is_some();
+                for (free, rays) in [
+                    (
+                        !inst.may_block(&cone),
+                        cone::tests::segments(p, light, radius, 400, false),
+                    ),
+                    (
+                        !inst.may_block(&pyramid),
+                        pyramid::tests::segments(p, &corners, 400),
+                    ),
+                ] {
+                    if free {
+                        clear += 1;
+                        for (o, w, t) in rays {
+                            assert!(
+                                !hits(o, w, t),
+                                "case {case}: clear region, blocked ray from {o}"
+                            );
+                        }
+                    } else {
+                        blocked += 1;
+                    }
+                }
+                inside_only += (boxed && !inst.may_block(&cone)) as u32;
+            }
+        }
+        assert!(
+            clear > 200 && blocked > 50 && inside_only > 20,
+            "{clear} clear, {blocked} blocked, {inside_only} clear only inside"
+        );
     }
 
     /// The exact hit's normal is `normalize(±(b − a) × (c − a))` and its barycentrics use

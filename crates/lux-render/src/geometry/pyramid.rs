@@ -132,6 +132,18 @@ impl ShadowRegion for ShadowPyramid {
     /// order of `oct_inv4` (as the cone's, [`super::ShadowCone`]): the
     /// children's boxes in the node's quantized frame, in `f32`, each plane's largest value
     /// over a box from its corner farthest along the normal.
+    fn to_prototype(&self, qt: &glam::DMat3, t: DVec3, s: f64, extra: f64) -> ShadowPyramid {
+        // n·x ≥ d with x = s·Q·x' + t: (Qᵀn)·x' ≥ (d − n·t) / s.
+        ShadowPyramid {
+            apex: *qt * (self.apex - t) / s,
+            ng: *qt * self.ng,
+            floor: self.floor / s,
+            planes: self.planes.map(|(n, d)| (*qt * n, (d - n.dot(t)) / s)),
+            axis: *qt * self.axis,
+            margin: self.margin / s + extra,
+        }
+    }
+
     #[inline(always)]
     fn node_mask(&self, node: &CwBvhNode, oct_inv4: u32) -> u32 {
         let e = node.compute_extent();
