@@ -153,11 +153,18 @@ fn lights_nothing_can_block_take_their_closed_form_without_shadow_rays() {
         .map(|&(x, y)| down.transform_point3(DVec3::new(x, y, 0.0)))
         .collect();
     let wide_pi = lux::sample::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
+    // A wide, low disk (radius 1.2, 0.4 above the point): no ball cone either; the pyramid over
+    // the square around it holds its rays.
+    let mut wide_disk = Light::with_defaults("/WideDisk", LightShape::Disk { radius: 1.2 }, down);
+    wide_disk.params.intensity = 3.0;
+    let wide_disk_pi =
+        lux::sample::projected::disk(DVec3::ZERO, DVec3::Y, low, -DVec3::Y, 1.2).unwrap();
     for (light, pi, at) in [
         (sphere, sphere_pi, c),
         (rect, rect_pi, c),
         (disk, disk_pi, c),
         (wide, wide_pi, low),
+        (wide_disk, wide_disk_pi, low),
     ] {
         let what = light.path.clone();
         // (the light's radiance: intensity 3 on a white Lambertian floor, ρ/π · L · Π)

@@ -246,27 +246,30 @@ impl LightFrom<'_> {
         ShadowCone::new(p, ng, offset, c, r, ends)
     }
 
-    /// The pyramid of a rect light's shadow rays from the surface point `p` (unit geometric
-    /// normal `ng`, rays leaving from `p + ng·offset`) over its world corners
-    /// ([`ShadowPyramid`]), for a rect of uniform radiance whose corners all lie above the
-    /// tangent plane: tighter than the cone of its ball, and there where that ball reaches the
-    /// horizon.
+    /// The pyramid of a rect or disk light's shadow rays from the surface point `p` (unit
+    /// geometric normal `ng`, rays leaving from `p + ng·offset`) over its
+    /// [`LightFrom::shadow_corners`] ([`ShadowPyramid`]), for a light of uniform radiance whose
+    /// corners all lie above the tangent plane: tighter than the cone of its ball, and there
+    /// where that ball reaches the horizon.
     #[inline]
     pub fn shadow_pyramid(&self, p: DVec3, ng: DVec3, offset: f64) -> Option<ShadowPyramid> {
-        match self {
-            LightFrom::Rect(l, _) if l.uniform_area() => {
-                ShadowPyramid::new(p, ng, offset, &l.world_corners())
-            }
-            _ => None,
-        }
+        ShadowPyramid::new(p, ng, offset, &self.shadow_corners()?)
     }
 
-    /// A rect light's world corners, when its closed form is its pyramid's
-    /// ([`LightFrom::shadow_pyramid`]).
+    /// The corners its shadow rays end inside, when its closed form is searched through its
+    /// pyramid ([`LightFrom::shadow_pyramid`]): a rect's world corners; for a disk (under a
+    /// similarity), the square of side `2r` around it in its plane.
     #[inline]
     pub fn shadow_corners(&self) -> Option<[DVec3; 4]> {
         match self {
             LightFrom::Rect(l, _) if l.uniform_area() => Some(l.world_corners()),
+            LightFrom::Disk(l, _) if l.uniform_area() => {
+                // The square around the disk in its plane: every ray ends on the disk, inside it.
+                let (c, axis, r) = l.world_disk()?;
+                let u = axis.any_orthonormal_vector() * r;
+                let v = axis.cross(u);
+                Some([c - u - v, c + u - v, c + u + v, c - u + v])
+            }
             _ => None,
         }
     }
