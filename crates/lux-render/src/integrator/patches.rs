@@ -77,8 +77,9 @@ impl ClearPatches {
         corners: Option<&[DVec3; 4]>,
         casts: &impl Fn(usize) -> bool,
     ) -> ConeSearch {
-        // (No patch region where the point's own is missing: the ball, or the rect, reaches
-        // its horizon.)
+        // (No patch region where the point's own is missing: the ball, or the rect's or disk's
+        // corners, reach its horizon. The region's kind is the light's, never the point's: the
+        // remembered answer must be a function of the key.)
         let above = match corners {
             Some(c) => c.iter().all(|&x| sp.ng.dot(x - sp.p) > 0.0),
             None => sp.ng.dot(centre - sp.p) > radius,
