@@ -107,64 +107,53 @@ fn lights_nothing_can_block_take_their_closed_form_without_shadow_rays() {
         o.adaptive = Some(lux::render::settings::AdaptiveSampling::OFF);
         Renderer::new(s, o).unwrap().render(&|_| {})
     };
+    // Lights of intensity 3 with their Π at the point: a rect's from its world corners, a
+    // disk's from its centre and its emitting −Z axis.
+    let lit = |path: &str, shape: LightShape, xf: DMat4| {
+        let mut l = Light::with_defaults(path, shape, xf);
+        l.params.intensity = 3.0;
+        l
+    };
+    let rect = |path: &str, xf: DMat4, (w, h): (f64, f64)| {
+        let corners: Vec<DVec3> = [(-w, -h), (w, -h), (w, h), (-w, h)]
+            .iter()
+            .map(|&(x, y)| xf.transform_point3(DVec3::new(x / 2.0, y / 2.0, 0.0)))
+            .collect();
+        let shape = LightShape::Rect {
+            width: w,
+            height: h,
+        };
+        let pi = lux::sample::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
+        (lit(path, shape, xf), pi)
+    };
+    let disk = |path: &str, xf: DMat4, radius: f64| {
+        let (centre, axis) = (
+            xf.transform_point3(DVec3::ZERO),
+            xf.transform_vector3(DVec3::NEG_Z),
+        );
+        let pi = lux::sample::projected::disk(DVec3::ZERO, DVec3::Y, centre, axis, radius);
+        (lit(path, LightShape::Disk { radius }, xf), pi.unwrap())
+    };
     let c = DVec3::new(0.8, 1.1, -0.4);
-    let mut sphere = Light::with_defaults(
+    let sphere = lit(
         "/Sphere",
         LightShape::Sphere { radius: 0.3 },
         DMat4::from_translation(c),
     );
-    sphere.params.intensity = 3.0;
     let sphere_pi = PI * 0.09 / c.length_squared() * (c.y / c.length());
     // A rect and a disk facing the point from above and aside (tilted, one-sided).
     let toward = aimed(c, -c);
-    let mut rect = Light::with_defaults(
-        "/Rect",
-        LightShape::Rect {
-            width: 0.5,
-            height: 0.3,
-        },
-        toward,
-    );
-    rect.params.intensity = 3.0;
-    let corners: Vec<DVec3> = [(-0.25, -0.15), (0.25, -0.15), (0.25, 0.15), (-0.25, 0.15)]
-        .iter()
-        .map(|&(x, y)| toward.transform_point3(DVec3::new(x, y, 0.0)))
-        .collect();
-    let rect_pi = lux::sample::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
-    let mut disk = Light::with_defaults("/Disk", LightShape::Disk { radius: 0.25 }, toward);
-    disk.params.intensity = 3.0;
-    let disk_pi =
-        lux::sample::projected::disk(DVec3::ZERO, DVec3::Y, c, -c.normalize(), 0.25).unwrap();
     // A wide, low rect (3 × 2, 0.4 above the point, facing down): the ball around it reaches
-    // the floor, its pyramid does not (geometry/pyramid.rs).
+    // the floor, its pyramid does not (geometry/pyramid.rs); and a wide, low disk (radius
+    // 1.2): no ball cone either, the pyramid over the square around it holds its rays.
     let low = DVec3::new(0.2, 0.4, -0.1);
     let down = aimed(low, -DVec3::Y);
-    let mut wide = Light::with_defaults(
-        "/Wide",
-        LightShape::Rect {
-            width: 3.0,
-            height: 2.0,
-        },
-        down,
-    );
-    wide.params.intensity = 3.0;
-    let corners: Vec<DVec3> = [(-1.5, -1.0), (1.5, -1.0), (1.5, 1.0), (-1.5, 1.0)]
-        .iter()
-        .map(|&(x, y)| down.transform_point3(DVec3::new(x, y, 0.0)))
-        .collect();
-    let wide_pi = lux::sample::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
-    // A wide, low disk (radius 1.2, 0.4 above the point): no ball cone either; the pyramid over
-    // the square around it holds its rays.
-    let mut wide_disk = Light::with_defaults("/WideDisk", LightShape::Disk { radius: 1.2 }, down);
-    wide_disk.params.intensity = 3.0;
-    let wide_disk_pi =
-        lux::sample::projected::disk(DVec3::ZERO, DVec3::Y, low, -DVec3::Y, 1.2).unwrap();
-    for (light, pi, at) in [
-        (sphere, sphere_pi, c),
-        (rect, rect_pi, c),
-        (disk, disk_pi, c),
-        (wide, wide_pi, low),
-        (wide_disk, wide_disk_pi, low),
+    for ((light, pi), at) in [
+        ((sphere, sphere_pi), c),
+        (rect("/Rect", toward, (0.5, 0.3)), c),
+        (disk("/Disk", toward, 0.25), c),
+        (rect("/Wide", down, (3.0, 2.0)), low),
+        (disk("/WideDisk", down, 1.2), low),
     ] {
         let what = light.path.clone();
         // (the light's radiance: intensity 3 on a white Lambertian floor, ρ/π · L · Π)

@@ -27,6 +27,25 @@ pub(super) struct PrimRef {
     pub double_sided: bool,
 }
 
+/// The triangles of mesh `mi` of `scene` whose indices are in range, with their provenance.
+pub(super) fn mesh_triangles(
+    scene: &Scene,
+    mi: usize,
+) -> impl Iterator<Item = (PrimRef, [DVec3; 3])> + '_ {
+    let m = &scene.meshes[mi];
+    m.triangles.iter().enumerate().filter_map(move |(ti, t)| {
+        let [Some(a), Some(b), Some(c)] = t.map(|i| m.positions.get(i as usize).copied()) else {
+            return None;
+        };
+        let prim = PrimRef {
+            mesh: mi as u32,
+            tri: ti as u32,
+            double_sided: m.double_sided,
+        };
+        Some((prim, [a, b, c]))
+    })
+}
+
 /// Triangles of some meshes, in their meshes' common space, and their BVH.
 pub(super) struct Blas {
     bvh: CwBvh,
@@ -49,24 +68,7 @@ impl Blas {
         meshes: impl Iterator<Item = usize>,
         stored: &mut usize,
     ) -> Option<Blas> {
-        Blas::from_triangles(
-            meshes.flat_map(|mi| {
-                let m = &scene.meshes[mi];
-                m.triangles.iter().enumerate().filter_map(move |(ti, t)| {
-                    let v = t.map(|i| m.positions.get(i as usize).copied());
-                    let [Some(a), Some(b), Some(c)] = v else {
-                        return None;
-                    };
-                    let prim = PrimRef {
-                        mesh: mi as u32,
-                        tri: ti as u32,
-                        double_sided: m.double_sided,
-                    };
-                    Some((prim, [a, b, c]))
-                })
-            }),
-            stored,
-        )
+        Blas::from_triangles(meshes.flat_map(|mi| mesh_triangles(scene, mi)), stored)
     }
 
     /// [`Blas::build`] over the triangles `items` (each with where it comes from): those with

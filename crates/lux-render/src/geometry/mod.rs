@@ -347,23 +347,19 @@ impl Geometry {
         let mut items = Vec::new();
         for mi in meshes {
             let m = &scene.meshes[mi];
-            let prim = |tri: usize| blas::PrimRef {
-                mesh: mi as u32,
-                tri: tri as u32,
-                double_sided: m.double_sided,
-            };
             match planar::tiled_hull(&m.positions, &m.triangles) {
                 Some(fan) => {
                     replaced = true;
-                    items.extend(fan.into_iter().enumerate().map(|(k, t)| (prim(k), t)));
+                    items.extend(fan.into_iter().enumerate().map(|(k, t)| {
+                        let prim = blas::PrimRef {
+                            mesh: mi as u32,
+                            tri: k as u32,
+                            double_sided: m.double_sided,
+                        };
+                        (prim, t)
+                    }));
                 }
-                None => items.extend(m.triangles.iter().enumerate().filter_map(|(ti, t)| {
-                    let v = t.map(|i| m.positions.get(i as usize).copied());
-                    let [Some(a), Some(b), Some(c)] = v else {
-                        return None;
-                    };
-                    Some((prim(ti), [a, b, c]))
-                })),
+                None => items.extend(blas::mesh_triangles(scene, mi)),
             }
         }
         // (its own count: these triangles stand for the world's, already counted)

@@ -14,7 +14,7 @@
 //! the triangles cover the hull exactly once, no more and no less.
 
 use glam::{DVec2, DVec3};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// Relative tolerance of the planarity, boundary and area tests (of the mesh's extent, its
 /// hull's area): far above `f64` rounding of `f32` input, far below any real gap.
@@ -68,7 +68,7 @@ pub(super) fn tiled_hull(positions: &[DVec3], triangles: &[[u32; 3]]) -> Option<
     }
     // One winding, each directed edge once; the edges without a reversed twin are the
     // boundary.
-    let mut edges: HashMap<(u32, u32), ()> = HashMap::with_capacity(3 * tris.len());
+    let mut edges: HashSet<(u32, u32)> = HashSet::with_capacity(3 * tris.len());
     let mut area = 0.0;
     for t in &tris {
         let [a, b, c] = t.map(|i| flat[&i]);
@@ -78,7 +78,7 @@ pub(super) fn tiled_hull(positions: &[DVec3], triangles: &[[u32; 3]]) -> Option<
         }
         area += 0.5 * twice;
         for e in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
-            if edges.insert(e, ()).is_some() {
+            if !edges.insert(e) {
                 return None;
             }
         }
@@ -94,8 +94,8 @@ pub(super) fn tiled_hull(positions: &[DVec3], triangles: &[[u32; 3]]) -> Option<
     if hull_area.is_nan() || hull_area <= 0.0 || (area - hull_area).abs() > TOLERANCE * hull_area {
         return None;
     }
-    for &(i, j) in edges.keys() {
-        if !edges.contains_key(&(j, i)) && !on_boundary(&ring, flat[&i], flat[&j], eps) {
+    for &(i, j) in &edges {
+        if !edges.contains(&(j, i)) && !on_boundary(&ring, flat[&i], flat[&j], eps) {
             return None;
         }
     }
@@ -116,14 +116,11 @@ fn convex_hull(ids: &[u32], flat: &HashMap<u32, DVec2>, tol: f64) -> Vec<u32> {
         p.x.total_cmp(&q.x).then(p.y.total_cmp(&q.y))
     });
     let turn = |o: u32, a: u32, b: u32| (flat[&a] - flat[&o]).perp_dot(flat[&b] - flat[&o]);
+    // The lower chain left to right, then the upper one back; each chain's last point is the
+    // other's first.
     let mut hull: Vec<u32> = Vec::with_capacity(order.len() + 1);
-    for pass in 0..2 {
+    let mut chain = |points: &mut dyn Iterator<Item = &u32>| {
         let start = hull.len();
-        let points: Box<dyn Iterator<Item = &u32>> = if pass == 0 {
-            Box::new(order.iter())
-        } else {
-            Box::new(order.iter().rev())
-        };
         for &p in points {
             while hull.len() >= start + 2
                 && turn(hull[hull.len() - 2], hull[hull.len() - 1], p) <= tol
@@ -132,9 +129,10 @@ fn convex_hull(ids: &[u32], flat: &HashMap<u32, DVec2>, tol: f64) -> Vec<u32> {
             }
             hull.push(p);
         }
-        // The last point is the first of the other chain.
         hull.pop();
-    }
+    };
+    chain(&mut order.iter());
+    chain(&mut order.iter().rev());
     hull
 }
 

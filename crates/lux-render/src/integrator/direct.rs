@@ -293,9 +293,9 @@ impl<'a> DirectIntegrator<'a> {
                         let patch = match from.shadow_ball() {
                             Some(ball) if alone && self.closed_forms && base.shadow.enable => {
                                 let corners = from.shadow_corners();
-                                let rect = corners.as_ref();
+                                let corners = corners.as_ref();
                                 c.patches
-                                    .search(w.scene, w.geometry, sp, li, ball, rect, &casts)
+                                    .search(w.scene, w.geometry, sp, li, ball, corners, &casts)
                             }
                             _ => ConeSearch::Unsearched,
                         };
@@ -313,7 +313,8 @@ impl<'a> DirectIntegrator<'a> {
                             // would only spare its shadow rays, at about their cost, and most
                             // often (in a penumbra) find a blocker.
                             ConeSearch::Blocked(_) if from.samples_exactly() => None,
-                            // A rect's pyramid (tighter than its ball's cone), else the cone.
+                            // A rect's or disk's pyramid (tighter than its ball's cone), else
+                            // the cone.
                             _ => match from.shadow_pyramid(sp.p, sp.ng, sp.offset) {
                                 Some(pyramid) => clear_from(w, base, &pyramid, patch, &casts)
                                     .then(|| pyramid.axis()),

@@ -266,8 +266,8 @@ impl LightFrom<'_> {
             LightFrom::Disk(l, _) if l.uniform_area() => {
                 // The square around the disk in its plane: every ray ends on the disk, inside it.
                 let (c, axis, r) = l.world_disk()?;
-                let u = axis.any_orthonormal_vector() * r;
-                let v = axis.cross(u);
+                let (u, v) = axis.any_orthonormal_pair();
+                let (u, v) = (u * r, v * r);
                 Some([c - u - v, c + u - v, c + u + v, c - u + v])
             }
             _ => None,
