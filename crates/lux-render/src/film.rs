@@ -76,6 +76,9 @@ pub struct Counters {
     pub blocked: u64,
     /// The tile's patches of surface known to see a light unblocked, or not.
     pub patches: ClearPatches,
+    /// The world triangles the tile's camera rays can hit, when few
+    /// ([`Integrator::tile_triangles`]); `None`: the BVH.
+    pub tile_triangles: Option<Box<[u32]>>,
 }
 
 /// The image being rendered: its size, the pixels to render, samples and seed.
@@ -199,6 +202,7 @@ fn to_f32(v: DVec4) -> [f32; 4] {
 fn par_tiles<T: Copy + Send>(
     rect: [u32; 4],
     shared: &Shared,
+    tile_triangles: &(dyn Fn([u32; 4]) -> Option<Box<[u32]>> + Sync),
     f: &(dyn Fn(u32, u32, &mut Counters, &mut u64) -> T + Sync),
     done: &(dyn Fn([u32; 4]) + Sync),
     (dest, stride, origin): (&mut [T], usize, [u32; 2]),
@@ -221,7 +225,10 @@ fn par_tiles<T: Copy + Send>(
         .par_iter()
         .with_max_len(1)
         .for_each(|&[tx0, ty0, tx1, ty1]| {
-            let mut c = Counters::default();
+            let mut c = Counters {
+                tile_triangles: tile_triangles([tx0, ty0, tx1, ty1]),
+                ..Counters::default()
+            };
             let mut extra = 0;
             let mut px = Vec::with_capacity(((tx1 - tx0) * (ty1 - ty0)) as usize);
             for y in ty0..ty1 {
@@ -260,11 +267,13 @@ impl Film {
         let shared = Shared::default();
         let mut pixels = vec![[0.0f32; 4]; w as usize * h as usize];
         let rw = (x1 - x0) as usize;
+        let tile_triangles = |rect| integrator.tile_triangles(camera, rect);
         match Some(self.adaptive).filter(|a| a.is_on() && x0 < x1 && y0 < y1) {
             None => {
                 par_tiles(
                     self.window,
                     &shared,
+                    &tile_triangles,
                     &|x, y, c, _| to_f32(self.pixel(camera, integrator, x, y, c, &mut |_| {})),
                     &|[a, b, c, d]| progress((c - a) as u64 * (d - b) as u64),
                     (&mut pixels, w as usize, [0, 0]),
@@ -279,6 +288,7 @@ impl Film {
                 par_tiles(
                     [x0, hy0, x1, hy1],
                     &shared,
+                    &tile_triangles,
                     &|x, y, c, _| self.first_pass(camera, integrator, x, y, c),
                     &|[a, b, c, d]| {
                         let rows = d.min(y1).saturating_sub(b.max(y0));
@@ -290,6 +300,7 @@ impl Film {
                 par_tiles(
                     self.window,
                     &shared,
+                    &tile_triangles,
                     &|x, y, c, extra| {
                         let (i, j) = ((x - x0) as usize, (y - hy0) as usize);
                         let p = &first[j * rw + i];

@@ -158,17 +158,52 @@ impl Blas {
     /// space). On a hit, `hit` holds the primitive (index into `prims`) and the `f32` distance.
     #[inline]
     pub fn closest(&self, ray: Ray, hit: &mut RayHit) -> bool {
-        self.bvh.ray_traverse(ray, hit, |r, id| {
-            let tri = &self.tris[id];
-            let t = tri.intersect(r);
-            if t.is_finite() && !self.prims[id].double_sided {
-                let n = (tri.v1 - tri.v0).cross(tri.v2 - tri.v0);
-                if n.dot(r.direction) > 0.0 {
-                    return f32::INFINITY;
-                }
+        self.bvh
+            .ray_traverse(ray, hit, |r, id| self.cull_back(r, id))
+    }
+
+    /// [`Blas::closest`] among the triangles `ids` alone (BVH indices), tested in that order as
+    /// the traversal tests its leaves: the closer hit wins, the earlier one on a tie.
+    #[inline]
+    pub fn closest_among(&self, ids: &[u32], ray: Ray, hit: &mut RayHit) -> bool {
+        let mut r = ray;
+        for &id in ids {
+            let t = self.cull_back(&r, id as usize);
+            if t < r.tmax {
+                hit.primitive_id = id;
+                hit.t = t;
+                r.tmax = t;
             }
-            t
+        }
+        hit.t < ray.tmax
+    }
+
+    /// Triangle `id`'s distance on `r` (`f32::INFINITY` for a miss), a back face of a
+    /// single-sided mesh a miss.
+    #[inline(always)]
+    fn cull_back(&self, r: &Ray, id: usize) -> f32 {
+        let tri = &self.tris[id];
+        let t = tri.intersect(r);
+        if t.is_finite() && !self.prims[id].double_sided {
+            let n = (tri.v1 - tri.v0).cross(tri.v2 - tri.v0);
+            if n.dot(r.direction) > 0.0 {
+                return f32::INFINITY;
+            }
+        }
+        t
+    }
+
+    /// Every triangle (BVH index) `region` does not rule out, in traversal order, given to
+    /// `take` until it returns true; true when it did.
+    pub fn region_all(
+        &self,
+        region: &impl ShadowRegion,
+        mut take: impl FnMut(u32) -> bool,
+    ) -> bool {
+        super::region_search(&self.bvh, region, |id| {
+            !region.culls_triangle(&self.tris[id]) && take(id as u32)
         })
+        .is_some()
     }
 
     /// Closest triangle on `ray`, either side.
@@ -203,6 +238,13 @@ impl Blas {
         self.tris
             .get(id as usize)
             .is_none_or(|t| cone.culls_triangle(t))
+    }
+
+    /// [`Blas::any`] among the triangles `ids` alone (BVH indices).
+    #[inline]
+    pub fn any_among(&self, ids: &[u32], ray: Ray) -> bool {
+        ids.iter()
+            .any(|&id| self.tris[id as usize].intersect(&ray) < ray.tmax)
     }
 
     /// True when any triangle (either side) lies on `ray`; stops at the first one found.

@@ -26,6 +26,7 @@
 
 mod blas;
 pub(crate) mod cone;
+mod frustum;
 mod instances;
 mod lights;
 mod planar;
@@ -34,6 +35,7 @@ pub(crate) mod pyramid;
 use crate::light::{Light, LightHit};
 use blas::Blas;
 pub use cone::{ConeSearch, INSTANCED, RayEnds, ShadowCone};
+pub use frustum::RayFrustum;
 use glam::{DVec2, DVec3, UVec2, Vec3A, Vec4};
 use instances::Instances;
 pub(crate) use instances::drawable_transform;
@@ -158,6 +160,24 @@ fn region_search(
         });
     }
     found
+}
+
+/// A few triangles of the BVH shadow rays query ([`Geometry::blockers_in`]): all that can stop
+/// a shadow ray inside some region.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FewTriangles {
+    len: u8,
+    ids: [u32; FewTriangles::CAP],
+}
+
+impl FewTriangles {
+    /// Most triangles held: a shadow ray testing more costs about what the BVH's traversal does.
+    pub const CAP: usize = 6;
+
+    /// The triangles (indices into the shadow rays' BVH).
+    pub fn ids(&self) -> &[u32] {
+        &self.ids[..self.len as usize]
+    }
 }
 
 /// A closest hit.
@@ -553,6 +573,43 @@ impl Geometry {
         }
     }
 
+    /// The world triangles a ray inside `frustum` may hit (their BVH indices, in the order
+    /// the BVH's traversal along its axis meets them), for [`Geometry::intersect_among`]; `None`
+    /// when there are more than `cap`, or the scene has instances (their rays take the BVH).
+    pub fn triangles_in(&self, frustum: &RayFrustum, cap: usize) -> Option<Box<[u32]>> {
+        if self.instances.is_some() {
+            return None;
+        }
+        let world = self.world.as_ref()?;
+        let mut ids = Vec::new();
+        let over = world.region_all(frustum, |id| {
+            ids.push(id);
+            ids.len() > cap
+        });
+        (!over).then(|| ids.into_boxed_slice())
+    }
+
+    /// [`Geometry::intersect`] of a ray among the world triangles `ids` alone: the same hit
+    /// when they hold every triangle the ray can reach ([`Geometry::triangles_in`] of a frustum
+    /// holding the ray), back faces of single-sided meshes skipped.
+    #[inline]
+    pub fn intersect_among(
+        &self,
+        scene: &Scene,
+        ids: &[u32],
+        origin: DVec3,
+        dir: DVec3,
+        tmin: f64,
+        tmax: f64,
+    ) -> Option<Hit> {
+        let ray = Self::ray(origin, dir, tmin, tmax)?;
+        let world = self.world.as_ref()?;
+        let mut hit = RayHit::none();
+        world
+            .closest_among(ids, ray, &mut hit)
+            .then(|| Self::world_hit(world, scene, hit, origin, dir))
+    }
+
     /// The exact hit of the world BVH's traversal hit `hit`.
     #[inline]
     fn world_hit(world: &Blas, scene: &Scene, hit: RayHit, origin: DVec3, dir: DVec3) -> Hit {
@@ -685,6 +742,55 @@ impl Geometry {
             return self.instances.as_ref().is_none_or(|i| !i.may_block(cone));
         }
         self.world.as_ref().is_none_or(|w| w.culls(cone, id))
+    }
+
+    /// Every triangle of a mesh that `casts` which can stop a shadow ray inside `region`, among
+    /// those shadow rays query ([`Geometry::shadow`]'s outlines of flat cards where built), for
+    /// [`Geometry::occluded_among`]; `None` when more than [`FewTriangles::CAP`], or with
+    /// instances.
+    pub fn blockers_in(
+        &self,
+        region: &impl ShadowRegion,
+        casts: &impl Fn(usize) -> bool,
+    ) -> Option<FewTriangles> {
+        if self.instances.is_some() {
+            return None;
+        }
+        let b = self.blockers()?;
+        let mut few = FewTriangles {
+            len: 0,
+            ids: [0; FewTriangles::CAP],
+        };
+        let over = b.region_all(region, |id| {
+            if !casts(b.prims[id as usize].mesh as usize) {
+                return false;
+            }
+            if few.len as usize == FewTriangles::CAP {
+                return true;
+            }
+            few.ids[few.len as usize] = id;
+            few.len += 1;
+            false
+        });
+        (!over).then_some(few)
+    }
+
+    /// [`Geometry::occluded`] among the triangles `few` alone: the same answer for a ray inside
+    /// the region they were found for ([`Geometry::blockers_in`]), when it was searched for
+    /// every mesh that can block it.
+    #[inline]
+    pub fn occluded_among(
+        &self,
+        few: &FewTriangles,
+        origin: DVec3,
+        dir: DVec3,
+        tmin: f64,
+        tmax: f64,
+    ) -> bool {
+        let Some(ray) = Self::ray(origin, dir, tmin, tmax) else {
+            return false;
+        };
+        self.blockers().is_some_and(|b| b.any_among(few.ids(), ray))
     }
 
     /// True when any triangle (either side) lies on `origin + t·dir`, `t ∈ (tmin, tmax)`.

@@ -19,7 +19,7 @@
 
 use super::{CameraRay, World, closest, power_heuristic, visibility};
 use crate::film::Counters;
-use crate::geometry::{ConeSearch, Hit, ShadowRegion};
+use crate::geometry::{ConeSearch, FewTriangles, Hit, ShadowRegion};
 use crate::geometry::{shadow_ray_to, shadow_tmax};
 use crate::light::{LiSample, Light, LightBase, Seen};
 use crate::material::{Bsdf, SurfacePoint};
@@ -130,7 +130,13 @@ impl<'a> DirectIntegrator<'a> {
         let w = &self.world;
         let lights = &w.lights.lights;
         c.rays += 1;
-        let hit = closest(w, ray.o, ray.d, ray.tmin, ray.tmax, false);
+        let hit = match &c.tile_triangles {
+            // (only without transparency: Integrator::tile_triangles)
+            Some(ids) => w
+                .geometry
+                .intersect_among(w.scene, ids, ray.o, ray.d, ray.tmin, ray.tmax),
+            None => closest(w, ray.o, ray.d, ray.tmin, ray.tmax, false),
+        };
         let t_best = hit.map_or(ray.tmax, |h| h.t);
         if let Some((i, h)) =
             w.geometry
@@ -207,58 +213,64 @@ impl<'a> DirectIntegrator<'a> {
         // probability `pmf` (times k), with MIS against BSDF sampling unless `alone`. (Light
         // linking: an unlinked light adds nothing here, nor by BSDF sampling; the callers skip
         // it.)
-        let sample_light =
-            |l: &Light, ls: Option<LiSample>, pmf: f64, alone: bool, c: &mut Counters| {
-                let Some(ls) = ls else {
-                    return DVec3::ZERO;
-                };
-                c.light_samples += 1;
-                let cos = sp.ns.dot(ls.wi);
-                if cos <= 0.0 || sp.ng.dot(ls.wi) <= 0.0 || ls.pdf.is_nan() || ls.pdf <= 0.0 {
-                    return DVec3::ZERO;
-                }
-                if ls.l == DVec3::ZERO {
-                    return DVec3::ZERO;
-                }
-                // A mesh light is geometry: its shadow ray aims at the sampled point from `origin`
-                // (`shadow_ray_to`); other lights are not occluders.
-                let (dir, tmax) = match l {
-                    Light::Mesh(_) => match shadow_ray_to(origin, ls.point) {
-                        Some(ray) => ray,
-                        None => return DVec3::ZERO,
-                    },
-                    _ if ls.dist.is_finite() => (ls.wi, shadow_tmax(ls.dist, ls.point)),
-                    _ => (ls.wi, f64::INFINITY),
-                };
-                if tmax <= 0.0 {
-                    return DVec3::ZERO;
-                }
-                let base = l.base();
-                let Some(vis) = visibility(w, base, origin, dir, tmax, c) else {
-                    return DVec3::ZERO;
-                };
-                let pdf = pmf * ls.pdf;
-                let weight = if alone || ls.delta || !self.mis || !base.plain_shadows() {
-                    1.0
-                } else {
-                    power_heuristic(pdf, sp.bsdf.pdf(ls.wi))
-                };
-                // The light's inputs:diffuse and inputs:specular scale the two parts of f; one
-                // scale for a Lambertian surface or equal multipliers.
-                let contrib = if one_scale(&sp.bsdf, base) {
-                    sp.bsdf.f(ls.wi) * ls.l * vis * (base.diffuse * cos * weight / pdf)
-                } else {
-                    sp.bsdf.f_scaled(ls.wi, base.diffuse, base.specular)
-                        * ls.l
-                        * vis
-                        * (cos * weight / pdf)
-                };
-                if contrib.is_finite() {
-                    contrib
-                } else {
-                    DVec3::ZERO
-                }
+        let sample_light = |l: &Light,
+                            ls: Option<LiSample>,
+                            pmf: f64,
+                            alone: bool,
+                            among: Option<&FewTriangles>,
+                            c: &mut Counters| {
+            let Some(ls) = ls else {
+                return DVec3::ZERO;
             };
+            c.light_samples += 1;
+            let cos = sp.ns.dot(ls.wi);
+            if cos <= 0.0 || sp.ng.dot(ls.wi) <= 0.0 || ls.pdf.is_nan() || ls.pdf <= 0.0 {
+                return DVec3::ZERO;
+            }
+            if ls.l == DVec3::ZERO {
+                return DVec3::ZERO;
+            }
+            // A mesh light is geometry: its shadow ray aims at the sampled point from `origin`
+            // (`shadow_ray_to`); other lights are not occluders.
+            let (dir, tmax) = match l {
+                Light::Mesh(_) => match shadow_ray_to(origin, ls.point) {
+                    Some(ray) => ray,
+                    None => return DVec3::ZERO,
+                },
+                _ if ls.dist.is_finite() => (ls.wi, shadow_tmax(ls.dist, ls.point)),
+                _ => (ls.wi, f64::INFINITY),
+            };
+            if tmax <= 0.0 {
+                return DVec3::ZERO;
+            }
+            let base = l.base();
+            // (the patch's few blockers, for plain shadows without transparency)
+            let among = among.filter(|_| !w.transparent);
+            let Some(vis) = visibility(w, base, (origin, dir, tmax), among, c) else {
+                return DVec3::ZERO;
+            };
+            let pdf = pmf * ls.pdf;
+            let weight = if alone || ls.delta || !self.mis || !base.plain_shadows() {
+                1.0
+            } else {
+                power_heuristic(pdf, sp.bsdf.pdf(ls.wi))
+            };
+            // The light's inputs:diffuse and inputs:specular scale the two parts of f; one
+            // scale for a Lambertian surface or equal multipliers.
+            let contrib = if one_scale(&sp.bsdf, base) {
+                sp.bsdf.f(ls.wi) * ls.l * vis * (base.diffuse * cos * weight / pdf)
+            } else {
+                sp.bsdf.f_scaled(ls.wi, base.diffuse, base.specular)
+                    * ls.l
+                    * vis
+                    * (cos * weight / pdf)
+            };
+            if contrib.is_finite() {
+                contrib
+            } else {
+                DVec3::ZERO
+            }
+        };
         match selector {
             None => {
                 for (li, light) in lights.iter().enumerate() {
@@ -275,7 +287,7 @@ impl<'a> DirectIntegrator<'a> {
                     };
                     if k == 1 {
                         let ls = light.sample_li(&r, st.get2(dim), self.strategy);
-                        out += sample_light(light, ls, kf, alone, c);
+                        out += sample_light(light, ls, kf, alone, None, c);
                         continue;
                     }
                     // What the light's k samples share, computed once.
@@ -290,14 +302,14 @@ impl<'a> DirectIntegrator<'a> {
                         // nothing blocks; with shadow linking, only what it keeps).
                         let base = light.base();
                         let casts = |m| base.casts_shadow(m, None);
-                        let patch = match from.shadow_ball() {
+                        let (patch, few) = match from.shadow_ball() {
                             Some(ball) if alone && self.closed_forms && base.shadow.enable => {
                                 let corners = from.shadow_corners();
                                 let corners = corners.as_ref();
                                 c.patches
-                                    .search(w.scene, w.geometry, sp, li, ball, corners, &casts)
+                                    .search_few(w.scene, w.geometry, sp, li, ball, corners, &casts)
                             }
-                            _ => ConeSearch::Unsearched,
+                            _ => (ConeSearch::Unsearched, None),
                         };
                         // The direction the closed form's BSDF is evaluated in (the ball's
                         // centre: a Lambertian f is the same in every direction).
@@ -334,8 +346,10 @@ impl<'a> DirectIntegrator<'a> {
                             };
                             return;
                         }
+                        // (the point's shadow rays lie in its patch's region)
                         for u in st.split_get2(dim, k) {
-                            out += sample_light(light, from.sample_li(u), kf, alone, c);
+                            out +=
+                                sample_light(light, from.sample_li(u), kf, alone, few.as_ref(), c);
                         }
                     });
                 }
@@ -350,7 +364,7 @@ impl<'a> DirectIntegrator<'a> {
                         let l = &lights[li];
                         let u = sj.get2(Dim::Light { bounce, index: 0 });
                         let ls = l.sample_li(&r, u, self.strategy);
-                        out += sample_light(l, ls, pmf * kf, false, c);
+                        out += sample_light(l, ls, pmf * kf, false, None, c);
                     }
                 }
             }

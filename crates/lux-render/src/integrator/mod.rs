@@ -17,7 +17,7 @@ pub use path::{PathIntegrator, ROULETTE_DEPTH};
 pub use trace::closest;
 
 use crate::film::Counters;
-use crate::geometry::Geometry;
+use crate::geometry::{FewTriangles, Geometry};
 use crate::light::{LightBase, LightSet};
 use crate::material::Materials;
 use crate::sampler::SampleStream;
@@ -65,7 +65,34 @@ pub enum Integrator<'a> {
     Path(PathIntegrator<'a>),
 }
 
+/// Most triangles a tile's camera rays test as a list ([`Integrator::tile_triangles`]): beyond
+/// that the BVH's traversal costs less.
+pub const TILE_TRIANGLES: usize = 12;
+
 impl Integrator<'_> {
+    /// The world triangles the camera rays through pixels `[x0, y0, x1, y1)` can hit
+    /// ([`Geometry::triangles_in`] of the camera's [`Camera::frustum`]), for
+    /// [`Counters::tile_triangles`]; `None` (the BVH) with more than [`TILE_TRIANGLES`], with
+    /// instances or partly transparent surfaces (their rays go on past a hit).
+    ///
+    /// [`Camera::frustum`]: crate::camera::Camera::frustum
+    pub fn tile_triangles(
+        &self,
+        camera: &crate::camera::Camera,
+        rect: [u32; 4],
+    ) -> Option<Box<[u32]>> {
+        let w = match self {
+            Integrator::Direct(i) => &i.world,
+            Integrator::Path(i) => i.world(),
+        };
+        if w.transparent {
+            return None;
+        }
+        let (lo, hi) = w.geometry.world_bounds()?;
+        let frustum = camera.frustum(rect, lo.abs().max(hi.abs()).max_element())?;
+        w.geometry.triangles_in(&frustum, TILE_TRIANGLES)
+    }
+
     /// Radiance (RGB) and alpha (coverage) along a camera ray, drawing its random numbers
     /// from `st`.
     #[inline]
@@ -94,14 +121,14 @@ pub fn power_heuristic(a: f64, b: f64) -> f64 {
 /// `T = ∏(1 − oᵢ)` (`trace.rs`); with `ShadowAPI` inputs, `T + (1 − T)·shadowed` where
 /// `shadowed` is the ShadowAPI multiplier at the first surface of opacity > 0.
 /// Occluders outside the light's `collection:shadowLink` cast no shadow
-/// ([`crate::light::first_shadow_occluder`]).
+/// ([`crate::light::first_shadow_occluder`]). `among`: every triangle that can stop the ray
+/// ([`Geometry::blockers_in`] of a region holding it), which plain shadows test alone.
 #[inline]
 pub fn visibility(
     world: &World,
     l: &LightBase,
-    origin: DVec3,
-    dir: DVec3,
-    tmax: f64,
+    (origin, dir, tmax): (DVec3, DVec3, f64),
+    among: Option<&FewTriangles>,
     c: &mut Counters,
 ) -> Option<DVec3> {
     if !l.shadow.enable {
@@ -129,7 +156,10 @@ pub fn visibility(
         return (m != DVec3::ZERO).then_some(m);
     }
     if l.plain_shadows() {
-        let blocked = geometry.occluded(origin, dir, 0.0, tmax);
+        let blocked = match among {
+            Some(few) => geometry.occluded_among(few, origin, dir, 0.0, tmax),
+            None => geometry.occluded(origin, dir, 0.0, tmax),
+        };
         c.blocked += blocked as u64;
         return (!blocked).then_some(DVec3::ONE);
     }

@@ -15,7 +15,7 @@
 //! image does not depend on which tile or thread asks first, or whether the answer was
 //! remembered.
 
-use crate::geometry::{ConeSearch, Geometry, RayEnds, ShadowCone, ShadowPyramid};
+use crate::geometry::{ConeSearch, FewTriangles, Geometry, RayEnds, ShadowCone, ShadowPyramid};
 use crate::material::SurfacePoint;
 use glam::DVec3;
 use lux_usd::Scene;
@@ -53,10 +53,14 @@ impl Key {
     }
 }
 
+/// A patch's answer: whether something may block it and, when so, every triangle that might
+/// when there are few ([`Geometry::blockers_in`]).
+type Answer = (ConeSearch, Option<FewTriangles>);
+
 /// A tile's remembered patch answers.
 #[derive(Clone, Debug, Default)]
 pub struct ClearPatches {
-    slots: Vec<Option<(Key, ConeSearch)>>,
+    slots: Vec<Option<(Key, Answer)>>,
 }
 
 impl ClearPatches {
@@ -74,10 +78,29 @@ impl ClearPatches {
         geometry: &Geometry,
         sp: &SurfacePoint,
         light: usize,
-        (centre, radius, ends): (DVec3, f64, RayEnds),
+        ball: (DVec3, f64, RayEnds),
         corners: Option<&[DVec3; 4]>,
         casts: &impl Fn(usize) -> bool,
     ) -> ConeSearch {
+        self.search_few(scene, geometry, sp, light, ball, corners, casts)
+            .0
+    }
+
+    /// [`ClearPatches::search`], and for a patch that may be blocked the few triangles of the
+    /// shadow rays' BVH that can block any of its rays ([`Geometry::blockers_in`]; `None` when
+    /// more): a shadow ray from the point tests those alone
+    /// ([`Geometry::occluded_among`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn search_few(
+        &mut self,
+        scene: &Scene,
+        geometry: &Geometry,
+        sp: &SurfacePoint,
+        light: usize,
+        (centre, radius, ends): (DVec3, f64, RayEnds),
+        corners: Option<&[DVec3; 4]>,
+        casts: &impl Fn(usize) -> bool,
+    ) -> Answer {
         // (No patch region where the point's own is missing: the ball, or the rect's or disk's
         // corners, reach its horizon. The region's kind is the light's, never the point's: the
         // remembered answer must be a function of the key.)
@@ -86,13 +109,13 @@ impl ClearPatches {
             None => sp.ng.dot(centre - sp.p) > radius,
         };
         if sp.instance.is_some() || !above {
-            return ConeSearch::Unsearched;
+            return (ConeSearch::Unsearched, None);
         }
         let s = radius * CELL_PER_RADIUS;
         let g = sp.p * (1.0 / s);
         // (NaN fails too)
         if !(s > 0.0 && g.abs().max_element() < (1 << 30) as f64) {
-            return ConeSearch::Unsearched;
+            return (ConeSearch::Unsearched, None);
         }
         // ⌊g⌋ by truncation (`f64::floor` is a libm call on the baseline x86-64 target).
         let cell = g.to_array().map(|x| {
@@ -124,13 +147,23 @@ impl ClearPatches {
         let c = (glam::IVec3::from_array(cell).as_dvec3() + 0.5) * s;
         let q = c - sp.ng * sp.ng.dot(c - a);
         let spread = s * 0.5 * 3f64.sqrt();
+        let search = |b: ConeSearch, few: &dyn Fn() -> Option<FewTriangles>| match b {
+            ConeSearch::Blocked(_) => (b, few()),
+            _ => (b, None),
+        };
         let b = match corners {
-            Some(c) => ShadowPyramid::patch(q, sp.ng, spread, c)
-                .map(|pyramid| geometry.cone_search(&pyramid, casts)),
-            None => ShadowCone::patch(q, sp.ng, spread, centre, radius, ends)
-                .map(|cone| geometry.cone_search(&cone, casts)),
+            Some(c) => ShadowPyramid::patch(q, sp.ng, spread, c).map(|pyramid| {
+                search(geometry.cone_search(&pyramid, casts), &|| {
+                    geometry.blockers_in(&pyramid, casts)
+                })
+            }),
+            None => ShadowCone::patch(q, sp.ng, spread, centre, radius, ends).map(|cone| {
+                search(geometry.cone_search(&cone, casts), &|| {
+                    geometry.blockers_in(&cone, casts)
+                })
+            }),
         }
-        .unwrap_or(ConeSearch::Unsearched);
+        .unwrap_or((ConeSearch::Unsearched, None));
         self.slots[slot] = Some((key, b));
         b
     }
@@ -211,6 +244,77 @@ mod tests {
             m.search(&scene, &g, &sp, 1, ball, None, &|m| m != 1),
             ConeSearch::Clear
         );
+    }
+
+    /// Where a patch may be blocked, the few triangles it names answer every shadow ray of its
+    /// points as the whole BVH does: towards a ball (its cone) and a rect (its pyramid), over
+    /// a floor with a flat square (both as their outlines in the shadow rays' BVH) and small
+    /// scattered triangles, some patches with few enough of them, some not.
+    #[test]
+    fn a_blocked_patchs_few_triangles_answer_its_shadow_rays() {
+        use crate::geometry::cone::tests::mesh;
+        use crate::geometry::pyramid::tests::{rect, segments as rect_segments};
+        use lux_sample::SplitMix64;
+        let mut rng = SplitMix64::new(3);
+        let mut u = move || rng.next_f64();
+        let (mut v, mut t) = (Vec::new(), Vec::new());
+        // (60: the shadow rays' BVH, 4 + 60 triangles, stays within a quarter of the world's)
+        for i in 0..60u32 {
+            let c = DVec3::new(1.6 * u() - 0.8, 0.3 + 0.5 * u(), 1.6 * u() - 0.8);
+            for _ in 0..3 {
+                v.push(c + DVec3::new(u() - 0.5, u() - 0.5, u() - 0.5) * 0.12);
+            }
+            t.push([3 * i, 3 * i + 1, 3 * i + 2]);
+        }
+        let scene = scene_with(vec![
+            floor(),
+            square(DVec3::new(0.0, 0.5, 0.0), 0.15),
+            mesh("/bits", v, t),
+        ]);
+        let g = Geometry::new(&scene);
+        let centre = DVec3::new(0.3, 1.5, -0.2);
+        let corners = rect(centre, DVec3::Y, DVec3::X, (0.5, 0.4));
+        for with_rect in [false, true] {
+            let ball = if with_rect {
+                (centre, 0.5f64.hypot(0.4), RayEnds::Anywhere)
+            } else {
+                (centre, 0.4, RayEnds::NearSide)
+            };
+            let r = with_rect.then_some(&corners);
+            let mut kept = ClearPatches::default();
+            let (mut few, mut many, mut rays, mut hit) = (0, 0, 0, 0);
+            for i in 0..40 {
+                for j in 0..40 {
+                    let sp = floor_point(-2.0 + i as f64 * 0.1, -2.1 + j as f64 * 0.103);
+                    let (b, ids) = kept.search_few(&scene, &g, &sp, 0, ball, r, &|_| true);
+                    assert_eq!(
+                        (b, ids),
+                        ClearPatches::default().search_few(&scene, &g, &sp, 0, ball, r, &|_| true)
+                    );
+                    let Some(ids) = ids else {
+                        many += matches!(b, ConeSearch::Blocked(_)) as u32;
+                        continue;
+                    };
+                    assert!(matches!(b, ConeSearch::Blocked(_)));
+                    few += 1;
+                    let segs = if with_rect {
+                        rect_segments(sp.p, &corners, 100)
+                    } else {
+                        segments(sp.p, ball.0, ball.1, 100, false)
+                    };
+                    for (o, w, t) in segs {
+                        let all = g.occluded(o, w, 0.0, t);
+                        assert_eq!(g.occluded_among(&ids, o, w, 0.0, t), all, "at {}", sp.p);
+                        rays += 1;
+                        hit += all as u32;
+                    }
+                }
+            }
+            assert!(
+                few > 50 && many > 10 && hit > 500 && hit < rays,
+                "rect {with_rect}: {few} few, {many} many, {hit} of {rays} blocked"
+            );
+        }
     }
 
     #[test]

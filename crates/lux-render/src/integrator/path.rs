@@ -14,7 +14,7 @@
 //! most `max_depth` vertices are lit (`max_depth = 1` is the direct integrator, bit for bit).
 
 use super::direct::{CameraVertex, DirectIntegrator};
-use super::{CameraRay, closest};
+use super::{CameraRay, World, closest};
 use crate::film::Counters;
 use crate::sampler::{Dim, SampleStream};
 use glam::DVec3;
@@ -31,6 +31,11 @@ pub struct PathIntegrator<'a> {
 }
 
 impl<'a> PathIntegrator<'a> {
+    /// The scene it renders.
+    pub(super) fn world(&self) -> &World<'a> {
+        &self.direct.world
+    }
+
     /// Paths of at most `max_depth` (≥ 1) lit vertices over the direct integrator's estimate.
     pub fn new(direct: DirectIntegrator<'a>, max_depth: u32) -> PathIntegrator<'a> {
         PathIntegrator {
