@@ -20,6 +20,10 @@
 //! some world meshes are flat cards tiling a convex polygon (`geometry/planar.rs`): those
 //! meshes as their outline's fan triangles, which block exactly what their triangles block.
 //!
+//! Where a region holds every ray of a group and meets few triangles, the group tests those
+//! alone: a tile's camera rays ([`RayFrustum`], [`Geometry::triangles_in`]) and the shadow rays
+//! of a patch of surface ([`Geometry::blockers_in`]); same answers as the BVH.
+//!
 //! Back faces: a triangle of a mesh that is not `doubleSided` is invisible from behind to
 //! closest-hit queries (UsdGeom: single-sided geometry may be back-face culled), but it
 //! occludes shadow rays from both sides, so a one-sided wall still casts a shadow.
@@ -745,7 +749,7 @@ impl Geometry {
     }
 
     /// Every triangle of a mesh that `casts` which can stop a shadow ray inside `region`, among
-    /// those shadow rays query ([`Geometry::shadow`]'s outlines of flat cards where built), for
+    /// those shadow rays query (the outlines of flat cards where built: `geometry/planar.rs`), for
     /// [`Geometry::occluded_among`]; `None` when more than [`FewTriangles::CAP`], or with
     /// instances.
     pub fn blockers_in(
