@@ -10,7 +10,7 @@
 //! BVH's boxes are tested the same way ([`ShadowRegion::node_mask`]).
 
 use super::ShadowRegion;
-use glam::{DVec3, Vec3A, Vec4};
+use glam::DVec3;
 use obvhs::cwbvh::node::CwBvhNode;
 use obvhs::triangle::Triangle;
 
@@ -79,36 +79,17 @@ impl ShadowRegion for RayFrustum {
     /// True when the triangle lies wholly outside one of the four sides.
     #[inline]
     fn culls_triangle(&self, t: &Triangle) -> bool {
-        let v = [t.v0, t.v1, t.v2].map(|x: Vec3A| x.as_dvec3());
-        self.planes
-            .iter()
-            .any(|&(n, d)| v.iter().all(|&x| n.dot(x) - d < -self.margin))
+        super::outside_a_plane(&self.planes, self.margin, t)
     }
 
     /// The CWBVH hit mask of the node's children the frustum may reach (as the pyramid's,
     /// [`super::ShadowPyramid`], without its floor).
     #[inline(always)]
     fn node_mask(&self, node: &CwBvhNode, oct_inv4: u32) -> u32 {
-        let e = node.compute_extent();
-        let origin = Vec3A::from(node.p);
-        let frame = |n: DVec3, d: f64| {
-            let n = n.as_vec3a();
-            ((n * e).to_array(), n.dot(origin) - d as f32)
-        };
-        let planes = self.planes.map(|(n, d)| frame(n, d));
-        let margin = self.margin as f32;
-        let mut keep = 0u32;
-        for half in 0..2 {
-            let boxes = super::child_boxes(node, half);
-            let most =
-                |(n, d0): ([f32; 3], f32)| super::farthest_along(&boxes, n) + Vec4::splat(d0);
-            let mut out = glam::BVec4A::splat(false);
-            for &p in &planes {
-                out |= most(p).cmplt(Vec4::splat(-margin));
-            }
-            keep |= ((!out.bitmask()) & 0xf) << (4 * half);
-        }
-        super::child_mask(node, oct_inv4, keep, |_| false)
+        let tests = self
+            .planes
+            .map(|(n, d)| (super::in_node_frame(node, n, d), -self.margin as f32));
+        super::child_mask(node, oct_inv4, super::above_all(node, &tests), |_| false)
     }
 
     fn to_prototype(&self, qt: &glam::DMat3, t: DVec3, s: f64, extra: f64) -> RayFrustum {

@@ -121,6 +121,47 @@ fn farthest_along((lo, hi): &([Vec4; 3], [Vec4; 3]), n: [f32; 3]) -> Vec4 {
     side(0) + side(1) + side(2)
 }
 
+/// The plane `n·x = d` (world space) in the quantized frame of `node` (`x = origin + e ⊙ q`):
+/// the normal scaled by the extent, and its value at the node's origin less `d`.
+#[inline(always)]
+fn in_node_frame(node: &obvhs::cwbvh::node::CwBvhNode, n: DVec3, d: f64) -> ([f32; 3], f32) {
+    let n = n.as_vec3a();
+    (
+        (n * node.compute_extent()).to_array(),
+        n.dot(Vec3A::from(node.p)) - d as f32,
+    )
+}
+
+/// Bits (child order) of the children of `node` that lie wholly below none of the `tests`:
+/// each a plane in the node's frame ([`in_node_frame`]) and the value every point of a box
+/// must stay under, by the box's corner farthest along the normal, to be below it.
+#[inline(always)]
+fn above_all<const N: usize>(
+    node: &obvhs::cwbvh::node::CwBvhNode,
+    tests: &[(([f32; 3], f32), f32); N],
+) -> u32 {
+    let mut keep = 0u32;
+    for half in 0..2 {
+        let boxes = child_boxes(node, half);
+        let mut out = glam::BVec4A::splat(false);
+        for &((n, d0), below) in tests {
+            out |= (farthest_along(&boxes, n) + Vec4::splat(d0)).cmplt(Vec4::splat(below));
+        }
+        keep |= ((!out.bitmask()) & 0xf) << (4 * half);
+    }
+    keep
+}
+
+/// Whether the triangle lies wholly outside one of the half-spaces `n·x ≥ d` of `planes` by
+/// more than `margin` (in `f64`, from its stored `f32` corners).
+#[inline]
+fn outside_a_plane(planes: &[(DVec3, f64)], margin: f64, t: &obvhs::triangle::Triangle) -> bool {
+    let v = [t.v0, t.v1, t.v2].map(|x: Vec3A| x.as_dvec3());
+    planes
+        .iter()
+        .any(|&(n, d)| v.iter().all(|&x| n.dot(x) - d < -margin))
+}
+
 /// The CWBVH hit mask (in the traversal order of `oct_inv4`) of the node's non-empty children
 /// whose bit is set in `keep` and that `drop` does not drop.
 #[inline]

@@ -12,7 +12,7 @@
 //! the receiver's tangent plane, however large and near the rect is.
 
 use super::ShadowRegion;
-use glam::{DVec3, Vec3A, Vec4};
+use glam::DVec3;
 use obvhs::cwbvh::node::CwBvhNode;
 use obvhs::triangle::Triangle;
 
@@ -119,13 +119,11 @@ impl ShadowRegion for ShadowPyramid {
     /// one of the five planes.
     #[inline]
     fn culls_triangle(&self, t: &Triangle) -> bool {
-        let v = [t.v0, t.v1, t.v2].map(|x: Vec3A| x.as_dvec3());
         let up = self.ng.dot(self.apex);
-        v.iter().all(|&x| self.ng.dot(x) - up < self.floor)
-            || self
-                .planes
-                .iter()
-                .any(|&(n, d)| v.iter().all(|&x| n.dot(x) - d < -self.margin))
+        [t.v0, t.v1, t.v2]
+            .iter()
+            .all(|x| self.ng.dot(x.as_dvec3()) - up < self.floor)
+            || super::outside_a_plane(&self.planes, self.margin, t)
     }
 
     /// The CWBVH hit mask of the node's children the pyramid may reach, in the traversal
@@ -146,29 +144,16 @@ impl ShadowRegion for ShadowPyramid {
 
     #[inline(always)]
     fn node_mask(&self, node: &CwBvhNode, oct_inv4: u32) -> u32 {
-        let e = node.compute_extent();
-        let origin = Vec3A::from(node.p);
-        // (normal in the quantized frame, its value at the node's origin less the plane's)
-        let frame = |n: DVec3, d: f64| {
-            let n = n.as_vec3a();
-            ((n * e).to_array(), n.dot(origin) - d as f32)
+        let frame = |n: DVec3, d: f64| super::in_node_frame(node, n, d);
+        let side = |i: usize| {
+            (
+                frame(self.planes[i].0, self.planes[i].1),
+                -self.margin as f32,
+            )
         };
-        let ng = frame(self.ng, self.ng.dot(self.apex));
-        let planes = self.planes.map(|(n, d)| frame(n, d));
-        let (floor, margin) = (self.floor as f32, self.margin as f32);
-        let mut keep = 0u32;
-        for half in 0..2 {
-            let boxes = super::child_boxes(node, half);
-            // Largest value of n·x − d over each box.
-            let most =
-                |(n, d0): ([f32; 3], f32)| super::farthest_along(&boxes, n) + Vec4::splat(d0);
-            let mut out = most(ng).cmplt(Vec4::splat(floor));
-            for &p in &planes {
-                out |= most(p).cmplt(Vec4::splat(-margin));
-            }
-            keep |= ((!out.bitmask()) & 0xf) << (4 * half);
-        }
-        super::child_mask(node, oct_inv4, keep, |_| false)
+        let floor = (frame(self.ng, self.ng.dot(self.apex)), self.floor as f32);
+        let tests = [floor, side(0), side(1), side(2), side(3), side(4)];
+        super::child_mask(node, oct_inv4, super::above_all(node, &tests), |_| false)
     }
 }
 
