@@ -244,8 +244,8 @@ impl<'a> DirectIntegrator<'a> {
                 return DVec3::ZERO;
             }
             let base = l.base();
-            // (the patch's few blockers, for plain shadows without transparency)
-            let among = among.filter(|_| !w.transparent);
+            // (the patch's few blockers: `visibility` tests them for plain shadows without
+            // transparency)
             let Some(vis) = visibility(w, base, (origin, dir, tmax), among, c) else {
                 return DVec3::ZERO;
             };
