@@ -200,10 +200,10 @@ impl Camera {
             }
         };
         let rays = corners.map(ray);
-        // Bounds every coordinate and distance between the rays' origins and the geometry.
+        // Bounds every coordinate and distance between the rays' origins (the corners' span
+        // them all) and the geometry.
         let scale = 2.0
             * (extent
-                + self.eye.abs().max_element()
                 + rays
                     .iter()
                     .map(|r| r.0.abs().max_element())

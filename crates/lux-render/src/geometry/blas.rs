@@ -193,17 +193,19 @@ impl Blas {
         t
     }
 
-    /// Every triangle (BVH index) `region` does not rule out, in traversal order, given to
-    /// `take` until it returns true; true when it did.
-    pub fn region_all(
+    /// Every triangle (BVH index) of a mesh that `casts` which `region` does not rule out, in
+    /// traversal order, given to `take` until it returns true: the triangle it did.
+    pub fn region_triangles(
         &self,
         region: &impl ShadowRegion,
+        casts: &impl Fn(usize) -> bool,
         mut take: impl FnMut(u32) -> bool,
-    ) -> bool {
+    ) -> Option<u32> {
         super::region_search(&self.bvh, region, |id| {
-            !region.culls_triangle(&self.tris[id]) && take(id as u32)
+            !region.culls_triangle(&self.tris[id])
+                && casts(self.prims[id].mesh as usize)
+                && take(id as u32)
         })
-        .is_some()
     }
 
     /// Closest triangle on `ray`, either side.
@@ -227,9 +229,7 @@ impl Blas {
         cone: &impl ShadowRegion,
         casts: &impl Fn(usize) -> bool,
     ) -> Option<u32> {
-        super::region_search(&self.bvh, cone, |id| {
-            !cone.culls_triangle(&self.tris[id]) && casts(self.prims[id].mesh as usize)
-        })
+        self.region_triangles(cone, casts, |_| true)
     }
 
     /// Whether `cone` rules out triangle `id` (an index into the BVH's triangles).

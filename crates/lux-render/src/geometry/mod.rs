@@ -627,11 +627,11 @@ impl Geometry {
         }
         let world = self.world.as_ref()?;
         let mut ids = Vec::new();
-        let over = world.region_all(frustum, |id| {
+        let over = world.region_triangles(frustum, &|_| true, |id| {
             ids.push(id);
             ids.len() > cap
         });
-        (!over).then(|| ids.into_boxed_slice())
+        over.is_none().then(|| ids.into_boxed_slice())
     }
 
     /// [`Geometry::intersect`] of a ray among the world triangles `ids` alone: the same hit
@@ -806,10 +806,7 @@ impl Geometry {
             len: 0,
             ids: [0; FewTriangles::CAP],
         };
-        let over = b.region_all(region, |id| {
-            if !casts(b.prims[id as usize].mesh as usize) {
-                return false;
-            }
+        let over = b.region_triangles(region, casts, |id| {
             if few.len as usize == FewTriangles::CAP {
                 return true;
             }
@@ -817,7 +814,7 @@ impl Geometry {
             few.len += 1;
             false
         });
-        (!over).then_some(few)
+        over.is_none().then_some(few)
     }
 
     /// [`Geometry::occluded`] among the triangles `few` alone: the same answer for a ray inside

@@ -307,7 +307,7 @@ impl<'a> DirectIntegrator<'a> {
                                 let corners = from.shadow_corners();
                                 let corners = corners.as_ref();
                                 c.patches
-                                    .search_few(w.scene, w.geometry, sp, li, ball, corners, &casts)
+                                    .search(w.scene, w.geometry, sp, li, ball, corners, &casts)
                             }
                             _ => (ConeSearch::Unsearched, None),
                         };

@@ -71,27 +71,11 @@ impl ClearPatches {
     /// ball then holds the light and sizes the cells).
     /// [`ConeSearch::Unsearched`] for points on instances and out-of-range coordinates, which
     /// are not searched here.
+    /// With it, for a patch that may be blocked, the few triangles of the shadow rays' BVH
+    /// that can block any of its rays ([`Geometry::blockers_in`]; `None` when more): a shadow
+    /// ray from the point tests those alone ([`Geometry::occluded_among`]).
     #[allow(clippy::too_many_arguments)]
     pub fn search(
-        &mut self,
-        scene: &Scene,
-        geometry: &Geometry,
-        sp: &SurfacePoint,
-        light: usize,
-        ball: (DVec3, f64, RayEnds),
-        corners: Option<&[DVec3; 4]>,
-        casts: &impl Fn(usize) -> bool,
-    ) -> ConeSearch {
-        self.search_few(scene, geometry, sp, light, ball, corners, casts)
-            .0
-    }
-
-    /// [`ClearPatches::search`], and for a patch that may be blocked the few triangles of the
-    /// shadow rays' BVH that can block any of its rays ([`Geometry::blockers_in`]; `None` when
-    /// more): a shadow ray from the point tests those alone
-    /// ([`Geometry::occluded_among`]).
-    #[allow(clippy::too_many_arguments)]
-    pub fn search_few(
         &mut self,
         scene: &Scene,
         geometry: &Geometry,
@@ -207,9 +191,10 @@ mod tests {
         for i in 0..48 {
             for j in 0..48 {
                 let sp = floor_point(-1.6 + i as f64 * 0.071, -1.7 + j as f64 * 0.069);
-                let remembered = kept.search(&scene, &g, &sp, 0, ball, None, &|_| true);
-                let fresh =
-                    ClearPatches::default().search(&scene, &g, &sp, 0, ball, None, &|_| true);
+                let remembered = kept.search(&scene, &g, &sp, 0, ball, None, &|_| true).0;
+                let fresh = ClearPatches::default()
+                    .search(&scene, &g, &sp, 0, ball, None, &|_| true)
+                    .0;
                 assert_eq!(remembered, fresh, "at {}", sp.p);
                 match fresh {
                     ConeSearch::Clear => {
@@ -232,16 +217,18 @@ mod tests {
         );
         // Shadow linking that leaves the square out: every patch is clear.
         let sp = floor_point(0.2, -0.1);
-        let linked = ClearPatches::default().search(&scene, &g, &sp, 0, ball, None, &|m| m != 1);
+        let linked = ClearPatches::default()
+            .search(&scene, &g, &sp, 0, ball, None, &|m| m != 1)
+            .0;
         assert_eq!(linked, ConeSearch::Clear);
         // The light's index is part of the key: another light's answer is not reused.
         let mut m = ClearPatches::default();
         assert_ne!(
-            m.search(&scene, &g, &sp, 0, ball, None, &|_| true),
+            m.search(&scene, &g, &sp, 0, ball, None, &|_| true).0,
             ConeSearch::Clear
         );
         assert_eq!(
-            m.search(&scene, &g, &sp, 1, ball, None, &|m| m != 1),
+            m.search(&scene, &g, &sp, 1, ball, None, &|m| m != 1).0,
             ConeSearch::Clear
         );
     }
@@ -286,10 +273,10 @@ mod tests {
             for i in 0..40 {
                 for j in 0..40 {
                     let sp = floor_point(-2.0 + i as f64 * 0.1, -2.1 + j as f64 * 0.103);
-                    let (b, ids) = kept.search_few(&scene, &g, &sp, 0, ball, r, &|_| true);
+                    let (b, ids) = kept.search(&scene, &g, &sp, 0, ball, r, &|_| true);
                     assert_eq!(
                         (b, ids),
-                        ClearPatches::default().search_few(&scene, &g, &sp, 0, ball, r, &|_| true)
+                        ClearPatches::default().search(&scene, &g, &sp, 0, ball, r, &|_| true)
                     );
                     let Some(ids) = ids else {
                         many += matches!(b, ConeSearch::Blocked(_)) as u32;
@@ -336,8 +323,10 @@ mod tests {
             for j in 0..40 {
                 let sp = floor_point(-4.0 + i as f64 * 0.2, -3.9 + j as f64 * 0.197);
                 let r = Some(&corners);
-                let remembered = kept.search(&scene, &g, &sp, 0, ball, r, &|_| true);
-                let fresh = ClearPatches::default().search(&scene, &g, &sp, 0, ball, r, &|_| true);
+                let remembered = kept.search(&scene, &g, &sp, 0, ball, r, &|_| true).0;
+                let fresh = ClearPatches::default()
+                    .search(&scene, &g, &sp, 0, ball, r, &|_| true)
+                    .0;
                 assert_eq!(remembered, fresh, "at {}", sp.p);
                 match fresh {
                     ConeSearch::Clear => {
