@@ -26,6 +26,7 @@ mod distant;
 mod distribution;
 mod dome;
 mod error;
+pub mod hidden;
 mod light;
 mod mesh;
 pub mod projected;

@@ -140,6 +140,13 @@ impl Blas {
         &self.tris
     }
 
+    /// The vertices of triangle `id` (BVH order) as its ray tests see them (`f32`, widened).
+    #[inline]
+    pub fn vertices(&self, id: u32) -> Option<[DVec3; 3]> {
+        let t = self.tris.get(id as usize)?;
+        Some([t.v0, t.v1, t.v2].map(|v| DVec3::new(v.x as f64, v.y as f64, v.z as f64)))
+    }
+
     /// Number of stored triangles.
     pub fn len(&self) -> usize {
         self.tris.len()

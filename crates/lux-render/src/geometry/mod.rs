@@ -789,6 +789,13 @@ impl Geometry {
         self.world.as_ref().is_none_or(|w| w.culls(cone, id))
     }
 
+    /// The vertices of the triangle `id` of a [`FewTriangles`] ([`Geometry::blockers_in`]), as
+    /// shadow rays meet it.
+    #[inline]
+    pub fn blocker_vertices(&self, id: u32) -> Option<[DVec3; 3]> {
+        self.blockers()?.vertices(id)
+    }
+
     /// Every triangle of a mesh that `casts` which can stop a shadow ray inside `region`, among
     /// those shadow rays query (the outlines of flat cards where built: `geometry/planar.rs`), for
     /// [`Geometry::occluded_among`]; `None` when more than [`FewTriangles::CAP`], or with

@@ -17,7 +17,7 @@
 //! are estimated by light sampling alone: a BSDF ray stops at the first occluder, which is not
 //! what their shadow says.
 
-use super::{CameraRay, World, closest, power_heuristic, visibility};
+use super::{CameraRay, World, closest, penumbra, power_heuristic, visibility};
 use crate::film::Counters;
 use crate::geometry::{ConeSearch, FewTriangles, Hit, ShadowRegion};
 use crate::geometry::{shadow_ray_to, shadow_tmax};
@@ -312,33 +312,45 @@ impl<'a> DirectIntegrator<'a> {
                             _ => (ConeSearch::Unsearched, None),
                         };
                         // The direction the closed form's BSDF is evaluated in (the ball's
-                        // centre: a Lambertian f is the same in every direction).
+                        // centre: a Lambertian f is the same in every direction), and the
+                        // fraction of the closed form that passes.
                         let unblocked = match patch {
                             _ if !(alone && self.closed_forms) => None,
                             // (the patch's region holds the point's: the light is above its
                             // horizon)
                             ConeSearch::Clear => from
                                 .shadow_ball()
-                                .map(|(centre, ..)| (centre - sp.p).normalize()),
+                                .map(|(centre, ..)| ((centre - sp.p).normalize(), 1.0)),
                             // Something may block the patch, and the light's samples are its
-                            // closed form where unblocked: a search of the point's own region
-                            // would only spare its shadow rays, at about their cost, and most
-                            // often (in a penumbra) find a blocker.
-                            ConeSearch::Blocked(_) if from.samples_exactly() => None,
+                            // closed form where unblocked: with the patch's few possible
+                            // blockers (plain opaque shadows), the part of the sphere they
+                            // leave visible in closed form (integrator/penumbra.rs); else the
+                            // samples (a search of the point's own region would only spare
+                            // their shadow rays, at about their cost, and most often, in a
+                            // penumbra, find a blocker).
+                            ConeSearch::Blocked(_) if from.samples_exactly() => few
+                                .as_ref()
+                                .filter(|_| !w.transparent && base.plain_shadows())
+                                .and_then(|few| {
+                                    let cap = from.sphere_cap()?;
+                                    let pass = penumbra::sphere_visible(w.geometry, sp, cap, few)?;
+                                    Some(((cap.0 - sp.p).normalize(), pass))
+                                }),
                             // A rect's or disk's pyramid (tighter than its ball's cone), else
                             // the cone.
                             _ => match from.shadow_pyramid(sp.p, sp.ng, sp.offset) {
                                 Some(pyramid) => clear_from(w, base, &pyramid, patch, &casts)
-                                    .then(|| pyramid.axis()),
+                                    .then(|| (pyramid.axis(), 1.0)),
                                 None => from
                                     .shadow_cone(sp.p, sp.ng, sp.offset)
                                     .filter(|cone| clear_from(w, base, cone, patch, &casts))
-                                    .map(|cone| cone.axis()),
+                                    .map(|cone| (cone.axis(), 1.0)),
                             },
                         };
-                        if let Some(wi) = unblocked
+                        if let Some((wi, pass)) = unblocked
                             && let Some(le_pi) = from.unshadowed(sp.p, sp.ns)
                         {
+                            let le_pi = le_pi * pass;
                             out += if one_scale(&sp.bsdf, base) {
                                 sp.bsdf.f(wi) * le_pi * base.diffuse
                             } else {

@@ -9,6 +9,7 @@
 mod direct;
 mod patches;
 mod path;
+mod penumbra;
 mod trace;
 
 pub use direct::DirectIntegrator;

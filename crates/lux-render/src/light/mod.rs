@@ -283,6 +283,16 @@ impl LightFrom<'_> {
         matches!(self, LightFrom::Sphere(l, from) if l.uniform_area() && from.projected_cap().is_some())
     }
 
+    /// For a uniform sphere drawn from its projected cap ([`LightFrom::samples_exactly`]): its
+    /// world centre and radius and the cap's projected solid angle Π from the receiver.
+    #[inline]
+    pub fn sphere_cap(&self) -> Option<(DVec3, f64, f64)> {
+        match self {
+            LightFrom::Sphere(l, from) if l.uniform_area() => from.projected_cap(),
+            _ => None,
+        }
+    }
+
     /// The ball holding every point a shadow ray of [`LightFrom::shadow_cone`] ends at, and
     /// where in it they end: the sphere light itself (`inputs:radius`, scaled), the rect's
     /// circumscribed ball, the disk's. The same from every receiver.

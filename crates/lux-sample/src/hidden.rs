@@ -1,0 +1,424 @@
+//! What triangles hide of a spherical cap, in closed form: the exact shadowed irradiance of a
+//! uniform sphere light behind a few opaque triangles.
+//!
+//! A sphere light of uniform radiance L seen from a receiver `p` (unit normal `n`) fills the
+//! cap of directions `ω·a ≥ cos α` (a the unit axis towards its centre, sin α = R/D). Wholly
+//! above the horizon (`n·a ≥ sin α`), its unshadowed irradiance is `L·Π`, Π = π sin²α (n·a)
+//! ([`crate::projected::sphere`]). A triangle between `p` and the sphere hides the directions
+//! of the cap that meet its projection from `p`, a spherical triangle T; what it hides is
+//!
+//! ```text
+//! H = ∫_{cap ∩ T} n·ω dω = ½ ∮_{∂(cap ∩ T)} n·(ω × dω)
+//! ```
+//!
+//! (the vector-irradiance identity of [`crate::projected`], with ∂ counter-clockwise seen from
+//! outside the unit sphere). The boundary of cap ∩ T is made of pieces of two kinds:
+//! - the parts of T's edges inside the cap: a great arc of angle t from `w₁` towards `w₂`
+//!   contributes `t · n·m`, m = (w₁ × w₂)/|w₁ × w₂| (Lambert's polygon formula);
+//! - the parts of the cap's rim inside T: on the rim `ω(φ) = cos α·a + sin α (u cos φ + v sin φ)`
+//!   (u, v, a right-handed), the arc from φ₀ to φ₁ contributes
+//!   `sin α [sin α (n·a)(φ₁ − φ₀) − cos α ((n·v)(cos φ₀ − cos φ₁) + (n·u)(sin φ₁ − sin φ₀))]`.
+//!
+//! An edge's great circle meets the rim where `c·ω(t) = A cos t + B sin t = cos α` (A = a·w₁,
+//! B = a·e, e the edge's unit tangent at `w₁`): the edge is inside the cap for
+//! `|t − atan2(B, A)| ≤ acos(cos α / √(A² + B²))`. The rim is inside the half-space of an edge
+//! (`ω·m ≥ 0`) where `cos α (a·m) + sin α (u·m cos φ + v·m sin φ) ≥ 0`, an arc of φ; the rim
+//! inside T is the intersection of the three.
+//!
+//! Several triangles hide the sum of what each hides when their projections do not overlap
+//! ([`apart`]): then the shadowed irradiance is `L·(Π − Σ H)` exactly, with no sample and no
+//! ray. The caller checks that the triangles lie wholly in front of the sphere (every shadow
+//! ray would meet them before the light).
+
+use core::f64::consts::TAU;
+use glam::DVec3;
+
+/// A triangle's vertex directions seen from the receiver, counter-clockwise from outside the
+/// unit sphere, and its edges' unit inward normals `mᵢ = (wᵢ × wᵢ₊₁)/|wᵢ × wᵢ₊₁|` (inside:
+/// `ω·mᵢ ≥ 0` for all three). `None` for a triangle whose plane holds the receiver (its
+/// projection has no area) or a non-finite one.
+fn spherical(r: &[DVec3; 3]) -> Option<([DVec3; 3], [DVec3; 3])> {
+    let lens = r.map(|v| v.length());
+    let det = r[0].dot(r[1].cross(r[2]));
+    // (relative to the vertices' distances: a triangle seen edge-on hides nothing)
+    if crate::not_positive(det.abs() - 1e-12 * lens[0] * lens[1] * lens[2]) {
+        return None;
+    }
+    let mut w = [r[0] / lens[0], r[1] / lens[1], r[2] / lens[2]];
+    if det < 0.0 {
+        w.swap(1, 2);
+    }
+    let m = [0, 1, 2].map(|i| w[i].cross(w[(i + 1) % 3]).normalize());
+    m.iter().all(|m| m.is_finite()).then_some((w, m))
+}
+
+/// Π of the part of the cap around the unit axis `axis` with `cos α = cos_a` hidden by the
+/// triangle `tri` (world points; either face) from the receiver at `p` with unit normal `n`:
+/// `∫ n·ω dω` over the cap's directions that meet the triangle's projection from `p` (module
+/// docs). The cap must lie wholly above the horizon (`n·axis ≥ sin α`, so that `n·ω > 0` over
+/// it); `None` otherwise or for non-finite input. 0 when the triangle's plane holds `p` or its
+/// projection misses the cap; the cap's own Π (π sin²α (n·axis)) when it covers the cap. Where
+/// the triangle lies along the rays (in front of the light or behind it) is the caller's.
+pub fn cap_triangle(p: DVec3, n: DVec3, axis: DVec3, cos_a: f64, tri: &[DVec3; 3]) -> Option<f64> {
+    let sin_a = (1.0 - cos_a * cos_a).max(0.0).sqrt();
+    if !(cos_a > 0.0 && cos_a < 1.0 && n.dot(axis) >= sin_a && axis.is_finite() && p.is_finite()) {
+        return None;
+    }
+    let Some((w, m)) = spherical(&tri.map(|v| v - p)) else {
+        return Some(0.0);
+    };
+    let na = n.dot(axis);
+    // The rim inside each edge's half-space: K + S cos(φ − θ) ≥ 0.
+    let u = axis.any_orthonormal_vector();
+    let v = axis.cross(u);
+    let mut arcs = [(0.0f64, 0.0f64); 3];
+    let mut partial = 0;
+    for mi in m {
+        let k = cos_a * axis.dot(mi);
+        let (pu, pv) = (sin_a * u.dot(mi), sin_a * v.dot(mi));
+        let s = (pu * pu + pv * pv).sqrt();
+        if k <= -s {
+            // The whole rim, so the whole cap (smaller than a hemisphere), is outside this
+            // edge: nothing is hidden.
+            return Some(0.0);
+        }
+        if k < s {
+            // Inside for φ ∈ [θ − β, θ + β].
+            arcs[partial] = (pv.atan2(pu), (-k / s).acos());
+            partial += 1;
+        }
+    }
+    let rim = |f0: f64, f1: f64| {
+        let ((s0, c0), (s1, c1)) = (f0.sin_cos(), f1.sin_cos());
+        sin_a * (sin_a * na * (f1 - f0) - cos_a * (n.dot(v) * (c0 - c1) + n.dot(u) * (s1 - s0)))
+    };
+    if partial == 0 {
+        // The rim is inside every edge: the triangle covers the cap.
+        return Some(0.5 * rim(0.0, TAU));
+    }
+    let mut sum = 0.0;
+    // The edges' parts inside the cap.
+    for i in 0..3 {
+        let (a, b) = (w[i], w[(i + 1) % 3]);
+        let e = m[i].cross(a);
+        let gamma = a.cross(b).length().atan2(a.dot(b));
+        let (ca, cb) = (axis.dot(a), axis.dot(e));
+        let r = (ca * ca + cb * cb).sqrt();
+        if r <= cos_a {
+            continue;
+        }
+        let psi = cb.atan2(ca);
+        let delta = (cos_a / r).acos();
+        let (mut lo, mut hi) = (psi - delta, psi + delta);
+        if hi < 0.0 {
+            (lo, hi) = (lo + TAU, hi + TAU);
+        }
+        let (t0, t1) = (lo.max(0.0), hi.min(gamma));
+        if t1 > t0 {
+            sum += (t1 - t0) * n.dot(m[i]);
+        }
+    }
+    // The rim's parts inside the triangle: between consecutive ends of the edges' arcs, the
+    // pieces whose middle every edge keeps.
+    let mut ends = [0.0f64; 6];
+    for (j, &(theta, beta)) in arcs[..partial].iter().enumerate() {
+        ends[2 * j] = (theta - beta).rem_euclid(TAU);
+        ends[2 * j + 1] = (theta + beta).rem_euclid(TAU);
+    }
+    let ends = &mut ends[..2 * partial];
+    ends.sort_unstable_by(f64::total_cmp);
+    let inside = |phi: f64| {
+        arcs[..partial]
+            .iter()
+            .all(|&(theta, beta)| (phi - theta).cos() >= beta.cos())
+    };
+    for j in 0..ends.len() {
+        let f0 = ends[j];
+        let f1 = if j + 1 < ends.len() {
+            ends[j + 1]
+        } else {
+            ends[0] + TAU
+        };
+        if f1 > f0 && inside(0.5 * (f0 + f1)) {
+            sum += rim(f0, f1);
+        }
+    }
+    let full = 0.5 * rim(0.0, TAU);
+    Some((0.5 * sum).clamp(0.0, full))
+}
+
+/// Whether the triangles `a` and `b` (world points) seen from `p` have projections whose
+/// interiors do not overlap: one of their edges' great circles (the plane through `p` and the
+/// edge) has one triangle on each side, within 10⁻⁹ rad (a shared edge separates two triangles
+/// of a flat card). False when none does (for two convex spherical polygons, overlapping) or
+/// for a triangle seen edge-on — a conservative answer: what [`cap_triangle`] hides may then
+/// be counted twice.
+pub fn apart(p: DVec3, a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
+    let (Some((wa, ma)), Some((wb, mb))) =
+        (spherical(&a.map(|v| v - p)), spherical(&b.map(|v| v - p)))
+    else {
+        return false;
+    };
+    let outside =
+        |m: &[DVec3; 3], w: &[DVec3; 3]| m.iter().any(|m| w.iter().all(|w| m.dot(*w) <= 1e-9));
+    outside(&ma, &wb) || outside(&mb, &wa)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::projected;
+    use core::f64::consts::PI;
+
+    /// Sutherland–Hodgman: the part of the polygon `poly` where `keep(x) ≥ 0` (`keep` affine).
+    fn clip<
+        T: Copy
+            + core::ops::Add<Output = T>
+            + core::ops::Sub<Output = T>
+            + core::ops::Mul<f64, Output = T>,
+    >(
+        poly: &[T],
+        keep: impl Fn(T) -> f64,
+    ) -> Vec<T> {
+        let mut out = Vec::new();
+        for i in 0..poly.len() {
+            let (x, y) = (poly[i], poly[(i + 1) % poly.len()]);
+            let (hx, hy) = (keep(x), keep(y));
+            if hx >= 0.0 {
+                out.push(x);
+            }
+            if (hx >= 0.0) != (hy >= 0.0) {
+                out.push(x + (y - x) * (hx / (hx - hy)));
+            }
+        }
+        out
+    }
+
+    /// An independent reference for [`cap_triangle`]: in the gnomonic chart around the axis
+    /// (the plane at unit distance along it, where great circles are straight lines and the
+    /// cap is the disk of radius tan α), the inscribed 4096-gon of the disk clipped by the
+    /// triangle (cut to the half-space in front of `p`), mapped back to directions and summed
+    /// with Lambert's polygon formula. The 4096-gon's area is short of the disk's by 4·10⁻⁷.
+    fn reference(p: DVec3, n: DVec3, axis: DVec3, cos_a: f64, tri: &[DVec3; 3]) -> f64 {
+        let u = axis.any_orthonormal_vector();
+        let v = axis.cross(u);
+        let front = clip(&tri.map(|x| x - p), |r| r.dot(axis) - 1e-9);
+        let mut chart: Vec<glam::DVec2> = front
+            .iter()
+            .map(|r| glam::DVec2::new(r.dot(u), r.dot(v)) / r.dot(axis))
+            .collect();
+        if chart.len() < 3 {
+            return 0.0;
+        }
+        let area2: f64 = (0..chart.len())
+            .map(|i| chart[i].perp_dot(chart[(i + 1) % chart.len()]))
+            .sum();
+        if area2 < 0.0 {
+            chart.reverse();
+        }
+        let rho = (1.0 - cos_a * cos_a).sqrt() / cos_a;
+        let k = 4096;
+        let mut poly: Vec<glam::DVec2> = (0..k)
+            .map(|j| {
+                let t = TAU * j as f64 / k as f64;
+                glam::DVec2::new(rho * t.cos(), rho * t.sin())
+            })
+            .collect();
+        for i in 0..chart.len() {
+            let (a, b) = (chart[i], chart[(i + 1) % chart.len()]);
+            poly = clip(&poly, |x| (b - a).perp_dot(x - a));
+        }
+        let dirs: Vec<DVec3> = poly.iter().map(|x| u * x.x + v * x.y + axis).collect();
+        let mut sum = 0.0;
+        for i in 0..dirs.len() {
+            let (a, b) = (dirs[i], dirs[(i + 1) % dirs.len()]);
+            let c = a.cross(b);
+            let s = c.length();
+            if s > 0.0 {
+                sum += s.atan2(a.dot(b)) * n.dot(c) / s;
+            }
+        }
+        0.5 * sum.abs()
+    }
+
+    /// Whether the ray from `p` along `w` meets the triangle (either face).
+    fn meets(p: DVec3, w: DVec3, t: &[DVec3; 3]) -> bool {
+        let (e1, e2) = (t[1] - t[0], t[2] - t[0]);
+        let q = w.cross(e2);
+        let det = e1.dot(q);
+        if det.abs() < 1e-300 {
+            return false;
+        }
+        let s = p - t[0];
+        let b1 = s.dot(q) / det;
+        let r = s.cross(e1);
+        let b2 = w.dot(r) / det;
+        let t = e2.dot(r) / det;
+        b1 >= 0.0 && b2 >= 0.0 && b1 + b2 <= 1.0 && t > 0.0
+    }
+
+    /// A deterministic stream of numbers in [0, 1).
+    fn stream(seed: u64) -> impl FnMut() -> f64 {
+        let mut rng = crate::SplitMix64::new(seed);
+        move || rng.next_f64()
+    }
+
+    #[test]
+    fn covering_inside_and_missing_triangles_are_closed_forms() {
+        let p = DVec3::new(0.2, 0.0, -0.1);
+        let n = DVec3::Y;
+        let centre = DVec3::new(0.5, 2.0, 0.3);
+        let (d, rad) = ((centre - p).length(), 0.4);
+        let axis = (centre - p) / d;
+        let cos_a = (1.0 - rad * rad / (d * d)).sqrt();
+        let cap = projected::sphere(p, n, centre, rad).unwrap();
+        // A huge triangle across the rays: the whole cap.
+        let big = [
+            DVec3::new(-50.0, 1.0, -50.0),
+            DVec3::new(50.0, 1.0, -50.0),
+            DVec3::new(0.0, 1.0, 80.0),
+        ];
+        let h = cap_triangle(p, n, axis, cos_a, &big).unwrap();
+        assert!((h - cap).abs() <= 1e-12 * cap, "{h} vs {cap}");
+        // A small triangle well inside the cap's cone: Lambert's polygon formula.
+        let mid = p + (centre - p) * 0.5;
+        let small = [
+            mid + DVec3::new(-0.03, 0.0, -0.02),
+            mid + DVec3::new(0.04, 0.01, -0.01),
+            mid + DVec3::new(0.0, -0.01, 0.05),
+        ];
+        let h = cap_triangle(p, n, axis, cos_a, &small).unwrap();
+        let lambert = projected::polygon(p, n, &small);
+        assert!(
+            h > 0.0 && (h - lambert).abs() <= 1e-12 * lambert,
+            "{h} vs {lambert}"
+        );
+        // Its reverse winding hides the same.
+        let rev = [small[0], small[2], small[1]];
+        assert_eq!(cap_triangle(p, n, axis, cos_a, &rev), Some(h));
+        // Aside, and seen edge-on (the receiver's own plane): nothing.
+        let aside = small.map(|v| v + DVec3::new(3.0, 0.0, 0.0));
+        assert_eq!(cap_triangle(p, n, axis, cos_a, &aside), Some(0.0));
+        let flat = [
+            DVec3::new(-1.0, 0.0, -1.0),
+            DVec3::new(1.0, 0.0, -1.0),
+            DVec3::new(0.0, 0.0, 1.0),
+        ];
+        assert_eq!(cap_triangle(p, n, axis, cos_a, &flat), Some(0.0));
+        // A cap the horizon cuts, and bad input.
+        assert_eq!(cap_triangle(p, DVec3::X, axis, cos_a, &small), None);
+        assert_eq!(cap_triangle(p, n, axis, f64::NAN, &small), None);
+        assert_eq!(cap_triangle(p, n, axis, 1.0, &small), None);
+    }
+
+    #[test]
+    fn a_half_plane_through_the_axis_hides_half_the_cap() {
+        // The cap straight above the receiver (n = axis): Π is symmetric about any plane
+        // through the axis, and a triangle reaching far beyond the cap on one side of the
+        // plane x = 0 hides exactly half of it.
+        let (p, n) = (DVec3::ZERO, DVec3::Y);
+        let cos_a = 0.8;
+        let half = [
+            DVec3::new(0.0, 1.0, -100.0),
+            DVec3::new(0.0, 1.0, 100.0),
+            DVec3::new(100.0, 1.0, 0.0),
+        ];
+        let h = cap_triangle(p, n, n, cos_a, &half).unwrap();
+        let cap = PI * (1.0 - cos_a * cos_a);
+        assert!((h - 0.5 * cap).abs() <= 1e-12 * cap, "{h} vs {}", 0.5 * cap);
+    }
+
+    #[test]
+    fn random_triangles_match_quadrature() {
+        // Triangles at random around the cap's cone (crossing its rim, holding it, corners
+        // inside, missing it), caps of several sizes and tilts: the closed form against the
+        // clipped 4096-gon (`reference`).
+        let mut r = stream(7);
+        let mut kinds = [0usize; 3];
+        for case in 0..200 {
+            let p = DVec3::new(r() - 0.5, 0.0, r() - 0.5);
+            let n = DVec3::Y;
+            let centre = DVec3::new(2.0 * r() - 1.0, 1.5 + r(), 2.0 * r() - 1.0);
+            let d = (centre - p).length();
+            let rad = 0.1 + 0.5 * r();
+            let axis = (centre - p) / d;
+            let cos_a = (1.0 - rad * rad / (d * d)).sqrt();
+            if n.dot(axis) < (1.0 - cos_a * cos_a).sqrt() {
+                continue;
+            }
+            // Vertices on a plane partway to the light, spread around where the cone crosses it.
+            let s = 0.2 + 0.6 * r();
+            let at = p + (centre - p) * s;
+            let spread = rad * s * (0.5 + 3.0 * r());
+            let tri = [0, 1, 2].map(|_| {
+                at + DVec3::new(
+                    spread * (2.0 * r() - 1.0),
+                    0.3 * spread * (2.0 * r() - 1.0),
+                    spread * (2.0 * r() - 1.0),
+                )
+            });
+            let h = cap_triangle(p, n, axis, cos_a, &tri).unwrap();
+            let q = reference(p, n, axis, cos_a, &tri);
+            let cap = projected::sphere(p, n, centre, rad).unwrap();
+            assert!(
+                (h - q).abs() <= 2e-6 * cap,
+                "case {case}: closed form {h}, reference {q} (cap {cap})"
+            );
+            kinds[if h == 0.0 {
+                0
+            } else if h < 0.999 * cap {
+                1
+            } else {
+                2
+            }] += 1;
+        }
+        // Misses, partial covers and whole covers all occur.
+        assert!(kinds.iter().all(|&k| k > 0), "{kinds:?}");
+    }
+
+    #[test]
+    fn apart_triangles_never_share_a_direction() {
+        let p = DVec3::new(0.1, 0.0, 0.2);
+        // Two halves of a card seen from p: apart (their shared edge separates them).
+        let q = [
+            DVec3::new(-0.5, 1.0, -0.5),
+            DVec3::new(0.5, 1.2, -0.5),
+            DVec3::new(0.5, 1.4, 0.5),
+            DVec3::new(-0.5, 1.2, 0.5),
+        ];
+        let (a, b) = ([q[0], q[1], q[2]], [q[0], q[2], q[3]]);
+        assert!(apart(p, &a, &b) && apart(p, &b, &a));
+        // The same triangle twice, and one behind the other: overlapping.
+        assert!(!apart(p, &a, &a));
+        let behind = a.map(|v| v * 1.5 + DVec3::new(0.05, 0.0, 0.0));
+        assert!(!apart(p, &a, &behind));
+        // Random pairs: when `apart` says so, no direction meets both.
+        let mut r = stream(11);
+        let mut said = 0;
+        for _ in 0..300 {
+            let tri = |r: &mut dyn FnMut() -> f64| {
+                [0, 1, 2].map(|_| DVec3::new(2.0 * r() - 1.0, 0.5 + r(), 2.0 * r() - 1.0))
+            };
+            let (s, t) = (tri(&mut r), tri(&mut r));
+            if !apart(p, &s, &t) {
+                continue;
+            }
+            said += 1;
+            for i in 0..64 {
+                for j in 0..64 {
+                    let w = DVec3::new(
+                        (i as f64 + 0.5) / 32.0 - 1.0,
+                        1.0,
+                        (j as f64 + 0.5) / 32.0 - 1.0,
+                    )
+                    .normalize();
+                    assert!(
+                        !(meets(p, w, &s) && meets(p, w, &t)),
+                        "{s:?} {t:?} share {w}"
+                    );
+                }
+            }
+        }
+        assert!(said > 50, "{said}");
+    }
+}
