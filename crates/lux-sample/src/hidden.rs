@@ -68,82 +68,97 @@ pub fn cap_triangle(p: DVec3, n: DVec3, axis: DVec3, cos_a: f64, tri: &[DVec3; 3
         return Some(0.0);
     };
     let na = n.dot(axis);
-    // The rim inside each edge's half-space: K + S cos(φ − θ) ≥ 0.
+    let full = core::f64::consts::PI * sin_a * sin_a * na;
+    // The cap against each edge's half-space ω·m ≥ 0: wholly outside one, nothing is hidden;
+    // inside all three, all of it.
+    let am = m.map(|m| axis.dot(m));
+    if am.iter().any(|&x| x <= -sin_a) {
+        return Some(0.0);
+    }
+    if am.iter().all(|&x| x >= sin_a) {
+        return Some(full);
+    }
+    // Each edge's part inside the cap, from `start` to `end` (a vertex, or where its great
+    // circle crosses the rim: entering the cap, or leaving it), and its contribution
+    // `angle · n·m`. On the great circle of unit normal m the rim's crossings are
+    // `(cos α/|g|) ĝ ± √(1 − cos²α/|g|²) (m × ĝ)`, g = axis − (axis·m) m: the one with `−`
+    // enters the cap along the edge's direction of travel `m × ω`, the one with `+` leaves it.
+    let mut sum = 0.0;
+    let (mut entries, mut exits) = ([DVec3::ZERO; 3], [DVec3::ZERO; 3]);
+    let (mut ne, mut nx) = (0, 0);
+    let inside = w.map(|w| axis.dot(w) >= cos_a);
+    for i in 0..3 {
+        let (a, b, mi) = (w[i], w[(i + 1) % 3], m[i]);
+        let crossings = || {
+            let g = axis - am[i] * mi;
+            let g_len = g.length();
+            if g_len <= cos_a {
+                return None;
+            }
+            let g_hat = g / g_len;
+            let along = cos_a / g_len;
+            let side = mi.cross(g_hat) * (1.0 - along * along).max(0.0).sqrt();
+            Some((g_hat * along - side, g_hat * along + side))
+        };
+        // (a point of the edge's great circle between its vertices)
+        let on_arc = |x: DVec3| a.cross(x).dot(mi) >= 0.0 && x.cross(b).dot(mi) >= 0.0;
+        let piece = match (inside[i], inside[(i + 1) % 3]) {
+            (true, true) => Some((a, b)),
+            (true, false) => crossings().map(|(_, exit)| {
+                exits[nx] = exit;
+                nx += 1;
+                (a, exit)
+            }),
+            (false, true) => crossings().map(|(entry, _)| {
+                entries[ne] = entry;
+                ne += 1;
+                (entry, b)
+            }),
+            (false, false) => crossings()
+                .filter(|&(entry, exit)| on_arc(entry) && on_arc(exit))
+                .map(|(entry, exit)| {
+                    entries[ne] = entry;
+                    exits[nx] = exit;
+                    (ne, nx) = (ne + 1, nx + 1);
+                    (entry, exit)
+                }),
+        };
+        if let Some((s, e)) = piece {
+            sum += s.cross(e).length().atan2(s.dot(e)) * n.dot(mi);
+        }
+    }
+    if ne == 0 && nx == 0 {
+        // The rim meets no edge: the triangle inside the cap (its edges, whole, are the
+        // boundary), or the cap inside the triangle, or apart.
+        return Some(if inside.iter().all(|&x| x) {
+            (0.5 * sum).clamp(0.0, full)
+        } else if am.iter().all(|&x| x >= 0.0) {
+            full
+        } else {
+            0.0
+        });
+    }
+    // The rim from each exit counter-clockwise (about the axis) to the next entry lies in the
+    // triangle: on the rim ω = cos α·axis + sin α (u cos φ + v sin φ), the arc from ω₀ to ω₁
+    // contributes `sin²α (n·axis) Δφ + cos α (ω₁ − ω₀)·(n × axis)`.
     let u = axis.any_orthonormal_vector();
     let v = axis.cross(u);
-    let mut arcs = [(0.0f64, 0.0f64); 3];
-    let mut partial = 0;
-    for mi in m {
-        let k = cos_a * axis.dot(mi);
-        let (pu, pv) = (sin_a * u.dot(mi), sin_a * v.dot(mi));
-        let s = (pu * pu + pv * pv).sqrt();
-        if k <= -s {
-            // The whole rim, so the whole cap (smaller than a hemisphere), is outside this
-            // edge: nothing is hidden.
-            return Some(0.0);
+    let phi = |x: DVec3| x.dot(v).atan2(x.dot(u));
+    let entry_phi = [0, 1, 2].map(|j| if j < ne { phi(entries[j]) } else { 0.0 });
+    let nxa = n.cross(axis);
+    for &x in &exits[..nx] {
+        let fx = phi(x);
+        let mut best: Option<(f64, DVec3)> = None;
+        for j in 0..ne {
+            let d = (entry_phi[j] - fx).rem_euclid(TAU);
+            if best.is_none_or(|(bd, _)| d < bd) {
+                best = Some((d, entries[j]));
+            }
         }
-        if k < s {
-            // Inside for φ ∈ [θ − β, θ + β].
-            arcs[partial] = (pv.atan2(pu), (-k / s).acos());
-            partial += 1;
-        }
-    }
-    let rim = |f0: f64, f1: f64| {
-        let ((s0, c0), (s1, c1)) = (f0.sin_cos(), f1.sin_cos());
-        sin_a * (sin_a * na * (f1 - f0) - cos_a * (n.dot(v) * (c0 - c1) + n.dot(u) * (s1 - s0)))
-    };
-    if partial == 0 {
-        // The rim is inside every edge: the triangle covers the cap.
-        return Some(0.5 * rim(0.0, TAU));
-    }
-    let mut sum = 0.0;
-    // The edges' parts inside the cap.
-    for i in 0..3 {
-        let (a, b) = (w[i], w[(i + 1) % 3]);
-        let e = m[i].cross(a);
-        let gamma = a.cross(b).length().atan2(a.dot(b));
-        let (ca, cb) = (axis.dot(a), axis.dot(e));
-        let r = (ca * ca + cb * cb).sqrt();
-        if r <= cos_a {
-            continue;
-        }
-        let psi = cb.atan2(ca);
-        let delta = (cos_a / r).acos();
-        let (mut lo, mut hi) = (psi - delta, psi + delta);
-        if hi < 0.0 {
-            (lo, hi) = (lo + TAU, hi + TAU);
-        }
-        let (t0, t1) = (lo.max(0.0), hi.min(gamma));
-        if t1 > t0 {
-            sum += (t1 - t0) * n.dot(m[i]);
+        if let Some((d, e)) = best {
+            sum += sin_a * sin_a * na * d + cos_a * (e - x).dot(nxa);
         }
     }
-    // The rim's parts inside the triangle: between consecutive ends of the edges' arcs, the
-    // pieces whose middle every edge keeps.
-    let mut ends = [0.0f64; 6];
-    for (j, &(theta, beta)) in arcs[..partial].iter().enumerate() {
-        ends[2 * j] = (theta - beta).rem_euclid(TAU);
-        ends[2 * j + 1] = (theta + beta).rem_euclid(TAU);
-    }
-    let ends = &mut ends[..2 * partial];
-    ends.sort_unstable_by(f64::total_cmp);
-    let inside = |phi: f64| {
-        arcs[..partial]
-            .iter()
-            .all(|&(theta, beta)| (phi - theta).cos() >= beta.cos())
-    };
-    for j in 0..ends.len() {
-        let f0 = ends[j];
-        let f1 = if j + 1 < ends.len() {
-            ends[j + 1]
-        } else {
-            ends[0] + TAU
-        };
-        if f1 > f0 && inside(0.5 * (f0 + f1)) {
-            sum += rim(f0, f1);
-        }
-    }
-    let full = 0.5 * rim(0.0, TAU);
     Some((0.5 * sum).clamp(0.0, full))
 }
 
