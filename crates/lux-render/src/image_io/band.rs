@@ -115,10 +115,8 @@ pub fn stage_exr_band(
         let encoded: Vec<(usize, Chunk)> = blocks
             .into_par_iter()
             .map_init(ZipScratch::default, |scratch, (i, index)| {
-                let values = block_values(pixels, width, &order, &index);
-                let n = index.pixel_size.area() * order.len();
                 let y = (y0 + index.pixel_position.y()) as i32;
-                (i, scratch.chunk(values, n, y))
+                (i, scratch.chunk(pixels, width, &order, &index, y))
             })
             .collect();
         for (i, chunk) in encoded {
@@ -207,6 +205,8 @@ const ZIP_LEVEL: i32 = 1;
 /// miniz_oxide at level 4 and a fresh compressor per block.
 #[derive(Default)]
 struct ZipScratch {
+    /// The block's values in file order ([`block_values`]).
+    values: Vec<f32>,
     /// `s`: the even-indexed bytes of the block, then the odd-indexed ones.
     split: Vec<u8>,
     /// The predicted bytes: differences (+128) of `s`.
@@ -218,15 +218,25 @@ struct ZipScratch {
 }
 
 impl ZipScratch {
-    /// The chunk of the block of the `n` `values` (in file order), first line at frame row `y`.
-    fn chunk(&mut self, values: impl Iterator<Item = f32> + Clone, n: usize, y: i32) -> Chunk {
+    /// The chunk of the block `index` of `pixels` (rows of `width`, channels in file `order`),
+    /// its first line at frame row `y`.
+    fn chunk(
+        &mut self,
+        pixels: &[[f32; 4]],
+        width: usize,
+        order: &[usize],
+        index: &BlockIndex,
+        y: i32,
+    ) -> Chunk {
         let Self {
+            values,
             split,
             delta,
             out,
             deflate,
         } = self;
-        split_bytes(values.clone(), n, split);
+        block_values(pixels, width, order, index, values);
+        split_bytes(values, split);
         predict(split, delta);
         out.resize(zlib_rs::compress_bound(delta.len()), 0);
         let deflate = deflate.get_or_insert_with(|| zlib_rs::Deflate::new(ZIP_LEVEL, true, 15));
@@ -241,20 +251,22 @@ impl ZipScratch {
                 compressed_pixels_le: if compressed {
                     out[..n].to_vec()
                 } else {
-                    values.flat_map(f32::to_le_bytes).collect()
+                    values.iter().flat_map(|v| v.to_le_bytes()).collect()
                 },
             }),
         }
     }
 }
 
-/// The little-endian bytes of the `n` `values`, even-indexed ones first, then odd-indexed:
+/// The little-endian bytes of the `values`, even-indexed ones first, then odd-indexed:
 /// value `j`'s bytes `b0 b1 b2 b3` go to `2j`, `2j + 1` of the first half (`b0`, `b2`) and of
 /// the second (`b1`, `b3`).
-fn split_bytes(values: impl Iterator<Item = f32>, n: usize, split: &mut Vec<u8>) {
+fn split_bytes(values: &[f32], split: &mut Vec<u8>) {
+    let n = values.len();
     split.resize(4 * n, 0);
     let (even, odd) = split.split_at_mut(2 * n);
     for ((v, e), o) in values
+        .iter()
         .zip(even.chunks_exact_mut(2))
         .zip(odd.chunks_exact_mut(2))
     {
@@ -277,22 +289,24 @@ fn predict(s: &[u8], delta: &mut Vec<u8>) {
     );
 }
 
-/// A scan-line block's values as OpenEXR lays them out: for each line, each channel's row of
-/// `f32` values, channels in the header's order.
-fn block_values<'a>(
-    pixels: &'a [[f32; 4]],
+/// A scan-line block's values as OpenEXR lays them out, into `out`: for each line, each
+/// channel's row of `f32` values, channels in the header's order.
+fn block_values(
+    pixels: &[[f32; 4]],
     width: usize,
-    order: &'a [usize],
+    order: &[usize],
     index: &BlockIndex,
-) -> impl Iterator<Item = f32> + Clone + 'a {
+    out: &mut Vec<f32>,
+) {
     let (x0, y0) = (index.pixel_position.x(), index.pixel_position.y());
     let (w, h) = (index.pixel_size.width(), index.pixel_size.height());
-    (y0..y0 + h).flat_map(move |y| {
+    out.clear();
+    for y in y0..y0 + h {
         let row = &pixels[y * width + x0..y * width + x0 + w];
-        order
-            .iter()
-            .flat_map(move |&c| row.iter().map(move |p| p[c]))
-    })
+        for &c in order {
+            out.extend(row.iter().map(|p| p[c]));
+        }
+    }
 }
 
 /// Reads an EXR's first RGBA layer exactly (`f32` bits unchanged), its data window's top row,
