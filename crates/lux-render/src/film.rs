@@ -16,6 +16,7 @@ use crate::sampler::{Dim, SampleStream};
 use crate::settings::AdaptiveSampling;
 use glam::{DVec3, DVec4};
 use rayon::prelude::*;
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
@@ -74,7 +75,8 @@ pub struct Counters {
     pub non_finite: u64,
     /// Shadow rays that found an occluder (what the penumbra pass looks at).
     pub blocked: u64,
-    /// The tile's patches of surface known to see a light unblocked, or not.
+    /// The worker's patches of surface known to see a light unblocked, or not (`par_tiles`
+    /// hands them from tile to tile).
     pub patches: ClearPatches,
     /// The world triangles the tile's camera rays can hit, when few
     /// ([`Integrator::tile_triangles`]); `None`: the BVH.
@@ -198,10 +200,14 @@ fn to_f32(v: DVec4) -> [f32; 4] {
 /// and stores each result in `dest`, a row-major buffer `stride` wide whose first element is
 /// pixel `origin`. `done` is called with each finished tile's rectangle, after its counters
 /// (and the extra samples `f` reports) are added to `shared`. A finished tile is copied into
-/// `dest` at once, so no frame-sized buffer is made besides `dest`.
+/// `dest` at once, so no frame-sized buffer is made besides `dest`. Each worker's remembered
+/// patch answers (`memo[rayon::current_thread_index()]`) go from tile to tile — each is a
+/// function of its key alone (integrator/patches.rs) — so that neighbouring tiles share the
+/// cells on their edges, and the passes share theirs.
 fn par_tiles<T: Copy + Send>(
     rect: [u32; 4],
     shared: &Shared,
+    memo: &[Mutex<ClearPatches>],
     tile_triangles: &(dyn Fn([u32; 4]) -> Option<Box<[u32]>> + Sync),
     f: &(dyn Fn(u32, u32, &mut Counters, &mut u64) -> T + Sync),
     done: &(dyn Fn([u32; 4]) + Sync),
@@ -225,8 +231,14 @@ fn par_tiles<T: Copy + Send>(
         .par_iter()
         .with_max_len(1)
         .for_each(|&[tx0, ty0, tx1, ty1]| {
+            // (the worker's remembered patch answers)
+            let kept = rayon::current_thread_index().and_then(|i| memo.get(i));
+            let patches = kept.map_or_else(ClearPatches::default, |m| {
+                std::mem::take(&mut *m.lock().unwrap_or_else(|e| e.into_inner()))
+            });
             let mut c = Counters {
                 tile_triangles: tile_triangles([tx0, ty0, tx1, ty1]),
+                patches,
                 ..Counters::default()
             };
             let mut extra = 0;
@@ -247,6 +259,9 @@ fn par_tiles<T: Copy + Send>(
                 }
             }
             shared.add(&c, extra);
+            if let Some(m) = kept {
+                *m.lock().unwrap_or_else(|e| e.into_inner()) = std::mem::take(&mut c.patches);
+            }
             done([tx0, ty0, tx1, ty1]);
         });
 }
@@ -268,11 +283,15 @@ impl Film {
         let mut pixels = vec![[0.0f32; 4]; w as usize * h as usize];
         let rw = (x1 - x0) as usize;
         let tile_triangles = |rect| integrator.tile_triangles(camera, rect);
+        let memo: Vec<Mutex<ClearPatches>> = (0..rayon::current_num_threads())
+            .map(|_| Mutex::default())
+            .collect();
         match Some(self.adaptive).filter(|a| a.is_on() && x0 < x1 && y0 < y1) {
             None => {
                 par_tiles(
                     self.window,
                     &shared,
+                    &memo,
                     &tile_triangles,
                     &|x, y, c, _| to_f32(self.pixel(camera, integrator, x, y, c, &mut |_| {})),
                     &|[a, b, c, d]| progress((c - a) as u64 * (d - b) as u64),
@@ -288,6 +307,7 @@ impl Film {
                 par_tiles(
                     [x0, hy0, x1, hy1],
                     &shared,
+                    &memo,
                     &tile_triangles,
                     &|x, y, c, _| self.first_pass(camera, integrator, x, y, c),
                     &|[a, b, c, d]| {
@@ -300,6 +320,7 @@ impl Film {
                 par_tiles(
                     self.window,
                     &shared,
+                    &memo,
                     &tile_triangles,
                     &|x, y, c, extra| {
                         let (i, j) = ((x - x0) as usize, (y - hy0) as usize);

@@ -1,4 +1,5 @@
-//! Patches of surface that see a light unblocked, searched once per tile and patch.
+//! Patches of surface that see a light unblocked, searched once per patch and worker (while
+//! remembered).
 //!
 //! The closed form of a light's unshadowed integral stands in for its samples where no
 //! triangle can block any shadow ray ([`ShadowCone`], `geometry/cone.rs`). Neighbouring shading
@@ -23,8 +24,9 @@ use lux_usd::Scene;
 /// A cell's side over the radius of the light's ball: patches of radius ρ ≈ 0.22 of it.
 pub const CELL_PER_RADIUS: f64 = 0.25;
 
-/// Remembered answers: direct-mapped by key hash.
-const SLOTS: usize = 256;
+/// Remembered answers: direct-mapped by key hash (a worker's, kept from tile to tile and pass to
+/// pass: film.rs).
+const SLOTS: usize = 1024;
 
 /// One patch: whose light, which triangle and side, which cell.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -49,7 +51,8 @@ impl Key {
         ] {
             h = (h.rotate_left(5) ^ x).wrapping_mul(0x517c_c1b7_2722_0a95);
         }
-        (h >> 56) as usize % SLOTS
+        // (bits 40–63 of the product, the best mixed: more than 256 slots are used)
+        (h >> 40) as usize % SLOTS
     }
 }
 
@@ -57,7 +60,7 @@ impl Key {
 /// when there are few ([`Geometry::blockers_in`]).
 type Answer = (ConeSearch, Option<FewTriangles>);
 
-/// A tile's remembered patch answers.
+/// A worker's remembered patch answers.
 #[derive(Clone, Debug, Default)]
 pub struct ClearPatches {
     slots: Vec<Option<(Key, Answer)>>,
