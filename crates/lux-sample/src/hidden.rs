@@ -141,11 +141,18 @@ pub fn cap_triangle(p: DVec3, n: DVec3, axis: DVec3, cos_a: f64, tri: &[DVec3; 3
     // The rim from each exit counter-clockwise (about the axis) to the next entry lies in the
     // triangle: on the rim ω = cos α·axis + sin α (u cos φ + v sin φ), the arc from ω₀ to ω₁
     // contributes `sin²α (n·axis) Δφ + cos α (ω₁ − ω₀)·(n × axis)`.
+    let nxa = n.cross(axis);
+    let arc = |x: DVec3, e: DVec3, d: f64| sin_a * sin_a * na * d + cos_a * (e - x).dot(nxa);
+    if (ne, nx) == (1, 1) {
+        // One exit and one entry (the common case): Δφ from their offsets to the rim's centre.
+        let (qx, qe) = (exits[0] - cos_a * axis, entries[0] - cos_a * axis);
+        let d = qx.cross(qe).dot(axis).atan2(qx.dot(qe)).rem_euclid(TAU);
+        return Some((0.5 * (sum + arc(exits[0], entries[0], d))).clamp(0.0, full));
+    }
     let u = axis.any_orthonormal_vector();
     let v = axis.cross(u);
     let phi = |x: DVec3| x.dot(v).atan2(x.dot(u));
     let entry_phi = [0, 1, 2].map(|j| if j < ne { phi(entries[j]) } else { 0.0 });
-    let nxa = n.cross(axis);
     for &x in &exits[..nx] {
         let fx = phi(x);
         let mut best: Option<(f64, DVec3)> = None;
@@ -156,7 +163,7 @@ pub fn cap_triangle(p: DVec3, n: DVec3, axis: DVec3, cos_a: f64, tri: &[DVec3; 3
             }
         }
         if let Some((d, e)) = best {
-            sum += sin_a * sin_a * na * d + cos_a * (e - x).dot(nxa);
+            sum += arc(x, e, d);
         }
     }
     Some((0.5 * sum).clamp(0.0, full))
