@@ -13,6 +13,10 @@
 //! with lux-sample's [`Strategy::HdEmbree`] (uniformly by area; the dome uniformly over the
 //! hemisphere), light sampling only — for A/B comparisons.
 //!
+//! Light-only estimation of a rect, disk or sphere of uniform radiance takes the light's closed
+//! form where nothing can block it (`geometry/cone.rs`, `integrator/patches.rs`), and a sphere's
+//! exact penumbra where a few triangles can (`integrator/penumbra.rs`).
+//!
 //! Lights with non-default `ShadowAPI` inputs (coloured, distance-limited or disabled shadows)
 //! are estimated by light sampling alone: a BSDF ray stops at the first occluder, which is not
 //! what their shadow says.
