@@ -176,9 +176,9 @@ fn lights_nothing_can_block_take_their_closed_form_without_shadow_rays() {
 
         // A small square halfway to the light, in its cone or pyramid: shadowed, and what
         // MIS (one light chosen by power, light and BSDF samples: no closed form) converges
-        // to. The rect and disk are sampled; the sphere, drawn from its projected cap, is
-        // exact without a shadow ray (integrator/penumbra.rs: the cap less what the square's
-        // two triangles hide of it), the same at 4 samples as at 2¹⁴.
+        // to. The disk is sampled; the sphere and the rects are exact without a shadow ray
+        // (integrator/penumbra.rs: the sphere's cap or the rect less what the square's two
+        // triangles hide of it), the same at 4 samples as at 2¹⁴.
         let mut blocked = clear;
         let m = at * 0.5;
         blocked.meshes.push(Mesh::new(
@@ -193,7 +193,7 @@ fn lights_nothing_can_block_take_their_closed_form_without_shadow_rays() {
         ));
         let (img, stats) = render(&blocked, 1 << 14, LightSelection::All);
         let alone = img.pixels[0][0] as f64;
-        if what == "/Sphere" {
+        if ["/Sphere", "/Rect", "/Wide"].contains(&what.as_str()) {
             assert_eq!(stats.shadow_rays, 0, "{what}: an exact penumbra");
             let (few, _) = render(&blocked, 4, LightSelection::All);
             close(
@@ -345,10 +345,10 @@ fn occluded_lights_converge_to_the_exact_shadowed_irradiance() {
 
 #[test]
 fn penumbra_pass_is_unbiased_and_quieter() {
-    // The occluded rect, probed in its penumbra: 64-spp estimates over 40
-    // seeds, without and with the penumbra pass (8 light samples where the pilot saw a
-    // blocked shadow ray). Both means agree with the exact value within their noise; the
-    // pass lowers the spread.
+    // The occluded rect, probed in its penumbra and sampled (closed forms off: with them its
+    // penumbra is exact): 64-spp estimates over 40 seeds, without and with the penumbra pass
+    // (8 light samples where the pilot saw a blocked shadow ray). Both means agree with the
+    // exact value within their noise; the pass lowers the spread.
     let s = occluded_rect();
     let exact = read(&s, 1 << 16, LightSelection::All, 1);
     let stats = |pen: u32| {
@@ -356,6 +356,7 @@ fn penumbra_pass_is_unbiased_and_quieter() {
             .map(|seed| {
                 let mut o = options(Profile::Spec, 64, [1, 1]);
                 o.integrator = IntegratorKind::Direct;
+                o.closed_forms = false;
                 o.penumbra_samples = pen;
                 o.seed = 100 + seed;
                 Renderer::new(&s, o).unwrap().pixel_value(0, 0).x
@@ -479,13 +480,14 @@ fn closed_forms_change_the_luxtest_frames_by_rounding_or_noise_only() {
     }
 }
 
-/// A sphere light behind a few opaque triangles (integrator/penumbra.rs): where the triangles
-/// lie in front of it and do not overlap as seen from the point, its penumbra is exact — no
-/// shadow ray, the same value at any seed and sample count — and equals what light sampling
-/// with shadow rays (closed forms off) and MIS converge to. Where they overlap, or one reaches
-/// past the sphere's nearest point, it is sampled as before and converges to the same.
+/// A sphere and a rect light behind a few opaque triangles (integrator/penumbra.rs): where the
+/// triangles lie in front of the light and do not overlap as seen from the point, its
+/// penumbra is exact — no shadow ray, the same value at any seed and sample count — and equals
+/// what light sampling with shadow rays (closed forms off) and MIS converge to. Where they
+/// overlap, or one reaches past the sphere's nearest point or the rect's plane, it is sampled
+/// as before and converges to the same.
 #[test]
-fn sphere_penumbrae_are_exact_where_few_triangles_block() {
+fn sphere_and_rect_penumbrae_are_exact_where_few_triangles_block() {
     let c = DVec3::new(0.3, 1.2, -0.2);
     let mut sph = Light::with_defaults(
         "/Sphere",
@@ -493,8 +495,22 @@ fn sphere_penumbrae_are_exact_where_few_triangles_block() {
         DMat4::from_translation(c),
     );
     sph.params.intensity = 2.0;
+    // A 0.6 × 0.6 rect at the same place, facing the point.
+    let mut rect = Light::with_defaults(
+        "/Rect",
+        LightShape::Rect {
+            width: 0.6,
+            height: 0.6,
+        },
+        aimed(c, -c),
+    );
+    rect.params.intensity = 2.0;
+    let rect_corners: Vec<DVec3> = [(-0.3, -0.3), (0.3, -0.3), (0.3, 0.3), (-0.3, 0.3)]
+        .iter()
+        .map(|&(x, y)| aimed(c, -c).transform_point3(DVec3::new(x, y, 0.0)))
+        .collect();
     let quad = |path: &str, q: [DVec3; 4]| Mesh::new(path, q.to_vec(), vec![[0, 1, 2], [0, 2, 3]]);
-    // A tilted card halfway up whose edge crosses the light's cap from the probed point.
+    // A tilted card halfway up whose edge crosses the light from the probed point.
     let card = |path: &str, at: DVec3| {
         quad(
             path,
@@ -516,67 +532,80 @@ fn sphere_penumbrae_are_exact_where_few_triangles_block() {
         let (img, stats) = Renderer::new(s, o).unwrap().render(&|_| {});
         (img.pixels[0][0] as f64, stats.shadow_rays)
     };
-    let unshadowed =
-        2.0 * lux::sample::projected::sphere(DVec3::ZERO, DVec3::Y, c, 0.3).unwrap() / PI;
-    let mut one = probe_scene(vec![sph], 0.0, 0.0);
-    // (a footprint of 10⁻⁸: the penumbra's gradient varies the pixel by ~10⁻⁷ of its value)
-    one.cameras[0].horizontal_aperture = 1e-8;
-    one.cameras[0].vertical_aperture = 1e-8;
-    one.meshes.push(card("/Card", DVec3::new(0.35, 0.6, -0.1)));
-    // Two cards, the second below the first and overlapping it as seen from the point.
-    let mut two = one.clone();
-    two.meshes
-        .push(card("/Below", DVec3::new(0.1, 0.45, -0.45)));
+    let projected = lux::sample::projected::sphere(DVec3::ZERO, DVec3::Y, c, 0.3).unwrap();
+    let rect_projected = lux::sample::projected::polygon(DVec3::ZERO, DVec3::Y, &rect_corners);
     // A long card reaching past the plane of the sphere's nearest point (in front of the
-    // sphere along every ray that meets both, but not proven so).
-    let mut long = one.clone();
-    long.meshes.pop();
-    long.meshes.push(quad(
-        "/Long",
-        [
-            DVec3::new(0.3, 0.85, -0.6),
-            DVec3::new(0.3, 0.85, 0.4),
-            DVec3::new(1.5, 0.85, 0.4),
-            DVec3::new(1.5, 0.85, -0.6),
-        ],
-    ));
-    for (what, s, exact) in [
-        ("one card", &one, true),
-        ("overlapping cards", &two, false),
-        ("a long card", &long, false),
+    // sphere along every ray that meets both, but not proven so), and one rising through the
+    // rect's plane beside it.
+    let flat_long = [
+        DVec3::new(0.3, 0.85, -0.6),
+        DVec3::new(0.3, 0.85, 0.4),
+        DVec3::new(1.5, 0.85, 0.4),
+        DVec3::new(1.5, 0.85, -0.6),
+    ];
+    let rising_long = [
+        DVec3::new(0.3, 0.85, -0.6),
+        DVec3::new(0.3, 0.85, 0.4),
+        DVec3::new(1.5, 1.6, 0.4),
+        DVec3::new(1.5, 1.6, -0.6),
+    ];
+    for (light, pi, long_card) in [
+        (sph, projected, flat_long),
+        (rect, rect_projected, rising_long),
     ] {
-        let (v, rays) = run(s, 4, true, LightSelection::All, 1);
-        let sampled = run(s, 1 << 16, false, LightSelection::All, 2).0;
-        assert!(
-            sampled > 0.03 * unshadowed && sampled < 0.9 * unshadowed,
-            "{what}: a penumbra ({sampled} of {unshadowed})"
-        );
-        let mis = run(s, 1 << 16, true, LightSelection::Power, 3).0;
-        close(
-            sampled,
-            mis,
-            3e-3,
-            &format!("{what}: light sampling vs MIS"),
-        );
-        if exact {
-            assert_eq!(rays, 0, "{what}: no shadow ray");
-            for seed in 4..8 {
+        let name = light.path.clone();
+        let unshadowed = 2.0 * pi / PI;
+        let mut one = probe_scene(vec![light], 0.0, 0.0);
+        // (a footprint of 10⁻⁸: the penumbra's gradient varies the pixel by ~10⁻⁷ of its value)
+        one.cameras[0].horizontal_aperture = 1e-8;
+        one.cameras[0].vertical_aperture = 1e-8;
+        one.meshes.push(card("/Card", DVec3::new(0.35, 0.6, -0.1)));
+        // Two cards, the second below the first and overlapping it as seen from the point.
+        let mut two = one.clone();
+        two.meshes
+            .push(card("/Below", DVec3::new(0.1, 0.45, -0.45)));
+        let mut long = one.clone();
+        long.meshes.pop();
+        long.meshes.push(quad("/Long", long_card));
+        for (what, s, exact) in [
+            ("one card", &one, true),
+            ("overlapping cards", &two, false),
+            ("a long card", &long, false),
+        ] {
+            let what = format!("{name}, {what}");
+            let (v, rays) = run(s, 4, true, LightSelection::All, 1);
+            let sampled = run(s, 1 << 16, false, LightSelection::All, 2).0;
+            assert!(
+                sampled > 0.03 * unshadowed && sampled < 0.9 * unshadowed,
+                "{what}: a penumbra ({sampled} of {unshadowed})"
+            );
+            let mis = run(s, 1 << 16, true, LightSelection::Power, 3).0;
+            close(
+                sampled,
+                mis,
+                3e-3,
+                &format!("{what}: light sampling vs MIS"),
+            );
+            if exact {
+                assert_eq!(rays, 0, "{what}: no shadow ray");
+                for seed in 4..8 {
+                    close(
+                        run(s, 1, true, LightSelection::All, seed).0,
+                        v,
+                        1e-6,
+                        &format!("{what}: seed {seed}"),
+                    );
+                }
+                close(v, sampled, 3e-3, &format!("{what}: exact vs sampled"));
+            } else {
+                assert!(rays > 0, "{what}: sampled");
                 close(
-                    run(s, 1, true, LightSelection::All, seed).0,
-                    v,
-                    1e-6,
-                    &format!("{what}: seed {seed}"),
+                    run(s, 1 << 16, true, LightSelection::All, 5).0,
+                    sampled,
+                    3e-3,
+                    &what,
                 );
             }
-            close(v, sampled, 3e-3, &format!("{what}: exact vs sampled"));
-        } else {
-            assert!(rays > 0, "{what}: sampled");
-            close(
-                run(s, 1 << 16, true, LightSelection::All, 5).0,
-                sampled,
-                3e-3,
-                what,
-            );
         }
     }
 }

@@ -1,5 +1,6 @@
-//! What triangles hide of a spherical cap, in closed form: the exact shadowed irradiance of a
-//! uniform sphere light behind a few opaque triangles.
+//! What triangles hide of a spherical cap or of a convex polygon, in closed form: the exact
+//! shadowed irradiance of a uniform sphere or rect light behind a few opaque triangles
+//! ([`cap_triangle`], [`polygon_triangle`]).
 //!
 //! A sphere light of uniform radiance L seen from a receiver `p` (unit normal `n`) fills the
 //! cap of directions `ω·a ≥ cos α` (a the unit axis towards its centre, sin α = R/D). Wholly
@@ -167,6 +168,53 @@ pub fn cap_triangle(p: DVec3, n: DVec3, axis: DVec3, cos_a: f64, tri: &[DVec3; 3
         }
     }
     Some((0.5 * sum).clamp(0.0, full))
+}
+
+/// Π of the part of the planar convex polygon `light` (world points in order around it, at
+/// most 5) hidden by the triangle `tri` (world points; either face) from the receiver at `p`
+/// with unit normal `n`: `∫ max(0, n·ω) dω` over the directions that meet both. Both
+/// projections are bounded by great circles, so their intersection is the triangle clipped by
+/// the planes through `p` and the polygon's edges (Sutherland–Hodgman: the clipped polygon
+/// lies in the pyramid from `p` over the light), whose Π is Lambert's formula, clipped to the
+/// horizon ([`crate::projected::polygon`]). 0 when the triangle's or the polygon's plane holds
+/// `p`. Where the triangle lies along the rays is the caller's.
+pub fn polygon_triangle(p: DVec3, n: DVec3, light: &[DVec3], tri: &[DVec3; 3]) -> f64 {
+    let k = light.len();
+    if !(3..=5).contains(&k) || spherical(&tri.map(|v| v - p)).is_none() {
+        return 0.0;
+    }
+    let l: [DVec3; 5] = core::array::from_fn(|i| if i < k { light[i] - p } else { DVec3::ZERO });
+    let det = l[0].dot(l[1].cross(l[2]));
+    let lens = l[0].length() * l[1].length() * l[2].length();
+    if crate::not_positive(det.abs() - 1e-12 * lens) {
+        return 0.0;
+    }
+    // Clip the triangle (relative to p) by each edge plane, kept side towards the polygon.
+    let mut poly = [DVec3::ZERO; 8];
+    let mut m = 3;
+    poly[..3].copy_from_slice(&tri.map(|v| v - p));
+    for i in 0..k {
+        let inward = l[i].cross(l[(i + 1) % k]) * det.signum();
+        let mut out = [DVec3::ZERO; 8];
+        let mut j = 0;
+        for a in 0..m {
+            let (x, y) = (poly[a], poly[(a + 1) % m]);
+            let (hx, hy) = (inward.dot(x), inward.dot(y));
+            if hx >= 0.0 {
+                out[j] = x;
+                j += 1;
+            }
+            if (hx >= 0.0) != (hy >= 0.0) && j < 8 {
+                out[j] = x + (y - x) * (hx / (hx - hy));
+                j += 1;
+            }
+        }
+        (poly, m) = (out, j.min(8));
+        if m < 3 {
+            return 0.0;
+        }
+    }
+    crate::projected::polygon(DVec3::ZERO, n, &poly[..m])
 }
 
 /// Whether the triangles `a` and `b` (world points) seen from `p` have projections whose
@@ -396,6 +444,107 @@ mod tests {
         }
         // Misses, partial covers and whole covers all occur.
         assert!(kinds.iter().all(|&k| k > 0), "{kinds:?}");
+    }
+
+    /// An independent reference for [`polygon_triangle`] with the triangle between `p` and the
+    /// light's plane: the triangle projected from `p` onto that plane, clipped there by the
+    /// light polygon's edges (in the plane), and Lambert's formula of the result.
+    fn in_plane(p: DVec3, n: DVec3, light: &[DVec3], tri: &[DVec3; 3]) -> f64 {
+        let nl = (light[1] - light[0]).cross(light[2] - light[0]);
+        let h = nl.dot(light[0] - p);
+        let mut shadow: Vec<DVec3> = tri
+            .iter()
+            .map(|&v| p + (v - p) * (h / nl.dot(v - p)))
+            .collect();
+        let k = light.len();
+        for i in 0..k {
+            let (a, b) = (light[i], light[(i + 1) % k]);
+            let inward = nl.cross(b - a);
+            let inward = if inward.dot(light[(i + 2) % k] - a) > 0.0 {
+                inward
+            } else {
+                -inward
+            };
+            shadow = clip(&shadow, |x| inward.dot(x - a));
+        }
+        if shadow.len() < 3 {
+            return 0.0;
+        }
+        let rel: Vec<DVec3> = shadow.iter().map(|&x| x - p).collect();
+        let mut sum = 0.0;
+        for i in 0..rel.len() {
+            let (a, b) = (rel[i], rel[(i + 1) % rel.len()]);
+            let c = a.cross(b);
+            let s = c.length();
+            if s > 0.0 {
+                sum += s.atan2(a.dot(b)) * n.dot(c) / s;
+            }
+        }
+        0.5 * sum.abs()
+    }
+
+    #[test]
+    fn polygon_triangle_matches_its_shadow_on_the_light() {
+        // A tilted rect light (a parallelogram under shear) above a receiver and triangles
+        // between them at random: what each hides equals its shadow on the light's plane
+        // clipped to the light; covering and inner triangles are the closed forms.
+        let (p, n) = (DVec3::new(0.1, 0.0, -0.2), DVec3::Y);
+        let light = [
+            DVec3::new(-0.4, 1.5, -0.3),
+            DVec3::new(0.5, 1.7, -0.3),
+            DVec3::new(0.6, 1.8, 0.4),
+            DVec3::new(-0.3, 1.6, 0.4),
+        ];
+        let full = projected::polygon(p, n, &light);
+        let big = [
+            DVec3::new(-50.0, 1.0, -50.0),
+            DVec3::new(50.0, 1.0, -50.0),
+            DVec3::new(0.0, 1.0, 80.0),
+        ];
+        let h = polygon_triangle(p, n, &light, &big);
+        assert!((h - full).abs() <= 1e-12 * full, "{h} vs {full}");
+        let small = [
+            DVec3::new(0.05, 0.8, -0.1),
+            DVec3::new(0.12, 0.82, -0.08),
+            DVec3::new(0.08, 0.79, 0.0),
+        ];
+        let h = polygon_triangle(p, n, &light, &small);
+        let lambert = projected::polygon(p, n, &small);
+        assert!(
+            h > 0.0 && (h - lambert).abs() <= 1e-12 * lambert,
+            "{h} vs {lambert}"
+        );
+        // (the reversed light and triangle hide the same; a triangle seen edge-on nothing)
+        let rev = [light[3], light[2], light[1], light[0]];
+        assert!((polygon_triangle(p, n, &rev, &small) - h).abs() <= 1e-15);
+        let flat = [p + DVec3::X, p + DVec3::Z, p - DVec3::X - DVec3::Z];
+        assert_eq!(polygon_triangle(p, n, &light, &flat), 0.0);
+        let mut r = stream(5);
+        let mut partial = 0;
+        for case in 0..200 {
+            let s = 0.2 + 0.7 * r();
+            let at = p + (DVec3::new(0.1, 1.65, 0.05) - p) * s;
+            let spread = 0.8 * s * r();
+            let tri = [0, 1, 2].map(|_| {
+                at + DVec3::new(
+                    spread * (2.0 * r() - 1.0),
+                    0.2 * spread * (2.0 * r() - 1.0),
+                    spread * (2.0 * r() - 1.0),
+                )
+            });
+            let (h, want) = (
+                polygon_triangle(p, n, &light, &tri),
+                in_plane(p, n, &light, &tri),
+            );
+            assert!(
+                (h - want).abs() <= 1e-12 * full,
+                "case {case}: {h} vs {want}"
+            );
+            partial += usize::from(
+                h > 0.0 && h < 0.999 * full && h < 0.999 * projected::polygon(p, n, &tri),
+            );
+        }
+        assert!(partial > 50, "{partial}");
     }
 
     #[test]

@@ -15,7 +15,7 @@
 //!
 //! Light-only estimation of a rect, disk or sphere of uniform radiance takes the light's closed
 //! form where nothing can block it (`geometry/cone.rs`, `integrator/patches.rs`), and a sphere's
-//! exact penumbra where a few triangles can (`integrator/penumbra.rs`).
+//! or rect's exact penumbra where a few triangles can (`integrator/penumbra.rs`).
 //!
 //! Lights with non-default `ShadowAPI` inputs (coloured, distance-limited or disabled shadows)
 //! are estimated by light sampling alone: a BSDF ray stops at the first occluder, which is not
@@ -315,6 +315,14 @@ impl<'a> DirectIntegrator<'a> {
                             }
                             _ => (ConeSearch::Unsearched, None),
                         };
+                        // With the patch's few possible blockers (opaque black shadows; those
+                        // the light's shadow links keep), the part of a sphere or rect they
+                        // leave visible, in closed form (integrator/penumbra.rs).
+                        let exact = || {
+                            few.as_ref()
+                                .filter(|_| !w.transparent && base.black_shadows())
+                                .and_then(|few| penumbra::visible(w.geometry, from, sp, few))
+                        };
                         // The direction the closed form's BSDF is evaluated in (the ball's
                         // centre: a Lambertian f is the same in every direction), and the
                         // fraction of the closed form that passes.
@@ -326,30 +334,24 @@ impl<'a> DirectIntegrator<'a> {
                                 .shadow_ball()
                                 .map(|(centre, ..)| ((centre - sp.p).normalize(), 1.0)),
                             // Something may block the patch, and the light's samples are its
-                            // closed form where unblocked: with the patch's few possible
-                            // blockers (plain opaque shadows), the part of the sphere they
-                            // leave visible in closed form (integrator/penumbra.rs); else the
-                            // samples (a search of the point's own region would only spare
-                            // their shadow rays, at about their cost, and most often, in a
-                            // penumbra, find a blocker).
-                            ConeSearch::Blocked(_) if from.samples_exactly() => few
-                                .as_ref()
-                                .filter(|_| !w.transparent && base.plain_shadows())
-                                .and_then(|few| {
-                                    let cap = from.sphere_cap()?;
-                                    let pass = penumbra::sphere_visible(w.geometry, sp, cap, few)?;
-                                    Some(((cap.0 - sp.p).normalize(), pass))
-                                }),
-                            // A rect's or disk's pyramid (tighter than its ball's cone), else
-                            // the cone.
-                            _ => match from.shadow_pyramid(sp.p, sp.ng, sp.offset) {
-                                Some(pyramid) => clear_from(w, base, &pyramid, patch, &casts)
-                                    .then(|| (pyramid.axis(), 1.0)),
-                                None => from
-                                    .shadow_cone(sp.p, sp.ng, sp.offset)
-                                    .filter(|cone| clear_from(w, base, cone, patch, &casts))
-                                    .map(|cone| (cone.axis(), 1.0)),
-                            },
+                            // closed form where unblocked: the exact penumbra, else the samples
+                            // (a search of the point's own region would only spare their
+                            // shadow rays, at about their cost, and most often, in a penumbra,
+                            // find a blocker).
+                            ConeSearch::Blocked(_) if from.samples_exactly() => exact(),
+                            // The exact penumbra (a blocked patch's few blockers), else a
+                            // rect's or disk's pyramid (tighter than its ball's cone), else the
+                            // cone.
+                            _ => exact().or_else(|| {
+                                match from.shadow_pyramid(sp.p, sp.ng, sp.offset) {
+                                    Some(pyramid) => clear_from(w, base, &pyramid, patch, &casts)
+                                        .then(|| (pyramid.axis(), 1.0)),
+                                    None => from
+                                        .shadow_cone(sp.p, sp.ng, sp.offset)
+                                        .filter(|cone| clear_from(w, base, cone, patch, &casts))
+                                        .map(|cone| (cone.axis(), 1.0)),
+                                }
+                            }),
                         };
                         if let Some((wi, pass)) = unblocked
                             && let Some(le_pi) = from.unshadowed(sp.p, sp.ns)

@@ -1,19 +1,88 @@
-//! Exact penumbrae of sphere lights behind a few triangles.
+//! Exact penumbrae of sphere and rect lights behind a few triangles.
 //!
-//! A uniform sphere light seen whole above a Lambertian point's horizon is drawn from its
-//! projected cap, so each light sample returns the unshadowed integral `L·Π` or, blocked,
-//! nothing: the estimate is `L·Π` times the fraction of samples that pass, and its only noise
-//! is that fraction's. When every triangle that can block the point's shadow rays is known
-//! and few (the point's patch of surface, integrator/patches.rs), the fraction has a closed
-//! form: the cap's Π less what each triangle hides of it (`lux_sample::hidden`), provided the
-//! triangles lie in front of the sphere (every ray through them meets them before the light)
-//! and their projections do not overlap (nothing hidden twice). Then the penumbra is exact:
-//! no light sample, no shadow ray, no noise.
+//! A light of uniform radiance L lights a Lambertian point with `L·Π_visible`, Π_visible the
+//! projected solid angle of the part of the light its shadow rays reach. When every triangle
+//! that can block those rays is known and few (the point's patch of surface,
+//! integrator/patches.rs), that part has a closed form: the light's Π less what each triangle
+//! hides of it (`lux_sample::hidden`: of a sphere's cap, of a rect's parallelogram), provided
+//! the triangles lie in front of the light (every ray through them meets them before the
+//! light) and their projections do not overlap (nothing hidden twice). Then the penumbra is
+//! exact: no light sample, no shadow ray, no noise. (A sphere drawn from its projected cap
+//! returns `L·Π` or nothing per sample, so its only noise was the fraction of blocked samples;
+//! a rect's samples add the noise of its sampler's cosine warp.)
 
 use crate::geometry::{FewTriangles, Geometry};
+use crate::light::LightFrom;
 use crate::material::SurfacePoint;
 use glam::DVec3;
 use lux_sample::hidden;
+
+/// The exact penumbra of the light `from` at the Lambertian point `sp` past the triangles `few`
+/// (every triangle that can stop its shadow rays: [`Geometry::blockers_in`] of a region holding
+/// them): the direction its BSDF is evaluated in (towards the light's centre; a Lambertian f is
+/// the same everywhere) and the fraction of its closed form ([`LightFrom::unshadowed`]) that
+/// passes. `None` (sample it instead) for other lights and where [`sphere_visible`] or
+/// [`rect_visible`] is.
+pub fn visible(
+    g: &Geometry,
+    from: &LightFrom,
+    sp: &SurfacePoint,
+    few: &FewTriangles,
+) -> Option<(DVec3, f64)> {
+    if let Some(cap) = from.sphere_cap() {
+        let pass = sphere_visible(g, sp, cap, few)?;
+        return Some(((cap.0 - sp.p).normalize(), pass));
+    }
+    let corners = from.rect_corners()?;
+    let pass = rect_visible(g, sp, &corners, few)?;
+    let centre = 0.25 * corners.iter().sum::<DVec3>();
+    Some(((centre - sp.p).normalize(), pass))
+}
+
+/// The fraction of a rect light's unshadowed integral (over its world `corners`, a
+/// parallelogram) that reaches the point `sp` past the triangles `few`: `1 − Σ Hᵢ / Π`, Hᵢ what
+/// triangle i hides of it ([`hidden::polygon_triangle`]), Π the rect's projected solid angle
+/// from `sp.p` with the shading normal, both clipped to the horizon; 0 within 10⁻¹² of all of
+/// it. `None` unless Π > 0, every triangle that hides some of it lies wholly on the point's side
+/// of the light's plane (before the light along every ray), and no two of them overlap as seen
+/// from the point ([`hidden::apart`]).
+pub fn rect_visible(
+    g: &Geometry,
+    sp: &SurfacePoint,
+    corners: &[DVec3; 4],
+    few: &FewTriangles,
+) -> Option<f64> {
+    let pi = lux_sample::projected::polygon(sp.p, sp.ns, corners);
+    let normal = (corners[1] - corners[0]).cross(corners[3] - corners[0]);
+    let side = normal.dot(sp.p - corners[0]);
+    if !(pi > 0.0 && side != 0.0) {
+        return None;
+    }
+    let mut hiding = [[DVec3::ZERO; 3]; FewTriangles::CAP];
+    let mut k = 0;
+    let mut hidden_sum = 0.0;
+    for &id in few.ids() {
+        let tri = g.blocker_vertices(id)?;
+        let h = hidden::polygon_triangle(sp.p, sp.ns, corners, &tri);
+        if h == 0.0 {
+            continue;
+        }
+        if tri
+            .iter()
+            .any(|v| normal.dot(*v - corners[0]) * side <= 0.0)
+            || hiding[..k]
+                .iter()
+                .any(|other| !hidden::apart(sp.p, other, &tri))
+        {
+            return None;
+        }
+        hiding[k] = tri;
+        k += 1;
+        hidden_sum += h;
+    }
+    let pass = 1.0 - hidden_sum / pi;
+    Some(if pass < 1e-12 { 0.0 } else { pass.min(1.0) })
+}
 
 /// The fraction of a uniform sphere light's unshadowed integral that reaches the point `sp`
 /// past the triangles `few` (every triangle that can stop its shadow rays:

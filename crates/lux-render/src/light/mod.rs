@@ -133,10 +133,17 @@ impl LightBase {
     /// alone, since a BSDF ray stops at the first occluder.
     #[inline]
     pub fn plain_shadows(&self) -> bool {
+        self.black_shadows() && self.links.shadow.is_none()
+    }
+
+    /// Whether each shadow ray either passes or is blocked outright: shadows enabled, black,
+    /// without a distance limit (`inputs:shadow:enable`, `:color`, `:distance`); a
+    /// `collection:shadowLink` only chooses what casts them.
+    #[inline]
+    pub fn black_shadows(&self) -> bool {
         self.shadow.enable
             && self.shadow.color == DVec3::ZERO
             && (self.shadow.distance.is_nan() || self.shadow.distance < 0.0)
-            && self.links.shadow.is_none()
     }
 
     /// The light-space point of a world point.
@@ -289,6 +296,16 @@ impl LightFrom<'_> {
     pub fn sphere_cap(&self) -> Option<(DVec3, f64, f64)> {
         match self {
             LightFrom::Sphere(l, from) if l.uniform_area() => from.projected_cap(),
+            _ => None,
+        }
+    }
+
+    /// For a rect of uniform radiance: its world corners (a parallelogram), what its closed form
+    /// [`LightFrom::unshadowed`] integrates over.
+    #[inline]
+    pub fn rect_corners(&self) -> Option<[DVec3; 4]> {
+        match self {
+            LightFrom::Rect(l, _) if l.uniform_area() => Some(l.world_corners()),
             _ => None,
         }
     }
