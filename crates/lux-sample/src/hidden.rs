@@ -299,6 +299,12 @@ mod tests {
             poly = clip(&poly, |x| (b - a).perp_dot(x - a));
         }
         let dirs: Vec<DVec3> = poly.iter().map(|x| u * x.x + v * x.y + axis).collect();
+        lambert(n, &dirs)
+    }
+
+    /// Lambert's formula for the polygon of (not necessarily unit) directions `dirs` in order,
+    /// any length, unclipped: `½ |Σ θᵢ n·(aᵢ × bᵢ)/|aᵢ × bᵢ||`.
+    fn lambert(n: DVec3, dirs: &[DVec3]) -> f64 {
         let mut sum = 0.0;
         for i in 0..dirs.len() {
             let (a, b) = (dirs[i], dirs[(i + 1) % dirs.len()]);
@@ -471,16 +477,7 @@ mod tests {
             return 0.0;
         }
         let rel: Vec<DVec3> = shadow.iter().map(|&x| x - p).collect();
-        let mut sum = 0.0;
-        for i in 0..rel.len() {
-            let (a, b) = (rel[i], rel[(i + 1) % rel.len()]);
-            let c = a.cross(b);
-            let s = c.length();
-            if s > 0.0 {
-                sum += s.atan2(a.dot(b)) * n.dot(c) / s;
-            }
-        }
-        0.5 * sum.abs()
+        lambert(n, &rel)
     }
 
     #[test]

@@ -58,30 +58,10 @@ pub fn rect_visible(
     if !(pi > 0.0 && side != 0.0) {
         return None;
     }
-    let mut hiding = [[DVec3::ZERO; 3]; FewTriangles::CAP];
-    let mut k = 0;
-    let mut hidden_sum = 0.0;
-    for &id in few.ids() {
-        let tri = g.blocker_vertices(id)?;
-        let h = hidden::polygon_triangle(sp.p, sp.ns, corners, &tri);
-        if h == 0.0 {
-            continue;
-        }
-        if tri
-            .iter()
-            .any(|v| normal.dot(*v - corners[0]) * side <= 0.0)
-            || hiding[..k]
-                .iter()
-                .any(|other| !hidden::apart(sp.p, other, &tri))
-        {
-            return None;
-        }
-        hiding[k] = tri;
-        k += 1;
-        hidden_sum += h;
-    }
-    let pass = 1.0 - hidden_sum / pi;
-    Some(if pass < 1e-12 { 0.0 } else { pass.min(1.0) })
+    past(g, sp.p, few, pi, |tri| {
+        let before = tri.iter().all(|v| normal.dot(*v - corners[0]) * side > 0.0);
+        (hidden::polygon_triangle(sp.p, sp.ns, corners, tri), before)
+    })
 }
 
 /// The fraction of a uniform sphere light's unshadowed integral that reaches the point `sp`
@@ -111,30 +91,43 @@ pub fn sphere_visible(
     }
     let cos_a = (1.0 - sin_a * sin_a).sqrt();
     let near = d - radius;
+    // (the cap lies above the shading normal's horizon: cap_triangle answers)
+    past(g, sp.p, few, pi, |tri| {
+        let before = tri.iter().all(|v| (*v - sp.p).dot(axis) < near);
+        let h = hidden::cap_triangle(sp.p, sp.ns, axis, cos_a, tri).unwrap_or(f64::NAN);
+        (h, before)
+    })
+}
+
+/// `1 − Σ Hᵢ / Π` over the triangles `few` seen from `p`, `hides` giving each one's Hᵢ (what it
+/// hides of the light, 0 for nothing) and whether it lies wholly before the light; 0 within
+/// 10⁻¹² of all of Π (the rounding of the triangles' sum: a quad's two triangles covering the
+/// light leave it black, as a hard shadow's samples do). `None` when a triangle that hides
+/// something is not before the light, when two such overlap as seen from `p`
+/// ([`hidden::apart`]), or for a NaN Hᵢ.
+fn past(
+    g: &Geometry,
+    p: DVec3,
+    few: &FewTriangles,
+    pi: f64,
+    hides: impl Fn(&[DVec3; 3]) -> (f64, bool),
+) -> Option<f64> {
     let mut hiding = [[DVec3::ZERO; 3]; FewTriangles::CAP];
     let mut k = 0;
     let mut hidden_sum = 0.0;
     for &id in few.ids() {
         let tri = g.blocker_vertices(id)?;
-        let h = hidden::cap_triangle(sp.p, sp.ns, axis, cos_a, &tri)?;
+        let (h, before) = hides(&tri);
         if h == 0.0 {
             continue;
         }
-        if tri.iter().any(|v| (*v - sp.p).dot(axis) >= near) {
-            return None;
-        }
-        if hiding[..k]
-            .iter()
-            .any(|other| !hidden::apart(sp.p, other, &tri))
-        {
+        if h.is_nan() || !before || hiding[..k].iter().any(|o| !hidden::apart(p, o, &tri)) {
             return None;
         }
         hiding[k] = tri;
         k += 1;
         hidden_sum += h;
     }
-    // (within rounding of the whole cap, e.g. a quad's two triangles covering it: black, as a
-    // hard shadow's samples are)
     let pass = 1.0 - hidden_sum / pi;
     Some(if pass < 1e-12 { 0.0 } else { pass.min(1.0) })
 }
