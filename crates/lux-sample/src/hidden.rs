@@ -17,18 +17,24 @@
 //! - the parts of T's edges inside the cap: a great arc of angle t from `w₁` towards `w₂`
 //!   contributes `t · n·m`, m = (w₁ × w₂)/|w₁ × w₂| (Lambert's polygon formula);
 //! - the parts of the cap's rim inside T: on the rim `ω(φ) = cos α·a + sin α (u cos φ + v sin φ)`
-//!   (u, v, a right-handed), the arc from φ₀ to φ₁ contributes
-//!   `sin α [sin α (n·a)(φ₁ − φ₀) − cos α ((n·v)(cos φ₀ − cos φ₁) + (n·u)(sin φ₁ − sin φ₀))]`.
+//!   (u, v, a right-handed), the arc from ω₀ to ω₁ (Δφ counter-clockwise about a) contributes
+//!   `sin²α (n·a) Δφ + cos α (ω₁ − ω₀)·(n × a)`.
 //!
-//! An edge's great circle meets the rim where `c·ω(t) = A cos t + B sin t = cos α` (A = a·w₁,
-//! B = a·e, e the edge's unit tangent at `w₁`): the edge is inside the cap for
-//! `|t − atan2(B, A)| ≤ acos(cos α / √(A² + B²))`. The rim is inside the half-space of an edge
-//! (`ω·m ≥ 0`) where `cos α (a·m) + sin α (u·m cos φ + v·m sin φ) ≥ 0`, an arc of φ; the rim
-//! inside T is the intersection of the three.
+//! An edge's great circle (unit normal m) crosses the rim at
+//! `(cos α/|g|) ĝ ∓ √(1 − cos²α/|g|²) (m × ĝ)`, g = a − (a·m) m: with `−` where the edge, run
+//! from `w₁` to `w₂`, enters the cap, with `+` where it leaves. Each edge has one piece inside
+//! the cap or none (a vertex inside, or a crossing on the edge, at each end); walking the
+//! boundary counter-clockwise, each point where an edge leaves the cap is joined along the rim
+//! to the next point, counter-clockwise, where an edge enters it. With no crossing, T lies in
+//! the cap (Lambert's formula alone), holds it (all of Π) or misses it (nothing).
+//!
+//! A rect (any planar convex polygon) seen from `p` is bounded by great circles too: what a
+//! triangle hides of it is the triangle clipped by the planes through `p` and the polygon's
+//! edges, whose Π is Lambert's formula ([`polygon_triangle`]).
 //!
 //! Several triangles hide the sum of what each hides when their projections do not overlap
 //! ([`apart`]): then the shadowed irradiance is `L·(Π − Σ H)` exactly, with no sample and no
-//! ray. The caller checks that the triangles lie wholly in front of the sphere (every shadow
+//! ray. The caller checks that the triangles lie wholly in front of the light (every shadow
 //! ray would meet them before the light).
 
 use core::f64::consts::TAU;
