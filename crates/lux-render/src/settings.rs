@@ -118,7 +118,7 @@ pub struct RenderOptions {
     /// Where nothing can block a rect, disk or sphere light of uniform radiance seen from a
     /// Lambertian point (geometry/cone.rs proves it over the world-space triangles; scenes
     /// with instances never qualify), take its closed form `L·Π` instead of its light samples,
-    /// and where a few triangles can block a sphere or rect, its exact penumbra `L·(Π − Σ H)`
+    /// and where a few triangles can block it, its exact penumbra `L·(Π − Σ H)`
     /// (integrator/penumbra.rs) (default); `false` for A/B measurements and to compare
     /// instanced stages with their flattened twins sample for sample.
     pub closed_forms: bool,

@@ -154,6 +154,47 @@ pub fn sphere(p: DVec3, n: DVec3, c: DVec3, radius: f64) -> Option<f64> {
     disk(p, n, centre, d, rad)
 }
 
+/// `n · ∫ r × dr/|r|²` along the circle `r(t) = d + R(u cos t + v sin t)` (relative to the
+/// receiver; `u`, `v` orthonormal) for t from `t0` to `t1`, `0 ≤ t1 − t0 < 2π`: the rim term of
+/// [`disk`], over an arc of it. `None` where the receiver is on the circle or for bad input.
+pub(crate) fn rim_arc(
+    n: DVec3,
+    d: DVec3,
+    (u, v): (DVec3, DVec3),
+    r: f64,
+    t0: f64,
+    t1: f64,
+) -> Option<f64> {
+    let a0 = r * r * n.dot(u.cross(v));
+    let a1 = r * n.dot(d.cross(v));
+    let a2 = -r * n.dot(d.cross(u));
+    let b0 = d.length_squared() + r * r;
+    let (b1, b2) = (2.0 * r * d.dot(u), 2.0 * r * d.dot(v));
+    let rho = (b1 * b1 + b2 * b2).sqrt();
+    let len = t1 - t0;
+    if !(b0 > rho && (0.0..TAU).contains(&len)) {
+        return None;
+    }
+    let phi = if rho > 0.0 { b2.atan2(b1) } else { 0.0 };
+    let (sp, cp) = phi.sin_cos();
+    let arc = Arc {
+        a0,
+        a: a1 * cp + a2 * sp,
+        b: a2 * cp - a1 * sp,
+        b0,
+        rho,
+    };
+    // s = t − φ from within (−π, π]; past π, the rest one period back.
+    let mut s0 = t0 - phi;
+    s0 -= TAU * (s0 / TAU).round();
+    let s1 = s0 + len;
+    Some(if s1 <= PI {
+        arc.between(s0, s1)
+    } else {
+        arc.between(s0, PI) + arc.between(-PI, s1 - TAU)
+    })
+}
+
 /// `∫ (a0 + a cos s + b sin s)/(b0 + ρ cos s) ds` with b0 > ρ ≥ 0, in forms that stay accurate
 /// as ρ → 0 (the receiver near the disk's axis).
 struct Arc {

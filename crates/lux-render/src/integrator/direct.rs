@@ -14,8 +14,8 @@
 //! hemisphere), light sampling only — for A/B comparisons.
 //!
 //! Light-only estimation of a rect, disk or sphere of uniform radiance takes the light's closed
-//! form where nothing can block it (`geometry/cone.rs`, `integrator/patches.rs`), and a sphere's
-//! or rect's exact penumbra where a few triangles can (`integrator/penumbra.rs`).
+//! form where nothing can block it (`geometry/cone.rs`, `integrator/patches.rs`), and its exact
+//! penumbra where a few triangles can (`integrator/penumbra.rs`).
 //!
 //! Lights with non-default `ShadowAPI` inputs (coloured, distance-limited or disabled shadows)
 //! are estimated by light sampling alone: a BSDF ray stops at the first occluder, which is not
@@ -316,8 +316,8 @@ impl<'a> DirectIntegrator<'a> {
                             _ => (ConeSearch::Unsearched, None),
                         };
                         // With the patch's few possible blockers (opaque black shadows; those
-                        // the light's shadow links keep), the part of a sphere or rect they
-                        // leave visible, in closed form (integrator/penumbra.rs).
+                        // the light's shadow links keep), the part of a sphere, rect or disk
+                        // they leave visible, in closed form (integrator/penumbra.rs).
                         let exact = || {
                             few.as_ref()
                                 .filter(|_| !w.transparent && base.black_shadows())

@@ -1,10 +1,10 @@
-//! Exact penumbrae of sphere and rect lights behind a few triangles.
+//! Exact penumbrae of sphere, rect and disk lights behind a few triangles.
 //!
 //! A light of uniform radiance L lights a Lambertian point with `L·Π_visible`, Π_visible the
 //! projected solid angle of the part of the light its shadow rays reach. When every triangle
 //! that can block those rays is known and few (the point's patch of surface,
 //! integrator/patches.rs), that part has a closed form: the light's Π less what each triangle
-//! hides of it (`lux_sample::hidden`: of a sphere's cap, of a rect's parallelogram), provided
+//! hides of it (`lux_sample::hidden`: of a sphere's cap, a rect's parallelogram, a disk), provided
 //! the triangles lie in front of the light (every ray through them meets them before the
 //! light) and their projections do not overlap (nothing hidden twice). Then the penumbra is
 //! exact: no light sample, no shadow ray, no noise. (A sphere drawn from its projected cap
@@ -21,8 +21,8 @@ use lux_sample::hidden;
 /// (every triangle that can stop its shadow rays: [`Geometry::blockers_in`] of a region holding
 /// them): the direction its BSDF is evaluated in (towards the light's centre; a Lambertian f is
 /// the same everywhere) and the fraction of its closed form ([`LightFrom::unshadowed`]) that
-/// passes. `None` (sample it instead) for other lights and where [`sphere_visible`] or
-/// [`rect_visible`] is.
+/// passes. `None` (sample it instead) for other lights and where [`sphere_visible`],
+/// [`rect_visible`] or [`disk_visible`] is.
 pub fn visible(
     g: &Geometry,
     from: &LightFrom,
@@ -33,10 +33,39 @@ pub fn visible(
         let pass = sphere_visible(g, sp, cap, few)?;
         return Some(((cap.0 - sp.p).normalize(), pass));
     }
-    let corners = from.rect_corners()?;
-    let pass = rect_visible(g, sp, &corners, few)?;
-    let centre = 0.25 * corners.iter().sum::<DVec3>();
-    Some(((centre - sp.p).normalize(), pass))
+    if let Some(corners) = from.rect_corners() {
+        let pass = rect_visible(g, sp, &corners, few)?;
+        let centre = 0.25 * corners.iter().sum::<DVec3>();
+        return Some(((centre - sp.p).normalize(), pass));
+    }
+    let disk = from.world_disk()?;
+    let pass = disk_visible(g, sp, disk, few)?;
+    Some(((disk.0 - sp.p).normalize(), pass))
+}
+
+/// The fraction of a disk light's unshadowed integral (centre, unit normal, radius: `disk`) that
+/// reaches the point `sp` past the triangles `few`: `1 − Σ Hᵢ / Π`, Hᵢ what triangle i hides
+/// of it ([`hidden::disk_triangle`]), Π the disk's projected solid angle from `sp.p` with the
+/// shading normal; 0 within 10⁻¹² of all of it. `None` unless the disk lies wholly above the
+/// horizon, every triangle that hides some of it lies wholly on the point's side of the disk's
+/// plane, and no two of them overlap as seen from the point ([`hidden::apart`]).
+pub fn disk_visible(
+    g: &Geometry,
+    sp: &SurfacePoint,
+    disk: (DVec3, DVec3, f64),
+    few: &FewTriangles,
+) -> Option<f64> {
+    let (centre, normal, radius) = disk;
+    let pi = lux_sample::projected::disk(sp.p, sp.ns, centre, normal, radius)?;
+    let side = normal.dot(sp.p - centre);
+    if !(pi > 0.0 && side != 0.0) {
+        return None;
+    }
+    past(g, sp.p, few, pi, |tri| {
+        let before = tri.iter().all(|v| normal.dot(*v - centre) * side > 0.0);
+        let h = hidden::disk_triangle(sp.p, sp.ns, disk, tri).unwrap_or(f64::NAN);
+        (h, before)
+    })
 }
 
 /// The fraction of a rect light's unshadowed integral (over its world `corners`, a

@@ -310,6 +310,16 @@ impl LightFrom<'_> {
         }
     }
 
+    /// For a disk of uniform radiance under a similarity: its world centre, unit normal and
+    /// radius, what its closed form [`LightFrom::unshadowed`] integrates over.
+    #[inline]
+    pub fn world_disk(&self) -> Option<(DVec3, DVec3, f64)> {
+        match self {
+            LightFrom::Disk(l, _) if l.uniform_area() => l.world_disk(),
+            _ => None,
+        }
+    }
+
     /// The ball holding every point a shadow ray of [`LightFrom::shadow_cone`] ends at, and
     /// where in it they end: the sphere light itself (`inputs:radius`, scaled), the rect's
     /// circumscribed ball, the disk's. The same from every receiver.
