@@ -9,7 +9,7 @@
 //! light) and their projections do not overlap (nothing hidden twice). Then the penumbra is
 //! exact: no light sample, no shadow ray, no noise. (A sphere drawn from its projected cap
 //! returns `L·Π` or nothing per sample, so its only noise was the fraction of blocked samples;
-//! a rect's samples add the noise of its sampler's cosine warp.)
+//! a rect's and a disk's samples add their samplers' own noise.)
 
 use crate::geometry::{FewTriangles, Geometry};
 use crate::light::LightFrom;
