@@ -616,6 +616,21 @@ mod tests {
         lambert(n, &rel)
     }
 
+    /// A random triangle around the point a fraction s ∈ [0.2, 0.9) of the way from `p` to
+    /// `to`, its vertices within 0.8·s·(a random fraction) of it (a fifth of that vertically).
+    fn on_the_way(r: &mut impl FnMut() -> f64, p: DVec3, to: DVec3) -> [DVec3; 3] {
+        let s = 0.2 + 0.7 * r();
+        let at = p + (to - p) * s;
+        let spread = 0.8 * s * r();
+        [0, 1, 2].map(|_| {
+            at + DVec3::new(
+                spread * (2.0 * r() - 1.0),
+                0.2 * spread * (2.0 * r() - 1.0),
+                spread * (2.0 * r() - 1.0),
+            )
+        })
+    }
+
     #[test]
     fn polygon_triangle_matches_its_shadow_on_the_light() {
         // A tilted rect light (a parallelogram under shear) above a receiver and triangles
@@ -655,16 +670,7 @@ mod tests {
         let mut r = stream(5);
         let mut partial = 0;
         for case in 0..200 {
-            let s = 0.2 + 0.7 * r();
-            let at = p + (DVec3::new(0.1, 1.65, 0.05) - p) * s;
-            let spread = 0.8 * s * r();
-            let tri = [0, 1, 2].map(|_| {
-                at + DVec3::new(
-                    spread * (2.0 * r() - 1.0),
-                    0.2 * spread * (2.0 * r() - 1.0),
-                    spread * (2.0 * r() - 1.0),
-                )
-            });
+            let tri = on_the_way(&mut r, p, DVec3::new(0.1, 1.65, 0.05));
             let (h, want) = (
                 polygon_triangle(p, n, &light, &tri),
                 in_plane(p, n, &light, &tri),
@@ -726,16 +732,7 @@ mod tests {
         let mut r = stream(9);
         let mut partial = 0;
         for case in 0..200 {
-            let s = 0.2 + 0.7 * r();
-            let at = p + (c - p) * s;
-            let spread = 0.8 * s * r();
-            let tri = [0, 1, 2].map(|_| {
-                at + DVec3::new(
-                    spread * (2.0 * r() - 1.0),
-                    0.2 * spread * (2.0 * r() - 1.0),
-                    spread * (2.0 * r() - 1.0),
-                )
-            });
+            let tri = on_the_way(&mut r, p, c);
             let want = in_plane(p, n, &gon, &tri);
             for ax in [axis, -axis] {
                 let h = disk_triangle(p, n, (c, ax, radius), &tri).unwrap();

@@ -83,29 +83,7 @@ pub fn disk(p: DVec3, n: DVec3, c: DVec3, axis: DVec3, radius: f64) -> Option<f6
     let (u, v) = axis.any_orthonormal_pair();
     let d = c - p;
     let r = radius;
-    // n·(r × r') = a0 + a1 cos t + a2 sin t; |r|² = b0 + b1 cos t + b2 sin t.
-    let a0 = r * r * n.dot(u.cross(v));
-    let a1 = r * n.dot(d.cross(v));
-    let a2 = -r * n.dot(d.cross(u));
-    let b0 = d.length_squared() + r * r;
-    let (b1, b2) = (2.0 * r * d.dot(u), 2.0 * r * d.dot(v));
-    let rho = (b1 * b1 + b2 * b2).sqrt();
-    if b0.is_nan() || rho.is_nan() || b0 <= rho {
-        // The receiver on the rim: the integrand is singular there.
-        return None;
-    }
-    // Shift t by φ so that the denominator is b0 + ρ cos s.
-    let phi = if rho > 0.0 { b2.atan2(b1) } else { 0.0 };
-    let (sp, cp) = phi.sin_cos();
-    let big_a = a1 * cp + a2 * sp;
-    let big_b = a2 * cp - a1 * sp;
-    let arc = Arc {
-        a0,
-        a: big_a,
-        b: big_b,
-        b0,
-        rho,
-    };
+    let (arc, phi) = rim(n, d, (u, v), r)?;
     // The rim's height above the horizon: h(t) = h0 + hu cos t + hv sin t.
     let h0 = n.dot(d);
     let (hu, hv) = (r * n.dot(u), r * n.dot(v));
@@ -165,14 +143,35 @@ pub(crate) fn rim_arc(
     t0: f64,
     t1: f64,
 ) -> Option<f64> {
+    let len = t1 - t0;
+    if !(0.0..TAU).contains(&len) {
+        return None;
+    }
+    let (arc, phi) = rim(n, d, (u, v), r)?;
+    // s = t − φ from within (−π, π]; past π, the rest one period back.
+    let mut s0 = t0 - phi;
+    s0 -= TAU * (s0 / TAU).round();
+    let s1 = s0 + len;
+    Some(if s1 <= PI {
+        arc.between(s0, s1)
+    } else {
+        arc.between(s0, PI) + arc.between(-PI, s1 - TAU)
+    })
+}
+
+/// The rim `r(t) = d + R(u cos t + v sin t)` of a disk (relative to the receiver; `u`, `v`
+/// orthonormal) as [`Arc`]'s integrand `n·(r × r')/|r|²` in `s = t − φ`, with φ: writing
+/// `n·(r × r') = a0 + a1 cos t + a2 sin t` and `|r|² = b0 + b1 cos t + b2 sin t`, the shift by
+/// φ = atan2(b2, b1) makes the denominator `b0 + ρ cos s`. `None` where the receiver is on the
+/// rim (b0 ≤ ρ: the integrand is singular there) or for NaN input.
+fn rim(n: DVec3, d: DVec3, (u, v): (DVec3, DVec3), r: f64) -> Option<(Arc, f64)> {
     let a0 = r * r * n.dot(u.cross(v));
     let a1 = r * n.dot(d.cross(v));
     let a2 = -r * n.dot(d.cross(u));
     let b0 = d.length_squared() + r * r;
     let (b1, b2) = (2.0 * r * d.dot(u), 2.0 * r * d.dot(v));
     let rho = (b1 * b1 + b2 * b2).sqrt();
-    let len = t1 - t0;
-    if !(b0 > rho && (0.0..TAU).contains(&len)) {
+    if b0.is_nan() || rho.is_nan() || b0 <= rho {
         return None;
     }
     let phi = if rho > 0.0 { b2.atan2(b1) } else { 0.0 };
@@ -184,15 +183,7 @@ pub(crate) fn rim_arc(
         b0,
         rho,
     };
-    // s = t − φ from within (−π, π]; past π, the rest one period back.
-    let mut s0 = t0 - phi;
-    s0 -= TAU * (s0 / TAU).round();
-    let s1 = s0 + len;
-    Some(if s1 <= PI {
-        arc.between(s0, s1)
-    } else {
-        arc.between(s0, PI) + arc.between(-PI, s1 - TAU)
-    })
+    Some((arc, phi))
 }
 
 /// `∫ (a0 + a cos s + b sin s)/(b0 + ρ cos s) ds` with b0 > ρ ≥ 0, in forms that stay accurate
