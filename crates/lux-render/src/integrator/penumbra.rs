@@ -63,8 +63,7 @@ pub fn disk_visible(
     }
     past(g, sp.p, few, pi, |tri| {
         let before = tri.iter().all(|v| normal.dot(*v - centre) * side > 0.0);
-        let h = hidden::disk_triangle(sp.p, sp.ns, disk, tri).unwrap_or(f64::NAN);
-        (h, before)
+        Some((hidden::disk_triangle(sp.p, sp.ns, disk, tri)?, before))
     })
 }
 
@@ -89,7 +88,7 @@ pub fn rect_visible(
     }
     past(g, sp.p, few, pi, |tri| {
         let before = tri.iter().all(|v| normal.dot(*v - corners[0]) * side > 0.0);
-        (hidden::polygon_triangle(sp.p, sp.ns, corners, tri), before)
+        Some((hidden::polygon_triangle(sp.p, sp.ns, corners, tri), before))
     })
 }
 
@@ -123,34 +122,34 @@ pub fn sphere_visible(
     // (the cap lies above the shading normal's horizon: cap_triangle answers)
     past(g, sp.p, few, pi, |tri| {
         let before = tri.iter().all(|v| (*v - sp.p).dot(axis) < near);
-        let h = hidden::cap_triangle(sp.p, sp.ns, axis, cos_a, tri).unwrap_or(f64::NAN);
-        (h, before)
+        Some((hidden::cap_triangle(sp.p, sp.ns, axis, cos_a, tri)?, before))
     })
 }
 
 /// `1 − Σ Hᵢ / Π` over the triangles `few` seen from `p`, `hides` giving each one's Hᵢ (what it
-/// hides of the light, 0 for nothing) and whether it lies wholly before the light; 0 within
+/// hides of the light, 0 for nothing) and whether it lies wholly before the light, or nothing
+/// where it has no closed form; 0 within
 /// 10⁻¹² of all of Π (the rounding of the triangles' sum: a quad's two triangles covering the
 /// light leave it black, as a hard shadow's samples do). `None` when a triangle that hides
 /// something is not before the light, when two such overlap as seen from `p`
-/// ([`hidden::apart`]), or for a NaN Hᵢ.
+/// ([`hidden::apart`]), or when `hides` has no answer.
 fn past(
     g: &Geometry,
     p: DVec3,
     few: &FewTriangles,
     pi: f64,
-    hides: impl Fn(&[DVec3; 3]) -> (f64, bool),
+    hides: impl Fn(&[DVec3; 3]) -> Option<(f64, bool)>,
 ) -> Option<f64> {
     let mut hiding = [[DVec3::ZERO; 3]; FewTriangles::CAP];
     let mut k = 0;
     let mut hidden_sum = 0.0;
     for &id in few.ids() {
         let tri = g.blocker_vertices(id)?;
-        let (h, before) = hides(&tri);
+        let (h, before) = hides(&tri)?;
         if h == 0.0 {
             continue;
         }
-        if h.is_nan() || !before || hiding[..k].iter().any(|o| !hidden::apart(p, o, &tri)) {
+        if !before || hiding[..k].iter().any(|o| !hidden::apart(p, o, &tri)) {
             return None;
         }
         hiding[k] = tri;

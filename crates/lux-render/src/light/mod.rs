@@ -268,17 +268,13 @@ impl LightFrom<'_> {
     /// similarity), the square of side `2r` around it in its plane.
     #[inline]
     pub fn shadow_corners(&self) -> Option<[DVec3; 4]> {
-        match self {
-            LightFrom::Rect(l, _) if l.uniform_area() => Some(l.world_corners()),
-            LightFrom::Disk(l, _) if l.uniform_area() => {
-                // The square around the disk in its plane: every ray ends on the disk, inside it.
-                let (c, axis, r) = l.world_disk()?;
-                let (u, v) = axis.any_orthonormal_pair();
-                let (u, v) = (u * r, v * r);
-                Some([c - u - v, c + u - v, c + u + v, c - u + v])
-            }
-            _ => None,
-        }
+        self.rect_corners().or_else(|| {
+            // The square around the disk in its plane: every ray ends on the disk, inside it.
+            let (c, axis, r) = self.world_disk()?;
+            let (u, v) = axis.any_orthonormal_pair();
+            let (u, v) = (u * r, v * r);
+            Some([c - u - v, c + u - v, c + u + v, c - u + v])
+        })
     }
 
     /// Whether each light sample from this receiver returns its closed form
@@ -287,7 +283,7 @@ impl LightFrom<'_> {
     /// the shadow rays but removes no noise.
     #[inline]
     pub fn samples_exactly(&self) -> bool {
-        matches!(self, LightFrom::Sphere(l, from) if l.uniform_area() && from.projected_cap().is_some())
+        self.sphere_cap().is_some()
     }
 
     /// For a uniform sphere drawn from its projected cap ([`LightFrom::samples_exactly`]): its
@@ -325,16 +321,16 @@ impl LightFrom<'_> {
     /// circumscribed ball, the disk's. The same from every receiver.
     pub fn shadow_ball(&self) -> Option<(DVec3, f64, RayEnds)> {
         match self {
-            LightFrom::Sphere(l, from) if l.uniform_area() => {
-                let (c, r, _) = from.projected_cap()?;
+            LightFrom::Sphere(..) => {
+                let (c, r, _) = self.sphere_cap()?;
                 Some((c, r, RayEnds::NearSide))
             }
             LightFrom::Rect(l, _) if l.uniform_area() => {
                 let (c, r) = l.bounding_sphere();
                 Some((c, r, RayEnds::Anywhere))
             }
-            LightFrom::Disk(l, _) if l.uniform_area() => {
-                let (c, _, r) = l.world_disk()?;
+            LightFrom::Disk(..) => {
+                let (c, _, r) = self.world_disk()?;
                 Some((c, r, RayEnds::Anywhere))
             }
             _ => None,
