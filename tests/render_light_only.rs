@@ -575,6 +575,32 @@ fn sphere_rect_and_disk_penumbrae_are_exact_where_few_triangles_block() {
         let mut long = one.clone();
         long.meshes.pop();
         long.meshes.push(quad("/Long", long_card));
+        // The card subdivided 4 × 4: its outline in the shadow BVH stands for it, one convex
+        // polygon rather than triangles (geometry/planar.rs, penumbra::past), and the penumbra
+        // is the two-triangle card's.
+        let mut grid = one.clone();
+        let flat = grid.meshes.pop().unwrap();
+        let corner = |u: f64, v: f64| {
+            let q = &flat.positions;
+            (1.0 - v) * ((1.0 - u) * q[0] + u * q[1]) + v * ((1.0 - u) * q[3] + u * q[2])
+        };
+        let points: Vec<DVec3> = (0..25)
+            .map(|i| corner((i % 5) as f64 / 4.0, (i / 5) as f64 / 4.0))
+            .collect();
+        let cells = (0..16u32).flat_map(|c| {
+            let a = c / 4 * 5 + c % 4;
+            [[a, a + 1, a + 6], [a, a + 6, a + 5]]
+        });
+        grid.meshes
+            .push(Mesh::new("/Grid", points, cells.collect()));
+        let (whole, rays) = run(&grid, 4, true, LightSelection::All, 1);
+        assert_eq!(rays, 0, "{name}: the subdivided card's penumbra is exact");
+        close(
+            whole,
+            run(&one, 4, true, LightSelection::All, 1).0,
+            1e-9,
+            &format!("{name}: subdivided card"),
+        );
         for (what, s, exact) in [
             ("one card", &one, true),
             ("overlapping cards", &two, false),

@@ -42,23 +42,75 @@
 use core::f64::consts::TAU;
 use glam::DVec3;
 
-/// A triangle's vertex directions seen from the receiver, counter-clockwise from outside the
-/// unit sphere, and its edges' unit inward normals `mᵢ = (wᵢ × wᵢ₊₁)/|wᵢ × wᵢ₊₁|` (inside:
-/// `ω·mᵢ ≥ 0` for all three). `None` for a triangle whose plane holds the receiver (its
-/// projection has no area) or a non-finite one.
-fn spherical(r: &[DVec3; 3]) -> Option<([DVec3; 3], [DVec3; 3])> {
+/// Most corners of a blocking convex polygon ([`cap_polygon`], [`polygon_polygon`],
+/// [`disk_polygon`], [`apart`]).
+pub const MAX_CORNERS: usize = 8;
+
+/// The projection of a planar convex polygon (corners `r` relative to the receiver, in order
+/// around it): its corner directions, counter-clockwise from outside the unit sphere, and its
+/// edges' unit inward normals `mᵢ = (wᵢ × wᵢ₊₁)/|wᵢ × wᵢ₊₁|` (inside: `ω·mᵢ ≥ 0` for all).
+/// `None` for a polygon whose plane holds the receiver (its projection has no area) or a
+/// non-finite one. The side is `r₀·N`, N = Σ rᵢ × rᵢ₊₁ (Newell's normal: the sum of the fan
+/// triangles' `r₀·(rᵢ × rᵢ₊₁)`; for a triangle `r₀·(r₁ × r₂)`), against 10⁻¹² of the first
+/// three corners' distances multiplied.
+#[inline]
+fn spherical<const N: usize>(r: &[DVec3; N]) -> Option<([DVec3; N], [DVec3; N])> {
     let lens = r.map(|v| v.length());
-    let det = r[0].dot(r[1].cross(r[2]));
-    // (relative to the vertices' distances: a triangle seen edge-on hides nothing)
+    let det = if N == 3 {
+        r[0].dot(r[1].cross(r[2]))
+    } else {
+        let normal: DVec3 = (0..N).map(|i| r[i].cross(r[(i + 1) % N])).sum();
+        r[0].dot(normal)
+    };
+    // (relative to the vertices' distances: a polygon seen edge-on hides nothing)
     if crate::not_positive(det.abs() - 1e-12 * lens[0] * lens[1] * lens[2]) {
         return None;
     }
-    let mut w = [r[0] / lens[0], r[1] / lens[1], r[2] / lens[2]];
+    let mut w: [DVec3; N] = core::array::from_fn(|i| r[i] / lens[i]);
     if det < 0.0 {
-        w.swap(1, 2);
+        w[1..].reverse();
     }
-    let m = [0, 1, 2].map(|i| w[i].cross(w[(i + 1) % 3]).normalize());
+    let m: [DVec3; N] = core::array::from_fn(|i| w[i].cross(w[(i + 1) % N]).normalize());
     m.iter().all(|m| m.is_finite()).then_some((w, m))
+}
+
+/// `$body` with `$a` bound to `$poly` as an array of its length (3 to [`MAX_CORNERS`]), else
+/// `$none`: one compiled body per corner count.
+macro_rules! by_corners {
+    ($poly:expr, $none:expr, |$a:ident| $body:expr) => {
+        match $poly.len() {
+            3 => by_corners!(@ 3, $poly, $none, $a, $body),
+            4 => by_corners!(@ 4, $poly, $none, $a, $body),
+            5 => by_corners!(@ 5, $poly, $none, $a, $body),
+            6 => by_corners!(@ 6, $poly, $none, $a, $body),
+            7 => by_corners!(@ 7, $poly, $none, $a, $body),
+            8 => by_corners!(@ 8, $poly, $none, $a, $body),
+            _ => $none,
+        }
+    };
+    (@ $n:literal, $poly:expr, $none:expr, $a:ident, $body:expr) => {{
+        let Ok($a) = <&[DVec3; $n]>::try_from($poly) else {
+            return $none;
+        };
+        $body
+    }};
+}
+
+/// The projection of a planar convex polygon of up to [`MAX_CORNERS`] corners (world points)
+/// seen from `p`, in arrays of that size with its corner count: [`spherical`].
+fn spherical_any(
+    poly: &[DVec3],
+    p: DVec3,
+) -> Option<(usize, [DVec3; MAX_CORNERS], [DVec3; MAX_CORNERS])> {
+    fn widen<const N: usize>(
+        (w, m): ([DVec3; N], [DVec3; N]),
+    ) -> (usize, [DVec3; MAX_CORNERS], [DVec3; MAX_CORNERS]) {
+        let mut out = (N, [DVec3::ZERO; MAX_CORNERS], [DVec3::ZERO; MAX_CORNERS]);
+        out.1[..N].copy_from_slice(&w);
+        out.2[..N].copy_from_slice(&m);
+        out
+    }
+    by_corners!(poly, None, |a| spherical(&a.map(|v| v - p)).map(widen))
 }
 
 /// Π of the part of the cap around the unit axis `axis` with `cos α = cos_a` hidden by the
@@ -69,11 +121,28 @@ fn spherical(r: &[DVec3; 3]) -> Option<([DVec3; 3], [DVec3; 3])> {
 /// projection misses the cap; the cap's own Π (π sin²α (n·axis)) when it covers the cap. Where
 /// the triangle lies along the rays (in front of the light or behind it) is the caller's.
 pub fn cap_triangle(p: DVec3, n: DVec3, axis: DVec3, cos_a: f64, tri: &[DVec3; 3]) -> Option<f64> {
+    cap(p, n, axis, cos_a, tri)
+}
+
+/// [`cap_triangle`] for a planar convex polygon `poly` (world points in order around it, 3 to
+/// [`MAX_CORNERS`]; `None` for more): the same boundary integral over its edges.
+pub fn cap_polygon(p: DVec3, n: DVec3, axis: DVec3, cos_a: f64, poly: &[DVec3]) -> Option<f64> {
+    by_corners!(poly, None, |a| cap(p, n, axis, cos_a, a))
+}
+
+/// [`cap_polygon`] for `N` corners.
+fn cap<const N: usize>(
+    p: DVec3,
+    n: DVec3,
+    axis: DVec3,
+    cos_a: f64,
+    poly: &[DVec3; N],
+) -> Option<f64> {
     let sin_a = (1.0 - cos_a * cos_a).max(0.0).sqrt();
     if !(cos_a > 0.0 && cos_a < 1.0 && n.dot(axis) >= sin_a && axis.is_finite() && p.is_finite()) {
         return None;
     }
-    let Some((w, m)) = spherical(&tri.map(|v| v - p)) else {
+    let Some((w, m)) = spherical(&poly.map(|v| v - p)) else {
         return Some(0.0);
     };
     let na = n.dot(axis);
@@ -93,11 +162,11 @@ pub fn cap_triangle(p: DVec3, n: DVec3, axis: DVec3, cos_a: f64, tri: &[DVec3; 3
     // `(cos α/|g|) ĝ ± √(1 − cos²α/|g|²) (m × ĝ)`, g = axis − (axis·m) m: the one with `−`
     // enters the cap along the edge's direction of travel `m × ω`, the one with `+` leaves it.
     let mut sum = 0.0;
-    let (mut entries, mut exits) = ([DVec3::ZERO; 3], [DVec3::ZERO; 3]);
+    let (mut entries, mut exits) = ([DVec3::ZERO; N], [DVec3::ZERO; N]);
     let (mut ne, mut nx) = (0, 0);
     let inside = w.map(|w| axis.dot(w) >= cos_a);
-    for i in 0..3 {
-        let (a, b, mi) = (w[i], w[(i + 1) % 3], m[i]);
+    for i in 0..N {
+        let (a, b, mi) = (w[i], w[(i + 1) % N], m[i]);
         let crossings = || {
             let g = axis - am[i] * mi;
             let g_len = g.length();
@@ -111,7 +180,7 @@ pub fn cap_triangle(p: DVec3, n: DVec3, axis: DVec3, cos_a: f64, tri: &[DVec3; 3
         };
         // (a point of the edge's great circle between its vertices)
         let on_arc = |x: DVec3| a.cross(x).dot(mi) >= 0.0 && x.cross(b).dot(mi) >= 0.0;
-        let piece = match (inside[i], inside[(i + 1) % 3]) {
+        let piece = match (inside[i], inside[(i + 1) % N]) {
             (true, true) => Some((a, b)),
             (true, false) => crossings().map(|(_, exit)| {
                 exits[nx] = exit;
@@ -161,7 +230,7 @@ pub fn cap_triangle(p: DVec3, n: DVec3, axis: DVec3, cos_a: f64, tri: &[DVec3; 3
     let u = axis.any_orthonormal_vector();
     let v = axis.cross(u);
     let phi = |x: DVec3| x.dot(v).atan2(x.dot(u));
-    let entry_phi = [0, 1, 2].map(|j| if j < ne { phi(entries[j]) } else { 0.0 });
+    let entry_phi: [f64; N] = core::array::from_fn(|j| if j < ne { phi(entries[j]) } else { 0.0 });
     for &x in &exits[..nx] {
         let fx = phi(x);
         let mut best: Option<(f64, DVec3)> = None;
@@ -187,8 +256,20 @@ pub fn cap_triangle(p: DVec3, n: DVec3, axis: DVec3, cos_a: f64, tri: &[DVec3; 3
 /// horizon ([`crate::projected::polygon`]). 0 when the triangle's or the polygon's plane holds
 /// `p`. Where the triangle lies along the rays is the caller's.
 pub fn polygon_triangle(p: DVec3, n: DVec3, light: &[DVec3], tri: &[DVec3; 3]) -> f64 {
+    polygon_clip(p, n, light, tri)
+}
+
+/// [`polygon_triangle`] for a planar convex blocking polygon `blocker` (world points in order
+/// around it, 3 to [`MAX_CORNERS`]; 0 for more): the blocker clipped by the light's edge planes.
+pub fn polygon_polygon(p: DVec3, n: DVec3, light: &[DVec3], blocker: &[DVec3]) -> f64 {
+    by_corners!(blocker, 0.0, |a| polygon_clip(p, n, light, a))
+}
+
+/// [`polygon_polygon`] for a blocker of `N` corners.
+fn polygon_clip<const N: usize>(p: DVec3, n: DVec3, light: &[DVec3], blocker: &[DVec3; N]) -> f64 {
     let k = light.len();
-    if !(3..=5).contains(&k) || spherical(&tri.map(|v| v - p)).is_none() {
+    let r = blocker.map(|v| v - p);
+    if !(3..=5).contains(&k) || spherical(&r).is_none() {
         return 0.0;
     }
     let l: [DVec3; 5] = core::array::from_fn(|i| if i < k { light[i] - p } else { DVec3::ZERO });
@@ -197,27 +278,29 @@ pub fn polygon_triangle(p: DVec3, n: DVec3, light: &[DVec3], tri: &[DVec3; 3]) -
     if crate::not_positive(det.abs() - 1e-12 * lens) {
         return 0.0;
     }
-    // Clip the triangle (relative to p) by each edge plane, kept side towards the polygon.
-    let mut poly = [DVec3::ZERO; 8];
-    let mut m = 3;
-    poly[..3].copy_from_slice(&tri.map(|v| v - p));
+    // Clip the blocker (relative to p) by each edge plane, kept side towards the polygon (a
+    // convex clip adds at most one corner: at most MAX_CORNERS + 5 in all).
+    const MOST: usize = MAX_CORNERS + 5;
+    let mut poly = [DVec3::ZERO; MOST];
+    let mut m = N;
+    poly[..N].copy_from_slice(&r);
     for i in 0..k {
         let inward = l[i].cross(l[(i + 1) % k]) * det.signum();
-        let mut out = [DVec3::ZERO; 8];
+        let mut out = [DVec3::ZERO; MOST];
         let mut j = 0;
         for a in 0..m {
             let (x, y) = (poly[a], poly[(a + 1) % m]);
             let (hx, hy) = (inward.dot(x), inward.dot(y));
-            if hx >= 0.0 {
+            if hx >= 0.0 && j < MOST {
                 out[j] = x;
                 j += 1;
             }
-            if (hx >= 0.0) != (hy >= 0.0) && j < 8 {
+            if (hx >= 0.0) != (hy >= 0.0) && j < MOST {
                 out[j] = x + (y - x) * (hx / (hx - hy));
                 j += 1;
             }
         }
-        (poly, m) = (out, j.min(8));
+        (poly, m) = (out, j);
         if m < 3 {
             return 0.0;
         }
@@ -240,8 +323,24 @@ pub fn polygon_triangle(p: DVec3, n: DVec3, light: &[DVec3], tri: &[DVec3; 3]) -
 pub fn disk_triangle(
     p: DVec3,
     n: DVec3,
-    (c, axis, radius): (DVec3, DVec3, f64),
+    disk: (DVec3, DVec3, f64),
     tri: &[DVec3; 3],
+) -> Option<f64> {
+    disk_n(p, n, disk, tri)
+}
+
+/// [`disk_triangle`] for a planar convex blocking polygon `poly` (world points in order around
+/// it, 3 to [`MAX_CORNERS`]; `None` for more): the same pieces over its `k` edges.
+pub fn disk_polygon(p: DVec3, n: DVec3, disk: (DVec3, DVec3, f64), poly: &[DVec3]) -> Option<f64> {
+    by_corners!(poly, None, |a| disk_n(p, n, disk, a))
+}
+
+/// [`disk_polygon`] for `N` corners.
+fn disk_n<const N: usize>(
+    p: DVec3,
+    n: DVec3,
+    (c, axis, radius): (DVec3, DVec3, f64),
+    poly: &[DVec3; N],
 ) -> Option<f64> {
     let d = c - p;
     let tilt = (n - n.dot(axis) * axis).length();
@@ -252,7 +351,7 @@ pub fn disk_triangle(
     if crate::not_positive(side.abs() - 1e-12 * d.length()) {
         return Some(0.0);
     }
-    let Some((w, m)) = spherical(&tri.map(|v| v - p)) else {
+    let Some((w, m)) = spherical(&poly.map(|v| v - p)) else {
         return Some(0.0);
     };
     let u = axis.any_orthonormal_vector();
@@ -269,18 +368,18 @@ pub fn disk_triangle(
     let inside = w.map(meets);
     let mut sum = 0.0;
     // Where edges enter and leave the disk: direction and rim parameter.
-    let (mut entries, mut exits) = ([(DVec3::ZERO, 0.0); 3], [(DVec3::ZERO, 0.0); 3]);
+    let (mut entries, mut exits) = ([(DVec3::ZERO, 0.0); N], [(DVec3::ZERO, 0.0); N]);
     let (mut ne, mut nx) = (0, 0);
-    for i in 0..3 {
-        let (a, b, mi) = (w[i], w[(i + 1) % 3], m[i]);
+    for i in 0..N {
+        let (a, b, mi) = (w[i], w[(i + 1) % N], m[i]);
         let on_arc = |x: DVec3| a.cross(x).dot(mi) >= 0.0 && x.cross(b).dot(mi) >= 0.0;
         // m·r(t) = K + P cos t + Q sin t = 0 at t = θ ± β.
-        let (k, pu, qv) = (mi.dot(d), radius * mi.dot(u), radius * mi.dot(v));
+        let (kd, pu, qv) = (mi.dot(d), radius * mi.dot(u), radius * mi.dot(v));
         let s = (pu * pu + qv * qv).sqrt();
         let mut on = [(DVec3::ZERO, 0.0); 2];
         let mut count = 0;
-        if s > k.abs() {
-            let (theta, beta) = (qv.atan2(pu), (-k / s).acos());
+        if s > kd.abs() {
+            let (theta, beta) = (qv.atan2(pu), (-kd / s).acos());
             for t in [theta - beta, theta + beta] {
                 let x = rim(t).normalize();
                 if on_arc(x) {
@@ -289,7 +388,7 @@ pub fn disk_triangle(
                 }
             }
         }
-        let piece = match (inside[i], inside[(i + 1) % 3], count) {
+        let piece = match (inside[i], inside[(i + 1) % N], count) {
             (true, true, _) => Some((a, b)),
             (true, false, 1) => {
                 exits[nx] = on[0];
@@ -353,21 +452,20 @@ pub fn disk_triangle(
     Some((0.5 * sum).clamp(0.0, full))
 }
 
-/// Whether the triangles `a` and `b` (world points) seen from `p` have projections whose
+/// Whether the planar convex polygons `a` and `b` (world points in order around each, 3 to
+/// [`MAX_CORNERS`] corners; triangles most often) seen from `p` have projections whose
 /// interiors do not overlap: one of their edges' great circles (the plane through `p` and the
-/// edge) has one triangle on each side, within 10⁻⁹ rad (a shared edge separates two triangles
-/// of a flat card). False when none does (for two convex spherical polygons, overlapping) or
-/// for a triangle seen edge-on — a conservative answer: what [`cap_triangle`] hides may then
-/// be counted twice.
-pub fn apart(p: DVec3, a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
-    let (Some((wa, ma)), Some((wb, mb))) =
-        (spherical(&a.map(|v| v - p)), spherical(&b.map(|v| v - p)))
+/// edge) has one polygon on each side, within 10⁻⁹ rad (a shared edge separates two triangles
+/// of a flat card). False when none does (for two convex spherical polygons, overlapping), for
+/// a polygon seen edge-on or with more corners — a conservative answer: what [`cap_triangle`]
+/// hides may then be counted twice.
+pub fn apart(p: DVec3, a: &[DVec3], b: &[DVec3]) -> bool {
+    let (Some((ka, wa, ma)), Some((kb, wb, mb))) = (spherical_any(a, p), spherical_any(b, p))
     else {
         return false;
     };
-    let outside =
-        |m: &[DVec3; 3], w: &[DVec3; 3]| m.iter().any(|m| w.iter().all(|w| m.dot(*w) <= 1e-9));
-    outside(&ma, &wb) || outside(&mb, &wa)
+    let outside = |m: &[DVec3], w: &[DVec3]| m.iter().any(|m| w.iter().all(|w| m.dot(*w) <= 1e-9));
+    outside(&ma[..ka], &wb[..kb]) || outside(&mb[..kb], &wa[..ka])
 }
 
 #[cfg(test)]
@@ -792,5 +890,101 @@ mod tests {
             }
         }
         assert!(said > 50, "{said}");
+    }
+
+    /// A random convex polygon of `k` corners around the point a fraction of the way from `p`
+    /// to `to`: points of a tilted ellipse at sorted random angles, in either direction.
+    fn convex_on_the_way(r: &mut impl FnMut() -> f64, p: DVec3, to: DVec3, k: usize) -> Vec<DVec3> {
+        let s = 0.2 + 0.7 * r();
+        let at = p + (to - p) * s;
+        let normal = DVec3::new(r() - 0.5, 1.0, r() - 0.5).normalize();
+        let u = normal.any_orthonormal_vector();
+        let v = normal.cross(u);
+        let (a, b) = (0.8 * s * (0.1 + r()), 0.8 * s * (0.1 + r()));
+        let mut t: Vec<f64> = (0..k).map(|_| TAU * r()).collect();
+        t.sort_by(f64::total_cmp);
+        let mut poly: Vec<DVec3> = t
+            .iter()
+            .map(|t| at + a * t.cos() * u + b * t.sin() * v)
+            .collect();
+        if r() < 0.5 {
+            poly.reverse();
+        }
+        poly
+    }
+
+    #[test]
+    fn a_convex_polygon_hides_what_its_fan_triangles_hide() {
+        // cap_polygon, polygon_polygon and disk_polygon of a convex polygon of 4 to 8 corners
+        // equal the sums over its fan triangles (which tile it without overlap), for random
+        // polygons around each light's cone; `apart` holds between its fan triangles and fails
+        // between the polygon and each of them.
+        let mut r = stream(23);
+        let (p, n) = (DVec3::new(0.1, 0.0, -0.2), DVec3::Y);
+        let centre = DVec3::new(0.2, 1.6, 0.1);
+        let rad = 0.4;
+        let d = (centre - p).length();
+        let axis = (centre - p) / d;
+        let cos_a = (1.0 - rad * rad / (d * d)).sqrt();
+        let cap = projected::sphere(p, n, centre, rad).unwrap();
+        let rect = [
+            DVec3::new(-0.3, 1.5, -0.2),
+            DVec3::new(0.5, 1.6, -0.2),
+            DVec3::new(0.6, 1.7, 0.4),
+            DVec3::new(-0.2, 1.6, 0.4),
+        ];
+        let rect_pi = projected::polygon(p, n, &rect);
+        let disk = (centre, DVec3::new(0.3, -1.0, 0.2).normalize(), rad);
+        let disk_pi = projected::disk(p, n, disk.0, disk.1, disk.2).unwrap();
+        let mut partial = [0usize; 3];
+        for case in 0..300 {
+            let k = 4 + case % 5;
+            let poly = convex_on_the_way(&mut r, p, centre, k);
+            let fan: Vec<[DVec3; 3]> = (1..k - 1)
+                .map(|i| [poly[0], poly[i], poly[i + 1]])
+                .collect();
+            let h = cap_polygon(p, n, axis, cos_a, &poly).unwrap();
+            let sum: f64 = fan
+                .iter()
+                .map(|t| cap_triangle(p, n, axis, cos_a, t).unwrap())
+                .sum();
+            assert!(
+                (h - sum).abs() <= 1e-10 * cap,
+                "case {case}: cap {h} vs fan {sum}"
+            );
+            let h = polygon_polygon(p, n, &rect, &poly);
+            let sum: f64 = fan.iter().map(|t| polygon_triangle(p, n, &rect, t)).sum();
+            assert!(
+                (h - sum).abs() <= 1e-10 * rect_pi,
+                "case {case}: rect {h} vs fan {sum}"
+            );
+            let parts: Option<Vec<f64>> =
+                fan.iter().map(|t| disk_triangle(p, n, disk, t)).collect();
+            if let (Some(h), Some(parts)) = (disk_polygon(p, n, disk, &poly), parts) {
+                let sum: f64 = parts.iter().sum();
+                assert!(
+                    (h - sum).abs() <= 1e-10 * disk_pi,
+                    "case {case}: disk {h} vs fan {sum}"
+                );
+                partial[2] += (h > 0.0 && h < 0.999 * disk_pi) as usize;
+            }
+            let hc = cap_polygon(p, n, axis, cos_a, &poly).unwrap();
+            partial[0] += (hc > 0.0 && hc < 0.999 * cap) as usize;
+            let hr = polygon_polygon(p, n, &rect, &poly);
+            partial[1] += (hr > 0.0 && hr < 0.999 * rect_pi) as usize;
+            assert!(apart(p, &fan[0], &fan[1]), "case {case}");
+            assert!(
+                fan.iter()
+                    .all(|t| !apart(p, &poly, t) && !apart(p, t, &poly))
+            );
+        }
+        // Most polygons hide part of each light (cut by its outline).
+        assert!(partial.iter().all(|&c| c > 100), "{partial:?}");
+        // More corners than MAX_CORNERS: no answer.
+        let many = convex_on_the_way(&mut r, p, centre, MAX_CORNERS + 1);
+        assert_eq!(cap_polygon(p, n, axis, cos_a, &many), None);
+        assert_eq!(disk_polygon(p, n, disk, &many), None);
+        assert_eq!(polygon_polygon(p, n, &rect, &many), 0.0);
+        assert!(!apart(p, &many, &many[..3]));
     }
 }

@@ -25,13 +25,13 @@ use core::f64::consts::{PI, TAU};
 use glam::DVec3;
 
 /// Π of the planar convex or non-convex polygon `verts` (world points, in order around its
-/// boundary, at most 8) from the receiver `(p, n)`: the polygon is clipped to `n·(x − p) ≥ 0`
+/// boundary, at most 16) from the receiver `(p, n)`: the polygon is clipped to `n·(x − p) ≥ 0`
 /// and Lambert's formula summed over the clipped edges. Both faces count (a one-sided emitter
 /// checks its side before calling). 0 for a polygon wholly below the horizon or seen edge-on.
 pub fn polygon(p: DVec3, n: DVec3, verts: &[DVec3]) -> f64 {
-    debug_assert!(verts.len() <= 8);
+    debug_assert!(verts.len() <= 16);
     // Clip (Sutherland–Hodgman against one plane): at most one more vertex than the input.
-    let mut clipped = [DVec3::ZERO; 9];
+    let mut clipped = [DVec3::ZERO; 17];
     let mut m = 0;
     let k = verts.len();
     for i in 0..k {

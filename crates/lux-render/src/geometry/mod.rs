@@ -274,10 +274,22 @@ pub struct Geometry {
     /// (`geometry/planar.rs`) make most of it: those meshes as their outlines' fan triangles,
     /// the others as in `world` ([`Geometry::shadow_blas`]). `None` otherwise.
     shadow: Option<Blas>,
+    /// Per mesh, with `shadow`: the convex outline whose fan stands for it there (corners
+    /// rounded as the BVH's triangles are), when it has at most
+    /// [`lux_sample::hidden::MAX_CORNERS`] corners ([`Geometry::blocker_card`]).
+    cards: Vec<Option<Card>>,
     /// Instanced prototypes and their placements.
     instances: Option<Instances>,
     /// The analytic area lights.
     lights: LightShapes,
+}
+
+/// A planar mesh's convex outline in the shadow BVH (`geometry/planar.rs`): its corners in
+/// order, as its fan triangles hold them.
+#[derive(Clone, Copy, Debug)]
+struct Card {
+    len: u8,
+    corners: [DVec3; lux_sample::hidden::MAX_CORNERS],
 }
 
 /// `max(1, max |coordinate|)`-relative offset that clears the `f32` rounding of the BVH
@@ -385,13 +397,18 @@ impl Geometry {
             || (0..scene.meshes.len()).filter(|&i| scene.meshes[i].prototype.is_none());
         let world = Blas::build(scene, world_meshes(), &mut stored);
         // (not when the world stopped at MAX_TRIANGLES: shadow rays would see what it left out)
+        let mut cards = vec![None; scene.meshes.len()];
         let shadow = world
             .as_ref()
             .filter(|_| stored < MAX_TRIANGLES)
-            .and_then(|w| Self::shadow_blas(scene, world_meshes(), w.len()));
+            .and_then(|w| Self::shadow_blas(scene, world_meshes(), w.len(), &mut cards));
+        if shadow.is_none() {
+            cards.clear();
+        }
         let instances = Instances::build(scene, &mut stored);
         Geometry {
             shadow,
+            cards,
             world,
             instances,
             lights: LightShapes::new(lights),
@@ -407,6 +424,7 @@ impl Geometry {
         scene: &Scene,
         meshes: impl Iterator<Item = usize>,
         world_len: usize,
+        cards: &mut [Option<Card>],
     ) -> Option<Blas> {
         let mut replaced = false;
         let mut items = Vec::new();
@@ -415,6 +433,24 @@ impl Geometry {
             match planar::tiled_hull(&m.positions, &m.triangles) {
                 Some(fan) => {
                     replaced = true;
+                    // (the fan's corners c₀, c₁ … c_k: each triangle's second corner, then the
+                    // last one's third, rounded to f32 as the BVH stores them)
+                    let k = fan.len() + 2;
+                    if k <= lux_sample::hidden::MAX_CORNERS {
+                        let mut corners = [DVec3::ZERO; lux_sample::hidden::MAX_CORNERS];
+                        corners[0] = fan[0][0];
+                        for (i, t) in fan.iter().enumerate() {
+                            corners[i + 1] = t[1];
+                        }
+                        corners[k - 1] = fan[fan.len() - 1][2];
+                        for c in &mut corners[..k] {
+                            *c = c.as_vec3().as_dvec3();
+                        }
+                        cards[mi] = Some(Card {
+                            len: k as u8,
+                            corners,
+                        });
+                    }
                     items.extend(fan.into_iter().enumerate().map(|(k, t)| {
                         let prim = blas::PrimRef {
                             mesh: mi as u32,
@@ -431,6 +467,15 @@ impl Geometry {
         (replaced && 4 * items.len() <= world_len)
             .then(|| Blas::from_triangles(items.into_iter(), &mut 0))
             .flatten()
+    }
+
+    /// The convex outline (its mesh, its corners in order) whose fan holds the triangle `id` of
+    /// the BVH shadow rays test ([`Geometry::blocker_vertices`]), when that triangle stands
+    /// for a planar mesh there (`geometry/planar.rs`).
+    pub fn blocker_card(&self, id: u32) -> Option<(u32, &[DVec3])> {
+        let mesh = self.shadow.as_ref()?.prims.get(id as usize)?.mesh;
+        let card = self.cards.get(mesh as usize)?.as_ref()?;
+        Some((mesh, &card.corners[..card.len as usize]))
     }
 
     /// What shadow rays test: the shadow BVH, else the world's.
@@ -982,6 +1027,37 @@ pub(crate) mod tests {
         let (world, shadow) = (g.world.as_ref().unwrap(), g.shadow.as_ref().unwrap());
         assert_eq!(world.len(), 162 + 162 + 72);
         assert_eq!(shadow.len(), 2 + 2 + 72);
+        // Each outline triangle names its card: the rectangle's four corners in order (as the
+        // BVH rounds them); the strip's own triangles name none.
+        let mut cards = [0usize; 3];
+        for id in 0..shadow.len() as u32 {
+            let tri = g.blocker_vertices(id).unwrap();
+            match g.blocker_card(id) {
+                Some((mesh, corners)) => {
+                    cards[mesh as usize] += 1;
+                    assert_eq!(corners.len(), 4);
+                    assert!(
+                        tri.iter().all(|v| corners.contains(v)),
+                        "{tri:?} {corners:?}"
+                    );
+                    let at = |u: f64, v: f64| {
+                        let p = if mesh == 0 {
+                            DVec3::new(10.0 * u - 5.0, 0.0, 10.0 * v - 5.0)
+                        } else {
+                            DVec3::new(u - 0.5, 1.0 + 0.3 * v, 0.8 * v - 0.4)
+                        };
+                        p.as_vec3().as_dvec3()
+                    };
+                    let square = [at(0.0, 0.0), at(1.0, 0.0), at(1.0, 1.0), at(0.0, 1.0)];
+                    let k = corners.iter().position(|c| *c == square[0]).unwrap();
+                    let turn: Vec<DVec3> = (0..4).map(|i| corners[(k + i) % 4]).collect();
+                    let back: Vec<DVec3> = (0..4).map(|i| corners[(k + 4 - i) % 4]).collect();
+                    assert!(turn == square || back == square, "{corners:?}");
+                }
+                None => cards[2] += 1,
+            }
+        }
+        assert_eq!(cards, [2, 2, 72]);
         let mut rng = lux_sample::SplitMix64::new(5);
         let mut u = || rng.next_f64();
         let (mut hits, mut misses) = (0, 0);

@@ -63,7 +63,7 @@ pub fn disk_visible(
     }
     past(g, sp.p, few, pi, |tri| {
         let before = tri.iter().all(|v| normal.dot(*v - centre) * side > 0.0);
-        Some((hidden::disk_triangle(sp.p, sp.ns, disk, tri)?, before))
+        Some((hidden::disk_polygon(sp.p, sp.ns, disk, tri)?, before))
     })
 }
 
@@ -88,7 +88,7 @@ pub fn rect_visible(
     }
     past(g, sp.p, few, pi, |tri| {
         let before = tri.iter().all(|v| normal.dot(*v - corners[0]) * side > 0.0);
-        Some((hidden::polygon_triangle(sp.p, sp.ns, corners, tri), before))
+        Some((hidden::polygon_polygon(sp.p, sp.ns, corners, tri), before))
     })
 }
 
@@ -122,7 +122,7 @@ pub fn sphere_visible(
     // (the cap lies above the shading normal's horizon: cap_triangle answers)
     past(g, sp.p, few, pi, |tri| {
         let before = tri.iter().all(|v| (*v - sp.p).dot(axis) < near);
-        Some((hidden::cap_triangle(sp.p, sp.ns, axis, cos_a, tri)?, before))
+        Some((hidden::cap_polygon(sp.p, sp.ns, axis, cos_a, tri)?, before))
     })
 }
 
@@ -133,26 +133,62 @@ pub fn sphere_visible(
 /// light leave it black, as a hard shadow's samples do). `None` when a triangle that hides
 /// something is not before the light, when two such overlap as seen from `p`
 /// ([`hidden::apart`]), or when `hides` has no answer.
+///
+/// Triangles of a flat card's outline ([`Geometry::blocker_card`]) count as the whole outline,
+/// once: its other triangles are not among `few` only where they stop no shadow ray of the
+/// patch, so they hide nothing from `p` and the outline hides what its triangles in `few` do,
+/// in one convex polygon rather than several triangles and the test that they do not overlap.
+/// An outline not wholly before the light falls back to its triangles.
 fn past(
     g: &Geometry,
     p: DVec3,
     few: &FewTriangles,
     pi: f64,
-    hides: impl Fn(&[DVec3; 3]) -> Option<(f64, bool)>,
+    hides: impl Fn(&[DVec3]) -> Option<(f64, bool)>,
 ) -> Option<f64> {
-    let mut hiding = [[DVec3::ZERO; 3]; FewTriangles::CAP];
+    const N: usize = hidden::MAX_CORNERS;
+    let mut hiding = [([DVec3::ZERO; N], 0); FewTriangles::CAP];
     let mut k = 0;
     let mut hidden_sum = 0.0;
+    // cards met: (mesh, whether its outline is used)
+    let mut cards = [(u32::MAX, false); FewTriangles::CAP];
+    let mut nc = 0;
     for &id in few.ids() {
-        let tri = g.blocker_vertices(id)?;
-        let (h, before) = hides(&tri)?;
+        let mut shape = [DVec3::ZERO; N];
+        let mut len = 3;
+        let card = g.blocker_card(id);
+        let met = card.and_then(|(mesh, _)| cards[..nc].iter().find(|c| c.0 == mesh));
+        let (h, before) = match (card, met) {
+            (Some(_), Some(&(_, true))) => continue,
+            (Some((mesh, corners)), None) => {
+                let (h, before) = hides(corners)?;
+                cards[nc] = (mesh, before);
+                nc += 1;
+                if before {
+                    len = corners.len();
+                    shape[..len].copy_from_slice(corners);
+                    (h, before)
+                } else {
+                    shape[..3].copy_from_slice(&g.blocker_vertices(id)?);
+                    hides(&shape[..3])?
+                }
+            }
+            _ => {
+                shape[..3].copy_from_slice(&g.blocker_vertices(id)?);
+                hides(&shape[..3])?
+            }
+        };
         if h == 0.0 {
             continue;
         }
-        if !before || hiding[..k].iter().any(|o| !hidden::apart(p, o, &tri)) {
+        if !before
+            || hiding[..k]
+                .iter()
+                .any(|(o, n)| !hidden::apart(p, &o[..*n], &shape[..len]))
+        {
             return None;
         }
-        hiding[k] = tri;
+        hiding[k] = (shape, len);
         k += 1;
         hidden_sum += h;
     }
