@@ -17,6 +17,10 @@ use std::io;
 pub struct LuxResolver {
     inner: DefaultResolver,
     memory: Option<(String, Vec<u8>)>,
+    /// The last text layer served (its resolved path and rewritten bytes): `openusd` 0.6
+    /// opens a stage's root layer twice (once for its expression variables, once to compose
+    /// it), and the second time is served from here rather than read and rewritten again.
+    last_text: std::sync::Mutex<Option<(String, Vec<u8>)>>,
 }
 
 impl LuxResolver {
@@ -25,6 +29,7 @@ impl LuxResolver {
         LuxResolver {
             inner: DefaultResolver::new(),
             memory: None,
+            last_text: Default::default(),
         }
     }
 
@@ -34,6 +39,7 @@ impl LuxResolver {
         LuxResolver {
             inner: DefaultResolver::new(),
             memory: Some((identifier.to_owned(), bytes)),
+            last_text: Default::default(),
         }
     }
 
@@ -112,6 +118,12 @@ impl Resolver for LuxResolver {
 
     fn open_asset(&self, resolved_path: &ResolvedPath) -> io::Result<Box<dyn Asset>> {
         let name = resolved_path.to_string_lossy();
+        if let Ok(last) = self.last_text.lock()
+            && let Some((id, bytes)) = last.as_ref()
+            && *id == name
+        {
+            return Ok(Box::new(io::Cursor::new(bytes.clone())));
+        }
         let bytes = if let Some(b) = self.memory(&name) {
             b.to_vec()
         } else {
@@ -152,6 +164,9 @@ impl Resolver for LuxResolver {
         {
             return Err(unwalkable(&name, &p));
         }
+        if let Ok(mut last) = self.last_text.lock() {
+            *last = Some((name.into_owned(), bytes.clone()));
+        }
         Ok(Box::new(io::Cursor::new(bytes)))
     }
 
@@ -183,5 +198,30 @@ impl Resolver for LuxResolver {
             Some((id, _)) => format!("lux:{}:memory:{id}", self.inner.identity()),
             None => format!("lux:{}", self.inner.identity()),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A text layer opened twice in a row (as `openusd` opens a stage's root layer) is read
+    /// and rewritten once: the second open is served the same bytes though the file is gone.
+    #[test]
+    fn a_text_layer_opened_twice_is_read_once() {
+        let dir = std::env::temp_dir().join(format!("lux-resolver-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("twice.usda");
+        std::fs::write(&path, "#usda 1.0\ndef Xform \"A\"\n{\n}\n").unwrap();
+        let r = LuxResolver::new();
+        let resolved = r.resolve(path.to_str().unwrap()).unwrap();
+        let first = r.open_asset(&resolved).unwrap().read_all().unwrap();
+        std::fs::remove_file(&path).unwrap();
+        let second = r.open_asset(&resolved).unwrap().read_all().unwrap();
+        assert_eq!(first, second);
+        assert!(first.starts_with(b"#usda 1.0"));
+        // Another resolver reads the disk: the file is gone.
+        assert!(LuxResolver::new().open_asset(&resolved).is_err());
+        std::fs::remove_dir_all(&dir).ok();
     }
 }
