@@ -38,6 +38,11 @@
 //! ([`apart`]): then the shadowed irradiance is `L·(Π − Σ H)` exactly, with no sample and no
 //! ray. The caller checks that the triangles lie wholly in front of the light (every shadow
 //! ray would meet them before the light).
+//!
+//! Nothing in the above needs three corners: a planar convex blocker of up to
+//! [`MAX_CORNERS`] corners projects to a convex spherical polygon whose edges are handled
+//! alike ([`cap_polygon`], [`polygon_polygon`], [`disk_polygon`]). A flat card is one such
+//! polygon rather than its triangles (and the test that they do not overlap).
 
 use core::f64::consts::TAU;
 use glam::DVec3;
