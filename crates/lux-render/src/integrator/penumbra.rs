@@ -44,11 +44,12 @@ pub fn visible(
 }
 
 /// The fraction of a disk light's unshadowed integral (centre, unit normal, radius: `disk`) that
-/// reaches the point `sp` past the triangles `few`: `1 − Σ Hᵢ / Π`, Hᵢ what triangle i hides
-/// of it ([`hidden::disk_triangle`]), Π the disk's projected solid angle from `sp.p` with the
-/// shading normal; 0 within 10⁻¹² of all of it. `None` unless the disk lies wholly above the
-/// horizon, every triangle that hides some of it lies wholly on the point's side of the disk's
-/// plane, and no two of them overlap as seen from the point ([`hidden::apart`]).
+/// reaches the point `sp` past the triangles `few`: `1 − Σ Hᵢ / Π`, Hᵢ what blocker i (a
+/// triangle or a card's outline: [`past`]) hides of it ([`hidden::disk_polygon`]), Π the disk's
+/// projected solid angle from `sp.p` with the shading normal; 0 within 10⁻¹² of all of it.
+/// `None` unless the disk lies wholly above the horizon, every blocker that hides some of it
+/// lies wholly on the point's side of the disk's plane, and no two of them overlap as seen from
+/// the point ([`hidden::apart`]).
 pub fn disk_visible(
     g: &Geometry,
     sp: &SurfacePoint,
@@ -69,9 +70,10 @@ pub fn disk_visible(
 
 /// The fraction of a rect light's unshadowed integral (over its world `corners`, a
 /// parallelogram) that reaches the point `sp` past the triangles `few`: `1 − Σ Hᵢ / Π`, Hᵢ what
-/// triangle i hides of it ([`hidden::polygon_triangle`]), Π the rect's projected solid angle
+/// blocker i (a triangle or a card's outline: [`past`]) hides of it
+/// ([`hidden::polygon_polygon`]), Π the rect's projected solid angle
 /// from `sp.p` with the shading normal, both clipped to the horizon; 0 within 10⁻¹² of all of
-/// it. `None` unless Π > 0, every triangle that hides some of it lies wholly on the point's side
+/// it. `None` unless Π > 0, every blocker that hides some of it lies wholly on the point's side
 /// of the light's plane (before the light along every ray), and no two of them overlap as seen
 /// from the point ([`hidden::apart`]).
 pub fn rect_visible(
@@ -94,13 +96,14 @@ pub fn rect_visible(
 
 /// The fraction of a uniform sphere light's unshadowed integral that reaches the point `sp`
 /// past the triangles `few` (every triangle that can stop its shadow rays:
-/// [`Geometry::blockers_in`] of a region holding them): `1 − Σ Hᵢ / Π` with Hᵢ what triangle i
-/// hides of the cap ([`hidden::cap_triangle`]), Π the cap's projected solid angle from `sp.p`
+/// [`Geometry::blockers_in`] of a region holding them): `1 − Σ Hᵢ / Π` with Hᵢ what blocker i (a
+/// triangle or a card's outline: [`past`]) hides of the cap ([`hidden::cap_polygon`]), Π the
+/// cap's projected solid angle from `sp.p`
 /// with the shading normal (`pi`), the sphere of world centre `centre` and radius `radius`;
 /// 0 within 10⁻¹² of the whole cap (the rounding of the triangles' sum).
 ///
 /// `None` (sample it instead) unless the cap lies wholly above both the shading and the
-/// geometric horizon, every triangle that hides some of it lies on the point's side of the
+/// geometric horizon, every blocker that hides some of it lies on the point's side of the
 /// plane through the sphere's nearest point (`(x − p)·a < D − R`, a the unit axis: before any
 /// point of the sphere along every ray), and no two of them overlap as seen from the point
 /// ([`hidden::apart`]).
@@ -119,7 +122,7 @@ pub fn sphere_visible(
     }
     let cos_a = (1.0 - sin_a * sin_a).sqrt();
     let near = d - radius;
-    // (the cap lies above the shading normal's horizon: cap_triangle answers)
+    // (the cap lies above the shading normal's horizon: cap_polygon answers)
     past(g, sp.p, few, pi, |tri| {
         let before = tri.iter().all(|v| (*v - sp.p).dot(axis) < near);
         Some((hidden::cap_polygon(sp.p, sp.ns, axis, cos_a, tri)?, before))
@@ -158,22 +161,25 @@ fn past(
         let mut len = 3;
         let card = g.blocker_card(id);
         let met = card.and_then(|(mesh, _)| cards[..nc].iter().find(|c| c.0 == mesh));
-        let (h, before) = match (card, met) {
+        // The card's outline the first time one of its triangles comes, when wholly before
+        // the light; else the triangle itself.
+        let outline = match (card, met) {
             (Some(_), Some(&(_, true))) => continue,
             (Some((mesh, corners)), None) => {
                 let (h, before) = hides(corners)?;
                 cards[nc] = (mesh, before);
                 nc += 1;
-                if before {
-                    len = corners.len();
-                    shape[..len].copy_from_slice(corners);
-                    (h, before)
-                } else {
-                    shape[..3].copy_from_slice(&g.blocker_vertices(id)?);
-                    hides(&shape[..3])?
-                }
+                before.then_some((corners, h))
             }
-            _ => {
+            _ => None,
+        };
+        let (h, before) = match outline {
+            Some((corners, h)) => {
+                len = corners.len();
+                shape[..len].copy_from_slice(corners);
+                (h, true)
+            }
+            None => {
                 shape[..3].copy_from_slice(&g.blocker_vertices(id)?);
                 hides(&shape[..3])?
             }
