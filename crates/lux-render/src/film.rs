@@ -112,7 +112,8 @@ pub struct Film {
 
 /// A pixel after its first `spp` samples: the mean RGBA, the mean luminance and mean squared
 /// luminance of the samples (what neighbours' adaptive counts read), and the penumbra factor
-/// its extra samples keep.
+/// its extra samples keep. Only a tile's worth exists at a time: the RGBA goes to the image,
+/// the luminances to a [`Luma`] grid, the factor to its own grid when the pilot can run.
 #[derive(Clone, Copy, Debug, Default)]
 struct FirstPass {
     rgba: [f32; 4],
@@ -121,11 +122,14 @@ struct FirstPass {
     factor: u32,
 }
 
+/// A pixel's mean luminance and mean squared luminance over its first `spp` samples.
+type Luma = [f32; 2];
+
 /// The count of the (up to 8) neighbours of cell `[i, j]` of the `[w, h]` grid `first` and the
 /// sums of their luminances and squared luminances, row by row from the top, left to right
 /// (one order for every pixel, so the sums do not depend on the tile).
 #[inline]
-fn neighbours(first: &[FirstPass], [w, h]: [usize; 2], [i, j]: [usize; 2]) -> (u32, f64, f64) {
+fn neighbours(first: &[Luma], [w, h]: [usize; 2], [i, j]: [usize; 2]) -> (u32, f64, f64) {
     let (mut sy, mut sy2) = (0.0f64, 0.0f64);
     if i > 0 && j > 0 && i + 1 < w && j + 1 < h {
         // Inside: the 8 cells at fixed offsets.
@@ -140,9 +144,9 @@ fn neighbours(first: &[FirstPass], [w, h]: [usize; 2], [i, j]: [usize; 2]) -> (u
             c + w,
             c + w + 1,
         ] {
-            let q = &first[at];
-            sy += q.y as f64;
-            sy2 += q.y2 as f64;
+            let [y, y2] = first[at];
+            sy += y as f64;
+            sy2 += y2 as f64;
         }
         return (8, sy, sy2);
     }
@@ -150,10 +154,10 @@ fn neighbours(first: &[FirstPass], [w, h]: [usize; 2], [i, j]: [usize; 2]) -> (u
     for nj in j.saturating_sub(1)..(j + 2).min(h) {
         for ni in i.saturating_sub(1)..(i + 2).min(w) {
             if (ni, nj) != (i, j) {
-                let q = &first[nj * w + ni];
+                let [y, y2] = first[nj * w + ni];
                 k += 1;
-                sy += q.y as f64;
-                sy2 += q.y2 as f64;
+                sy += y as f64;
+                sy2 += y2 as f64;
             }
         }
     }
@@ -197,21 +201,23 @@ fn to_f32(v: DVec4) -> [f32; 4] {
 }
 
 /// Runs `f` over every pixel of `rect` (`[x0, y0, x1, y1)`) in 16 × 16 tiles on rayon's pool
-/// and stores each result in `dest`, a row-major buffer `stride` wide whose first element is
-/// pixel `origin`. `done` is called with each finished tile's rectangle, after its counters
-/// (and the extra samples `f` reports) are added to `shared`. A finished tile is copied into
-/// `dest` at once, so no frame-sized buffer is made besides `dest`. Each worker's remembered
-/// patch answers (`memo[rayon::current_thread_index()]`) go from tile to tile — each is a
-/// function of its key alone (integrator/patches.rs) — so that neighbouring tiles share the
-/// cells on their edges, and the passes share theirs.
-fn par_tiles<T: Copy + Send>(
+/// and hands each finished tile's results (row-major) with its rectangle to `store`, which
+/// puts them into `dest` (one tile at a time). `done` is called with each finished tile's
+/// rectangle, after its counters (and the extra samples `f` reports) are added to `shared`.
+/// A finished tile is stored at once, so no frame-sized buffer is made besides `dest`. Each
+/// worker's remembered patch answers (`memo[rayon::current_thread_index()]`) go from tile to
+/// tile — each is a function of its key alone (integrator/patches.rs) — so that neighbouring
+/// tiles share the cells on their edges, and the passes share theirs.
+#[allow(clippy::too_many_arguments)]
+fn par_tiles<T: Copy + Send, D: Send>(
     rect: [u32; 4],
     shared: &Shared,
     memo: &[Mutex<ClearPatches>],
     tile_triangles: &(dyn Fn([u32; 4]) -> Option<Box<[u32]>> + Sync),
     f: &(dyn Fn(u32, u32, &mut Counters, &mut u64) -> T + Sync),
     done: &(dyn Fn([u32; 4]) + Sync),
-    (dest, stride, origin): (&mut [T], usize, [u32; 2]),
+    dest: &mut D,
+    store: &(dyn Fn(&mut D, [u32; 4], &[T]) + Sync),
 ) {
     let [x0, y0, x1, y1] = rect;
     let mut tiles = Vec::new();
@@ -224,7 +230,7 @@ fn par_tiles<T: Copy + Send>(
         }
         ty += TILE;
     }
-    let dest = std::sync::Mutex::new(dest);
+    let dest = Mutex::new(dest);
     // One tile per job: the adaptive pass's work sits in a few tiles (edges, penumbrae), and
     // rayon's default splitting leaves whole runs of them to one thread.
     tiles
@@ -251,12 +257,7 @@ fn par_tiles<T: Copy + Send>(
             {
                 // (a poisoned lock only means another tile's job panicked; its panic goes on)
                 let mut d = dest.lock().unwrap_or_else(|e| e.into_inner());
-                let tw = (tx1 - tx0) as usize;
-                for (row, chunk) in px.chunks(tw).enumerate() {
-                    let at = (ty0 - origin[1]) as usize + row;
-                    let from = at * stride + (tx0 - origin[0]) as usize;
-                    d[from..from + tw].copy_from_slice(chunk);
-                }
+                store(&mut d, [tx0, ty0, tx1, ty1], &px);
             }
             shared.add(&c, extra);
             if let Some(m) = kept {
@@ -264,6 +265,23 @@ fn par_tiles<T: Copy + Send>(
             }
             done([tx0, ty0, tx1, ty1]);
         });
+}
+
+/// Copies the row-major results `px` of tile `[tx0, ty0, tx1, ty1]` into `dest`, a row-major
+/// buffer `stride` wide whose first element is pixel `origin`.
+fn copy_tile<T: Copy>(
+    dest: &mut [T],
+    stride: usize,
+    origin: [u32; 2],
+    [tx0, ty0, tx1, _]: [u32; 4],
+    px: &[T],
+) {
+    let tw = (tx1 - tx0) as usize;
+    for (row, chunk) in px.chunks(tw).enumerate() {
+        let at = (ty0 - origin[1]) as usize + row;
+        let from = at * stride + (tx0 - origin[0]) as usize;
+        dest[from..from + tw].copy_from_slice(chunk);
+    }
 }
 
 impl Film {
@@ -295,15 +313,25 @@ impl Film {
                     &tile_triangles,
                     &|x, y, c, _| to_f32(self.pixel(camera, integrator, x, y, c, &mut |_| {})),
                     &|[a, b, c, d]| progress((c - a) as u64 * (d - b) as u64),
-                    (&mut pixels, w as usize, [0, 0]),
+                    &mut pixels,
+                    &|d: &mut Vec<[f32; 4]>, rect, px| copy_tile(d, w as usize, [0, 0], rect, px),
                 );
             }
             Some(adaptive) => {
                 // First pass: the window's rows and one row beyond each side (within the
-                // frame's window), so a band reads the neighbours the whole frame reads.
+                // frame's window), so a band reads the neighbours the whole frame reads. The
+                // window's pixels take their first-pass means, which the second pass updates
+                // where it adds samples; every row's luminances go to `luma`, the penumbra
+                // factors (when the pilot can run) to `factors`.
                 let hy0 = y0.saturating_sub(1).max(self.frame_rows[0]).min(y0);
                 let hy1 = (y1 + 1).min(self.frame_rows[1]).max(y1);
-                let mut first = vec![FirstPass::default(); rw * (hy1 - hy0) as usize];
+                let rows = (hy1 - hy0) as usize;
+                let mut luma: Vec<Luma> = vec![[0.0; 2]; rw * rows];
+                let mut factors: Vec<u32> = if self.pilot_runs() {
+                    vec![1; rw * rows]
+                } else {
+                    Vec::new()
+                };
                 par_tiles(
                     [x0, hy0, x1, hy1],
                     &shared,
@@ -314,9 +342,32 @@ impl Film {
                         let rows = d.min(y1).saturating_sub(b.max(y0));
                         progress((c - a) as u64 * rows as u64)
                     },
-                    (&mut first, rw, [x0, hy0]),
+                    &mut (&mut pixels, &mut luma, &mut factors),
+                    &|(pixels, luma, factors), [tx0, ty0, tx1, _], px: &[FirstPass]| {
+                        let tw = (tx1 - tx0) as usize;
+                        for (row, first) in px.chunks(tw).enumerate() {
+                            let y = ty0 + row as u32;
+                            let at = (y - hy0) as usize * rw + (tx0 - x0) as usize;
+                            for (l, p) in luma[at..at + tw].iter_mut().zip(first) {
+                                *l = [p.y, p.y2];
+                            }
+                            if !factors.is_empty() {
+                                for (f, p) in factors[at..at + tw].iter_mut().zip(first) {
+                                    *f = p.factor;
+                                }
+                            }
+                            if (y0..y1).contains(&y) {
+                                let from = y as usize * w as usize + tx0 as usize;
+                                for (q, p) in pixels[from..from + tw].iter_mut().zip(first) {
+                                    *q = p.rgba;
+                                }
+                            }
+                        }
+                    },
                 );
-                let rows = (hy1 - hy0) as usize;
+                // Second pass: each pixel's extra samples, counted from its neighbours' pooled
+                // luminance statistics; a pixel that takes some becomes the mean of all its
+                // samples.
                 par_tiles(
                     self.window,
                     &shared,
@@ -324,9 +375,7 @@ impl Film {
                     &tile_triangles,
                     &|x, y, c, extra| {
                         let (i, j) = ((x - x0) as usize, (y - hy0) as usize);
-                        let p = &first[j * rw + i];
-                        // Pooled luminance statistics of the neighbours' first samples.
-                        let (k, sy, sy2) = neighbours(&first, [rw, rows], [i, j]);
+                        let (k, sy, sy2) = neighbours(&luma, [rw, rows], [i, j]);
                         let m = k * self.spp;
                         let (mean, var) = if k == 0 {
                             (0.0, 0.0)
@@ -338,24 +387,37 @@ impl Film {
                         };
                         let n = adaptive.samples(self.spp, m, mean, var);
                         if n <= self.spp {
-                            return p.rgba;
+                            return None;
                         }
                         let ne = n - self.spp;
                         *extra += ne as u64;
+                        let factor = factors.get(j * rw + i).copied().unwrap_or(1);
                         let sums = self.samples(
                             camera,
                             integrator,
                             [x, y],
-                            [ne, p.factor],
+                            [ne, factor],
                             ADAPTIVE_SALT,
                             c,
                             &mut |_| {},
                         );
-                        let base = DVec4::from_array(p.rgba.map(f64::from)) * self.spp as f64;
-                        to_f32((base + sums.rgba) / n as f64)
+                        Some((n, sums.rgba))
                     },
                     &|[a, b, c, d]| progress((c - a) as u64 * (d - b) as u64),
-                    (&mut pixels, w as usize, [0, 0]),
+                    &mut pixels,
+                    &|pixels, [tx0, ty0, tx1, _], px: &[Option<(u32, DVec4)>]| {
+                        let tw = (tx1 - tx0) as usize;
+                        for (row, second) in px.chunks(tw).enumerate() {
+                            let from = (ty0 as usize + row) * w as usize + tx0 as usize;
+                            for (q, s) in pixels[from..from + tw].iter_mut().zip(second) {
+                                if let Some((n, sums)) = *s {
+                                    let base =
+                                        DVec4::from_array(q.map(f64::from)) * self.spp as f64;
+                                    *q = to_f32((base + sums) / n as f64);
+                                }
+                            }
+                        }
+                    },
                 );
             }
         }
@@ -385,6 +447,12 @@ impl Film {
     /// (`max_factor` > 1), else 1. Progress reports every pixel once per pass.
     pub fn passes(&self) -> u32 {
         if self.adaptive.is_on() { 2 } else { 1 }
+    }
+
+    /// Whether a pixel's penumbra pilot runs ([`Film::penumbra_factor`]): penumbra samples
+    /// asked for, and at least PILOT_MIN_SPP samples a pixel.
+    fn pilot_runs(&self) -> bool {
+        self.penumbra_samples > 1 && self.spp >= PILOT_MIN_SPP
     }
 
     /// A pixel's first `spp` samples (adaptive sampling's first pass).
@@ -463,7 +531,7 @@ impl Film {
         y: u32,
         c: &mut Counters,
     ) -> u32 {
-        if self.penumbra_samples <= 1 || self.spp < PILOT_MIN_SPP {
+        if !self.pilot_runs() {
             return 1;
         }
         let index = y as u64 * self.width as u64 + x as u64;
@@ -529,12 +597,8 @@ mod tests {
     #[test]
     fn neighbour_sums_match_the_clipped_block() {
         for [w, h] in [[1, 1], [1, 4], [3, 1], [2, 2], [5, 4], [7, 6]] {
-            let first: Vec<FirstPass> = (0..w * h)
-                .map(|n| FirstPass {
-                    y: (n * n % 11) as f32 + 0.25,
-                    y2: (n % 7) as f32 * 1.5,
-                    ..FirstPass::default()
-                })
+            let first: Vec<Luma> = (0..w * h)
+                .map(|n| [(n * n % 11) as f32 + 0.25, (n % 7) as f32 * 1.5])
                 .collect();
             for j in 0..h {
                 for i in 0..w {
@@ -543,10 +607,10 @@ mod tests {
                         for ni in i as i64 - 1..=i as i64 + 1 {
                             let inside = (0..w as i64).contains(&ni) && (0..h as i64).contains(&nj);
                             if inside && (ni, nj) != (i as i64, j as i64) {
-                                let q = &first[nj as usize * w + ni as usize];
+                                let [y, y2] = first[nj as usize * w + ni as usize];
                                 k += 1;
-                                sy += q.y as f64;
-                                sy2 += q.y2 as f64;
+                                sy += y as f64;
+                                sy2 += y2 as f64;
                             }
                         }
                     }
