@@ -84,6 +84,7 @@ fn main() -> ExitCode {
                         alpha: false,
                     },
                     quiet: false,
+                    fsync: false,
                     tile: None,
                 })
             })

@@ -77,6 +77,36 @@ fn renders_exr_and_png_and_reports_speed_and_profile() {
     );
 }
 
+/// `--fsync` forces the outputs to disk before they replace their targets; what it writes is
+/// what the render writes without it, bit for bit, and nothing else is left in the directory.
+#[test]
+fn fsync_writes_the_same_files() {
+    let scene = luxtest("sphere.usda");
+    let dir = tmp("fsync");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut files = Vec::new();
+    for (name, extra) in [("plain", &[][..]), ("synced", &["--fsync"][..])] {
+        let exr = dir.join(format!("{name}.exr"));
+        let png = dir.join(format!("{name}.png"));
+        let mut args = vec!["--png", png.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        let o = render_small(&scene, &exr, &args, &[]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        files.push([std::fs::read(&exr).unwrap(), std::fs::read(&png).unwrap()]);
+    }
+    assert!(files[0][0].len() > 100 && files[0][1].len() > 50);
+    assert!(files[0] == files[1], "--fsync changed the written bytes");
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        ["plain.exr", "plain.png", "synced.exr", "synced.png"]
+    );
+}
+
 #[test]
 fn crop_renders_only_the_window() {
     let exr = tmp("crop.exr");

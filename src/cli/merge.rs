@@ -25,6 +25,9 @@ pub struct MergeArgs {
     /// How the PNG is encoded (as `lux render`'s).
     #[command(flatten)]
     pub png_encoding: PngEncoding,
+    /// Force the outputs to disk before they replace their targets (as `lux render --fsync`).
+    #[arg(long)]
+    pub fsync: bool,
 }
 
 /// The attributes every tile of a frame must share.
@@ -178,9 +181,17 @@ pub fn run(args: &MergeArgs) -> Result<(), String> {
         }
         None => None,
     };
-    exr.commit().map_err(|e| e.to_string())?;
+    let commit = |file: lux_render::image_io::StagedFile| {
+        if args.fsync {
+            file.commit_durable()
+        } else {
+            file.commit()
+        }
+        .map_err(|e| e.to_string())
+    };
+    commit(exr)?;
     if let Some(png) = png {
-        png.commit().map_err(|e| e.to_string())?;
+        commit(png)?;
     }
     eprintln!(
         "lux: merged {} tiles into {}{}",

@@ -181,6 +181,11 @@ pub struct RenderArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Force every output to disk before it replaces its target, so that it survives a power
+    /// loss (an `fsync`: waits for the file system's journal). Without it an output still
+    /// appears whole or not at all, as with other renderers.
+    #[arg(long)]
+    pub fsync: bool,
     /// Render only band I of N (rows ⌊I·H/N⌋ to ⌊(I+1)·H/N⌋ − 1) to an EXR of those rows, for
     /// `lux merge`.
     #[arg(long, value_parser = crate::cli::tile::parse_tile)]
@@ -476,7 +481,12 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
             .collect::<Result<Vec<_>, _>>()
     })?;
     for file in staged {
-        file.commit().map_err(|e| e.to_string())?;
+        if args.fsync {
+            file.commit_durable()
+        } else {
+            file.commit()
+        }
+        .map_err(|e| e.to_string())?;
     }
     eprintln!("{}", summary(&stats, threads));
     if stats.non_finite_samples > 0 {
