@@ -200,6 +200,9 @@ fn to_f32(v: DVec4) -> [f32; 4] {
     [v.x as f32, v.y as f32, v.z as f32, v.w as f32]
 }
 
+/// Puts a finished tile's results (row-major) into the pass's buffers: [`par_tiles`].
+type StoreTile<'a, D, T> = dyn Fn(&mut D, [u32; 4], &[T]) + Sync + 'a;
+
 /// Runs `f` over every pixel of `rect` (`[x0, y0, x1, y1)`) in 16 × 16 tiles on rayon's pool
 /// and hands each finished tile's results (row-major) with its rectangle to `store`, which
 /// puts them into `dest` (one tile at a time). `done` is called with each finished tile's
@@ -217,7 +220,7 @@ fn par_tiles<T: Copy + Send, D: Send>(
     f: &(dyn Fn(u32, u32, &mut Counters, &mut u64) -> T + Sync),
     done: &(dyn Fn([u32; 4]) + Sync),
     dest: &mut D,
-    store: &(dyn Fn(&mut D, [u32; 4], &[T]) + Sync),
+    store: &StoreTile<'_, D, T>,
 ) {
     let [x0, y0, x1, y1] = rect;
     let mut tiles = Vec::new();
