@@ -43,8 +43,8 @@ pub const INSTANCED: u32 = u32::MAX;
 pub enum ConeSearch {
     /// No triangle can stop any of its rays.
     Clear,
-    /// This triangle (an index into the world BVH's triangles) might; or, for
-    /// [`INSTANCED`], an instance's box meets the region.
+    /// This triangle (an index into the triangles of the BVH shadow rays test,
+    /// `Geometry::blockers`) might; or, for [`INSTANCED`], an instance's box meets the region.
     Blocked(u32),
     /// Not searched (a point on instanced geometry).
     Unsearched,
@@ -182,6 +182,50 @@ impl ShadowCone {
         };
         dist > rho + self.margin
     }
+
+    /// True when the triangle `v` certainly misses the cone grown by `margin`: that set lies
+    /// in the cone of the same angle whose apex is `margin / sin α` behind (every surface line
+    /// moved out by `margin`), and a triangle meets a cone (one nappe) iff its central
+    /// projection from the apex, a spherical triangle, meets the cone's cap of directions: a
+    /// corner inside the cap, the axis inside the triangle, or an edge's great-circle arc
+    /// passing within α of the axis. Unsure (the apex on or near the triangle's plane):
+    /// false.
+    fn misses_triangle(&self, v: &[DVec3; 3]) -> bool {
+        // (slack on the angles: the test stays conservative under rounding)
+        const SLACK: f64 = 1e-9;
+        let apex = self.apex - self.axis * (self.margin / self.sin_a);
+        let w = v.map(|x| (x - apex).normalize());
+        if !w.iter().all(|x| x.is_finite()) {
+            return false;
+        }
+        if w.iter().any(|x| x.dot(self.axis) >= self.cos_a - SLACK) {
+            return false;
+        }
+        let det = w[0].dot(w[1].cross(w[2]));
+        if det.abs() < 1e-9 {
+            return false;
+        }
+        let mut inside = true;
+        for i in 0..3 {
+            let (a, b) = (w[i], w[(i + 1) % 3]);
+            // (the arc's own normal, a to b; times the sign of `det`, it points inside)
+            let m = a.cross(b).normalize();
+            if !m.is_finite() {
+                return false;
+            }
+            let am = self.axis.dot(m);
+            inside &= am * det >= 0.0;
+            if am.abs() < self.sin_a + SLACK {
+                // The great circle passes within α of the axis: its nearest point to the
+                // axis, on the arc between the corners?
+                let g = self.axis - m * am;
+                if a.cross(g).dot(m) >= -SLACK && g.cross(b).dot(m) >= -SLACK {
+                    return false;
+                }
+            }
+        }
+        !inside
+    }
 }
 
 impl ShadowRegion for ShadowCone {
@@ -213,7 +257,7 @@ impl ShadowRegion for ShadowCone {
         }
         let c = (v[0] + v[1] + v[2]) / 3.0;
         let rho = v.iter().map(|&x| x.distance(c)).fold(0.0, f64::max);
-        self.misses_sphere(c, rho)
+        self.misses_sphere(c, rho) || self.misses_triangle(&v)
     }
 
     fn to_prototype(&self, qt: &glam::DMat3, t: DVec3, s: f64, extra: f64) -> ShadowCone {
@@ -601,8 +645,39 @@ pub(crate) mod tests {
         }
     }
 
+    prop_compose! {
+        /// [`rim_case`] with large triangles (half-size 0.3–3): the exact triangle test
+        /// ([`ShadowCone::misses_triangle`]) decides where their bounding spheres meet the cone.
+        fn rim_case_large()(
+            case in rim_case(),
+            sizes in proptest::collection::vec(0.3f64..3.0, 4),
+        ) -> RimCase {
+            let mut case = case;
+            for (b, s) in case.blockers.iter_mut().zip(sizes) {
+                b.4 = s;
+            }
+            case
+        }
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(256))]
+
+        /// Conservative for large triangles too: a triangle the cone drops is hit by none of
+        /// its shadow rays, and a clear search means no shadow ray is blocked.
+        #[test]
+        fn large_triangles_are_dropped_only_where_no_ray_meets_them(
+            case in rim_case_large(),
+        ) {
+            let Some((cone, g)) = case.build() else {
+                return Ok(());
+            };
+            let segs = case.segments(600);
+            drops_only_what_no_ray_meets(&g, &cone, &segs)?;
+            if g.cone_clear(&cone, &|_| true) {
+                prop_assert!(!segs.iter().any(|&(o, w, tmax)| g.occluded(o, w, 0.0, tmax)));
+            }
+        }
 
         /// Conservative, whole search: whenever it says clear, no shadow ray of the cone
         /// (traced through the same `f32` BVH as the renderer's) is blocked. Small triangles sit
@@ -677,6 +752,47 @@ pub(crate) mod tests {
             }
         }
         Ok(())
+    }
+
+    /// A large card beside the cone (its bounding sphere reaches into the cone, the card does
+    /// not) is dropped by the exact triangle test; moved across the axis, it is kept.
+    #[test]
+    fn a_large_card_beside_the_cone_is_dropped() {
+        let (p, centre) = (DVec3::ZERO, DVec3::new(0.0, 2.0, 0.0));
+        let cone = cone_from(p, centre, 0.3);
+        // A vertical card in the plane x = 0.8, from y = 0.2 to 1.8, 3 wide: the cone's radius
+        // at y = 1 is 0.15, the card's bounding sphere (radius ≈ 2) contains the axis.
+        let card = |x: f64| {
+            [
+                DVec3::new(x, 0.2, -1.5),
+                DVec3::new(x, 0.2, 1.5),
+                DVec3::new(x, 1.8, 1.5),
+            ]
+        };
+        let tri = |v: [DVec3; 3]| Triangle {
+            v0: v[0].as_vec3a(),
+            v1: v[1].as_vec3a(),
+            v2: v[2].as_vec3a(),
+        };
+        let beside = card(0.8);
+        let c = (beside[0] + beside[1] + beside[2]) / 3.0;
+        let rho = beside.iter().map(|&x| x.distance(c)).fold(0.0, f64::max);
+        assert!(!cone.misses_sphere(c, rho));
+        assert!(cone.misses_triangle(&beside));
+        assert!(cone.culls_triangle(&tri(beside)));
+        // Across the axis: the card cuts the cone.
+        assert!(!cone.misses_triangle(&card(0.0)));
+        assert!(!cone.culls_triangle(&tri(card(0.0))));
+        // Beside the axis by 0.2, which the cone's radius exceeds from y ≈ 1.3 up, where this
+        // one reaches: kept; the card of the same plane ends at y = 1 there: dropped.
+        let reaching = [
+            DVec3::new(0.2, 0.2, 0.0),
+            DVec3::new(0.2, 1.9, -1.5),
+            DVec3::new(0.2, 1.9, 1.5),
+        ];
+        assert!(!cone.misses_triangle(&reaching));
+        assert!(!cone.culls_triangle(&tri(reaching)));
+        assert!(cone.misses_triangle(&card(0.2)));
     }
 
     #[test]

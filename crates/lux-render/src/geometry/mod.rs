@@ -793,29 +793,26 @@ impl Geometry {
     }
 
     /// True when no triangle of a mesh that `casts` (a `Scene::meshes` index: what a light's
-    /// shadow linking keeps) can stop a shadow ray inside `cone` ([`ShadowCone`]), and no
+    /// shadow linking keeps) can stop a shadow ray inside `cone` ([`ShadowCone`]) — searched in
+    /// the BVH shadow rays test (a planar tiling as its outline: fewer, larger triangles, which
+    /// the region's exact triangle tests drop as well as the tiles) — and no
     /// instance's world box meets it (instances are not searched inside, and are taken to cast
     /// every light's shadow); false when unsure.
     pub fn cone_clear(&self, cone: &impl ShadowRegion, casts: &impl Fn(usize) -> bool) -> bool {
-        self.world
-            .as_ref()
-            .is_none_or(|w| w.cone_clear(cone, casts))
+        self.blockers().is_none_or(|w| w.cone_clear(cone, casts))
             && self.instances.as_ref().is_none_or(|i| !i.may_block(cone))
     }
 
     /// What can stop the shadow rays inside `cone` ([`ShadowCone`]) among the triangles of
-    /// meshes that `casts`: nothing, or the first world triangle found that `cone` does not
-    /// rule out, else [`INSTANCED`] when an instance's world box meets it ([`ConeSearch`]).
+    /// meshes that `casts`: nothing, or the first triangle of the shadow rays' BVH found that
+    /// `cone` does not rule out, else [`INSTANCED`] when an instance's world box meets it
+    /// ([`ConeSearch`]).
     pub fn cone_search(
         &self,
         cone: &impl ShadowRegion,
         casts: &impl Fn(usize) -> bool,
     ) -> ConeSearch {
-        match self
-            .world
-            .as_ref()
-            .and_then(|w| w.cone_blocker(cone, casts))
-        {
+        match self.blockers().and_then(|w| w.cone_blocker(cone, casts)) {
             Some(id) => ConeSearch::Blocked(id),
             None if self.instances.as_ref().is_some_and(|i| i.may_block(cone)) => {
                 ConeSearch::Blocked(INSTANCED)
@@ -824,14 +821,14 @@ impl Geometry {
         }
     }
 
-    /// Whether `cone` rules out the blocker `id` of a [`ConeSearch::Blocked`]: a world
-    /// triangle, or for [`INSTANCED`] every instance's box.
+    /// Whether `cone` rules out the blocker `id` of a [`ConeSearch::Blocked`]: a triangle of
+    /// the shadow rays' BVH, or for [`INSTANCED`] every instance's box.
     #[inline]
     pub fn culls(&self, cone: &impl ShadowRegion, id: u32) -> bool {
         if id == INSTANCED {
             return self.instances.as_ref().is_none_or(|i| !i.may_block(cone));
         }
-        self.world.as_ref().is_none_or(|w| w.culls(cone, id))
+        self.blockers().is_none_or(|w| w.culls(cone, id))
     }
 
     /// The vertices of the triangle `id` of a [`FewTriangles`] ([`Geometry::blockers_in`]), as
