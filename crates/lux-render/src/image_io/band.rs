@@ -111,12 +111,25 @@ pub fn stage_exr_band(
     exr::block::write(&mut file, headers, true, |meta, chunks| {
         let blocks: Vec<(usize, BlockIndex)> =
             meta.enumerate_ordered_header_block_indices().collect();
-        // Each block encoded on the current rayon pool; written in file order.
+        // Each block encoded on the current rayon pool; written in file order. One scratch
+        // per worker (about 1 MB: deflate's state and the block's buffers), whichever blocks
+        // it takes (`map_init` would make one per split of the work, more as work is stolen).
+        let scratches: Vec<std::sync::Mutex<ZipScratch>> = (0..rayon::current_num_threads())
+            .map(|_| Default::default())
+            .collect();
         let encoded: Vec<(usize, Chunk)> = blocks
             .into_par_iter()
-            .map_init(ZipScratch::default, |scratch, (i, index)| {
+            .map(|(i, index)| {
                 let y = (y0 + index.pixel_position.y()) as i32;
-                (i, scratch.chunk(pixels, width, &order, &index, y))
+                let own = rayon::current_thread_index().and_then(|t| scratches.get(t));
+                let chunk = match own.map(|m| m.lock()) {
+                    // (a poisoned lock only means another block's job panicked)
+                    Some(guard) => guard
+                        .unwrap_or_else(|e| e.into_inner())
+                        .chunk(pixels, width, &order, &index, y),
+                    None => ZipScratch::default().chunk(pixels, width, &order, &index, y),
+                };
+                (i, chunk)
             })
             .collect();
         for (i, chunk) in encoded {
