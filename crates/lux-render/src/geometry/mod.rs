@@ -795,7 +795,7 @@ impl Geometry {
     /// True when no triangle of a mesh that `casts` (a `Scene::meshes` index: what a light's
     /// shadow linking keeps) can stop a shadow ray inside `cone` ([`ShadowCone`]) — searched in
     /// the BVH shadow rays test (a planar tiling as its outline: fewer, larger triangles, which
-    /// the region's exact triangle tests drop as well as the tiles) — and no
+    /// a cone drops by its exact triangle test where their bounding spheres reach it) — and no
     /// instance's world box meets it (instances are not searched inside, and are taken to cast
     /// every light's shadow); false when unsure.
     pub fn cone_clear(&self, cone: &impl ShadowRegion, casts: &impl Fn(usize) -> bool) -> bool {
