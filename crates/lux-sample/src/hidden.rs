@@ -118,6 +118,42 @@ fn spherical_any(
     by_corners!(poly, None, |a| spherical(&a.map(|v| v - p)).map(widen))
 }
 
+/// Whether the cap of directions around the unit `axis` with `cos α = cos_a` certainly misses
+/// the projection from `p` of the planar convex polygon `poly` (world points in order around
+/// it, 3 to [`MAX_CORNERS`]): the polygon then meets no ray from `p` within α of the axis. The
+/// projection meets the cap iff a corner lies in it (`axis·wᵢ ≥ cos α`), the axis lies inside
+/// the projection (`axis·mᵢ ≥ 0` for every edge), or an edge's great-circle arc passes within
+/// α of the axis (`|axis·mᵢ| < sin α`, its nearest point to the axis `axis − (axis·mᵢ)mᵢ`
+/// between the corners); each test has 10⁻⁹ of slack towards "meets". False when unsure: the
+/// polygon's plane holds `p` (its projection has no area), more corners, non-finite input.
+pub fn cap_misses_polygon(p: DVec3, axis: DVec3, cos_a: f64, poly: &[DVec3]) -> bool {
+    by_corners!(poly, false, |a| cap_misses(p, axis, cos_a, a))
+}
+
+/// [`cap_misses_polygon`] for `N` corners.
+fn cap_misses<const N: usize>(p: DVec3, axis: DVec3, cos_a: f64, poly: &[DVec3; N]) -> bool {
+    const SLACK: f64 = 1e-9;
+    let sin_a = (1.0 - cos_a * cos_a).max(0.0).sqrt();
+    let Some((w, m)) = spherical(&poly.map(|v| v - p)) else {
+        return false;
+    };
+    if !(axis.is_finite() && cos_a.is_finite()) || w.iter().any(|w| axis.dot(*w) >= cos_a - SLACK) {
+        return false;
+    }
+    let mut inside = true;
+    for i in 0..N {
+        let am = axis.dot(m[i]);
+        inside &= am >= 0.0;
+        if am.abs() < sin_a + SLACK {
+            let g = axis - m[i] * am;
+            if w[i].cross(g).dot(m[i]) >= -SLACK && g.cross(w[(i + 1) % N]).dot(m[i]) >= -SLACK {
+                return false;
+            }
+        }
+    }
+    !inside
+}
+
 /// Π of the part of the cap around the unit axis `axis` with `cos α = cos_a` hidden by the
 /// triangle `tri` (world points; either face) from the receiver at `p` with unit normal `n`:
 /// `∫ n·ω dω` over the cap's directions that meet the triangle's projection from `p` (module
@@ -916,6 +952,57 @@ mod tests {
             poly.reverse();
         }
         poly
+    }
+
+    /// `cap_misses_polygon` is sound and tight: where it says "misses", the polygon hides
+    /// nothing of the cap (`cap_polygon` is 0) and no ray within α of the axis meets it;
+    /// where the polygon hides some of the cap, it never says so. Random convex polygons of
+    /// 3 to 8 corners around the cone, from small to much larger than the cap.
+    #[test]
+    fn cap_misses_polygon_only_where_nothing_is_hidden() {
+        let mut r = stream(31);
+        let (p, n) = (DVec3::new(0.1, 0.0, -0.2), DVec3::Y);
+        let centre = DVec3::new(0.2, 1.6, 0.1);
+        let d = (centre - p).length();
+        let axis = (centre - p) / d;
+        let (mut missed, mut hiding) = (0, 0);
+        for case in 0..600 {
+            let rad = 0.05 + 0.4 * r();
+            let cos_a = (1.0 - rad * rad / (d * d)).sqrt();
+            let k = 3 + case % 6;
+            let scale = 0.2 + 4.0 * r();
+            let poly: Vec<DVec3> = convex_on_the_way(&mut r, p, centre, k)
+                .into_iter()
+                .map(|v| centre * 0.5 + (v - centre * 0.5) * scale)
+                .collect();
+            let h = cap_polygon(p, n, axis, cos_a, &poly).unwrap();
+            if cap_misses_polygon(p, axis, cos_a, &poly) {
+                missed += 1;
+                assert_eq!(h, 0.0, "case {case}");
+                // Rays at the rim, in 64 directions, and the axis: none meets the polygon.
+                let frame = lux_math::Frame::from_normal(axis);
+                let sin_a = (1.0 - cos_a * cos_a).sqrt();
+                for j in 0..=64 {
+                    let phi = j as f64 / 64.0 * core::f64::consts::TAU;
+                    let w = if j == 64 {
+                        axis
+                    } else {
+                        frame.to_world(DVec3::new(sin_a * phi.cos(), sin_a * phi.sin(), cos_a))
+                    };
+                    let fan = (1..k - 1).map(|i| [poly[0], poly[i], poly[i + 1]]);
+                    assert!(
+                        !fan.clone().any(|t| meets(p, w, &t)),
+                        "case {case}, ray {j}"
+                    );
+                }
+            } else if h > 0.0 {
+                hiding += 1;
+            }
+        }
+        assert!(
+            missed > 50 && hiding > 50,
+            "missed {missed}, hiding {hiding}"
+        );
     }
 
     #[test]

@@ -185,46 +185,11 @@ impl ShadowCone {
 
     /// True when the triangle `v` certainly misses the cone grown by `margin`: that set lies
     /// in the cone of the same angle whose apex is `margin / sin α` behind (every surface line
-    /// moved out by `margin`), and a triangle meets a cone (one nappe) iff its central
-    /// projection from the apex, a spherical triangle, meets the cone's cap of directions: a
-    /// corner inside the cap, the axis inside the triangle, or an edge's great-circle arc
-    /// passing within α of the axis. Unsure (the apex on or near the triangle's plane):
-    /// false.
+    /// moved out by `margin`), which the triangle misses when its projection from that apex
+    /// misses the cone's cap of directions ([`lux_sample::hidden::cap_misses_polygon`]).
     fn misses_triangle(&self, v: &[DVec3; 3]) -> bool {
-        // (slack on the angles: the test stays conservative under rounding)
-        const SLACK: f64 = 1e-9;
         let apex = self.apex - self.axis * (self.margin / self.sin_a);
-        let w = v.map(|x| (x - apex).normalize());
-        if !w.iter().all(|x| x.is_finite()) {
-            return false;
-        }
-        if w.iter().any(|x| x.dot(self.axis) >= self.cos_a - SLACK) {
-            return false;
-        }
-        let det = w[0].dot(w[1].cross(w[2]));
-        if det.abs() < 1e-9 {
-            return false;
-        }
-        let mut inside = true;
-        for i in 0..3 {
-            let (a, b) = (w[i], w[(i + 1) % 3]);
-            // (the arc's own normal, a to b; times the sign of `det`, it points inside)
-            let m = a.cross(b).normalize();
-            if !m.is_finite() {
-                return false;
-            }
-            let am = self.axis.dot(m);
-            inside &= am * det >= 0.0;
-            if am.abs() < self.sin_a + SLACK {
-                // The great circle passes within α of the axis: its nearest point to the
-                // axis, on the arc between the corners?
-                let g = self.axis - m * am;
-                if a.cross(g).dot(m) >= -SLACK && g.cross(b).dot(m) >= -SLACK {
-                    return false;
-                }
-            }
-        }
-        !inside
+        lux_sample::hidden::cap_misses_polygon(apex, self.axis, self.cos_a, v)
     }
 }
 
