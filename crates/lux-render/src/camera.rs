@@ -355,6 +355,65 @@ mod tests {
         }
     }
 
+    /// A box a tile's frustum misses ([`RayFrustum::misses_box`]) meets none of the tile's rays
+    /// (a slab test along 64 rays through the tile, its corners among them), for boxes of
+    /// every size around a camera turned off its axes; both answers occur, and boxes straddling
+    /// the tile's sides are kept.
+    #[test]
+    fn boxes_a_frustum_misses_meet_none_of_its_rays() {
+        use lux_sample::SplitMix64;
+        let mut rng = SplitMix64::new(9);
+        let mut u = move || rng.next_f64();
+        let mut c = luxtest_camera();
+        c.camera_to_world =
+            DMat4::from_rotation_z(0.3) * DMat4::from_rotation_x(-0.4) * c.camera_to_world;
+        let cam = Camera::new(&c, [64, 48], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).unwrap();
+        let (mut missed, mut kept, mut met) = (0, 0, 0);
+        for k in 0..3000 {
+            let (x0, y0) = ((u() * 56.0) as u32, (u() * 40.0) as u32);
+            let rect = [
+                x0,
+                y0,
+                x0 + 1 + (u() * 7.0) as u32,
+                y0 + 1 + (u() * 7.0) as u32,
+            ];
+            let f = cam.frustum(rect, 40.0).unwrap();
+            // Boxes around points on rays through and near the tile, 2 to 40 from the camera.
+            let [x0, y0, x1, y1] = rect.map(f64::from);
+            let (o, d, _, _) = cam.ray(
+                x0 - 4.0 + (x1 - x0 + 8.0) * u(),
+                y0 - 4.0 + (y1 - y0 + 8.0) * u(),
+            );
+            let centre = o + d * (2.0 + 38.0 * u());
+            let half = DVec3::new(u(), u(), u()) * if k % 3 == 0 { 1.0 } else { 0.1 };
+            let (lo, hi) = (centre - half, centre + half);
+            let hits = (0..64).any(|k| {
+                let (px, py) = match k {
+                    0 => (x0, y0),
+                    1 => (x1, y0),
+                    2 => (x1, y1),
+                    3 => (x0, y1),
+                    _ => (x0 + (x1 - x0) * u(), y0 + (y1 - y0) * u()),
+                };
+                let (o, d, _, _) = cam.ray(px, py);
+                let (t0, t1) = ((lo - o) / d, (hi - o) / d);
+                let near = t0.min(t1).max_element().max(0.0);
+                near <= t0.max(t1).min_element()
+            });
+            if f.misses_box(lo, hi) {
+                assert!(!hits, "tile {rect:?} box {lo} {hi}");
+                missed += 1;
+            } else {
+                kept += 1;
+                met += hits as u32;
+            }
+        }
+        assert!(
+            missed > 300 && kept > 300 && met > 100,
+            "{missed} missed, {kept} kept, {met} met"
+        );
+    }
+
     #[test]
     fn luxtest_camera_rays_hit_the_floor_where_expected() {
         let v = Camera::new(

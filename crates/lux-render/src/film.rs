@@ -11,7 +11,7 @@
 
 use crate::camera::Camera;
 use crate::image_io::ImageRgba;
-use crate::integrator::{CameraRay, ClearPatches, Integrator};
+use crate::integrator::{CameraRay, ClearPatches, Integrator, TileRays};
 use crate::sampler::{Dim, SampleStream};
 use crate::settings::AdaptiveSampling;
 use glam::{DVec3, DVec4};
@@ -78,9 +78,8 @@ pub struct Counters {
     /// The worker's patches of surface known to see a light unblocked, or not (`par_tiles`
     /// hands them from tile to tile).
     pub patches: ClearPatches,
-    /// The world triangles the tile's camera rays can hit, when few
-    /// ([`Integrator::tile_triangles`]); `None`: the BVH.
-    pub tile_triangles: Option<Box<[u32]>>,
+    /// What the tile's camera rays can meet ([`Integrator::tile_rays`]).
+    pub tile: TileRays,
 }
 
 /// The image being rendered: its size, the pixels to render, samples and seed.
@@ -207,6 +206,7 @@ type StoreTile<'a, D, T> = dyn Fn(&mut D, [u32; 4], &[T]) + Sync + 'a;
 /// and hands each finished tile's results (row-major) with its rectangle to `store`, which
 /// puts them into `dest` (one tile at a time). `done` is called with each finished tile's
 /// rectangle, after its counters (and the extra samples `f` reports) are added to `shared`.
+/// Each tile's samples see what its camera rays can meet (`tile_rays`, in their [`Counters`]).
 /// A finished tile is stored at once, so no frame-sized buffer is made besides `dest`. Each
 /// worker's remembered patch answers (`memo[rayon::current_thread_index()]`) go from tile to
 /// tile — each is a function of its key alone (integrator/patches.rs) — so that neighbouring
@@ -216,7 +216,7 @@ fn par_tiles<T: Copy + Send, D: Send>(
     rect: [u32; 4],
     shared: &Shared,
     memo: &[Mutex<ClearPatches>],
-    tile_triangles: &(dyn Fn([u32; 4]) -> Option<Box<[u32]>> + Sync),
+    tile_rays: &(dyn Fn([u32; 4]) -> TileRays + Sync),
     f: &(dyn Fn(u32, u32, &mut Counters, &mut u64) -> T + Sync),
     done: &(dyn Fn([u32; 4]) + Sync),
     dest: &mut D,
@@ -246,7 +246,7 @@ fn par_tiles<T: Copy + Send, D: Send>(
                 std::mem::take(&mut *m.lock().unwrap_or_else(|e| e.into_inner()))
             });
             let mut c = Counters {
-                tile_triangles: tile_triangles([tx0, ty0, tx1, ty1]),
+                tile: tile_rays([tx0, ty0, tx1, ty1]),
                 patches,
                 ..Counters::default()
             };
@@ -303,7 +303,7 @@ impl Film {
         let shared = Shared::default();
         let mut pixels = vec![[0.0f32; 4]; w as usize * h as usize];
         let rw = (x1 - x0) as usize;
-        let tile_triangles = |rect| integrator.tile_triangles(camera, rect);
+        let tile_rays = |rect| integrator.tile_rays(camera, rect);
         let memo: Vec<Mutex<ClearPatches>> = (0..rayon::current_num_threads())
             .map(|_| Mutex::default())
             .collect();
@@ -313,7 +313,7 @@ impl Film {
                     self.window,
                     &shared,
                     &memo,
-                    &tile_triangles,
+                    &tile_rays,
                     &|x, y, c, _| to_f32(self.pixel(camera, integrator, x, y, c, &mut |_| {})),
                     &|[a, b, c, d]| progress((c - a) as u64 * (d - b) as u64),
                     &mut pixels,
@@ -339,7 +339,7 @@ impl Film {
                     [x0, hy0, x1, hy1],
                     &shared,
                     &memo,
-                    &tile_triangles,
+                    &tile_rays,
                     &|x, y, c, _| self.first_pass(camera, integrator, x, y, c),
                     &|[a, b, c, d]| {
                         let rows = d.min(y1).saturating_sub(b.max(y0));
@@ -375,7 +375,7 @@ impl Film {
                     self.window,
                     &shared,
                     &memo,
-                    &tile_triangles,
+                    &tile_rays,
                     &|x, y, c, extra| {
                         let (i, j) = ((x - x0) as usize, (y - hy0) as usize);
                         let (k, sy, sy2) = neighbours(&luma, [rw, rows], [i, j]);
@@ -537,6 +537,11 @@ impl Film {
         if !self.pilot_runs() {
             return 1;
         }
+        if c.tile.empty {
+            // (its ray meets nothing: no shadow ray)
+            c.rays += 1;
+            return 1;
+        }
         let index = y as u64 * self.width as u64 + x as u64;
         let blocked0 = c.blocked;
         let st = SampleStream::new(self.seed, index, 0, 1).pass(PILOT_SALT, PILOT_LIGHT_SAMPLES);
@@ -565,8 +570,17 @@ impl Film {
         c: &mut Counters,
         each: &mut dyn FnMut(DVec3),
     ) -> Sums {
-        let index = y as u64 * self.width as u64 + x as u64;
         let mut sums = Sums::default();
+        if c.tile.empty {
+            // Every camera ray of the tile meets nothing (`TileRays::empty`): what `li` returns
+            // for such a ray, black with alpha 0, without drawing or tracing it (the sums stay
+            // 0, as adding those samples leaves them).
+            c.rays += n as u64;
+            let rgb = DVec3::ZERO * self.exposure_scale;
+            (0..n).for_each(|_| each(rgb));
+            return sums;
+        }
+        let index = y as u64 * self.width as u64 + x as u64;
         for s in 0..n {
             let mut st = SampleStream::new(self.seed, index, s, n);
             if factor > 1 || salt == ADAPTIVE_SALT {

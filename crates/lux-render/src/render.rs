@@ -181,3 +181,143 @@ impl<'s> Renderer<'s> {
         (mean, y2 / self.options.spp as f64)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::conformance::{ProfileSource, ResolvedProfile};
+    use crate::settings::AdaptiveSampling;
+    use glam::{DMat4, DVec3};
+    use lux_math::LightShape;
+    use lux_usd::{Camera as UsdCamera, Light, Mesh};
+
+    /// A 6 × 6 floor in the middle of the frame of a camera 30 above it looking down (the
+    /// luxtest camera: about ±6.3 across at the floor), a camera-visible sphere light beside the
+    /// floor on the right and one the camera does not see on the left.
+    fn scene(visible: bool, dome: bool) -> Scene {
+        let mut s = Scene::empty("code.usda");
+        s.meshes.push(Mesh::new(
+            "/Floor",
+            vec![
+                DVec3::new(-3.0, 0.0, -3.0),
+                DVec3::new(-3.0, 0.0, 3.0),
+                DVec3::new(3.0, 0.0, 3.0),
+                DVec3::new(3.0, 0.0, -3.0),
+            ],
+            vec![[0, 1, 2], [0, 2, 3]],
+        ));
+        let mut c = UsdCamera::with_defaults(
+            "/Camera",
+            DMat4::from_cols_array(&[
+                1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 30.0, 0.0, 1.0,
+            ]),
+        );
+        c.focal_length = 0.5;
+        c.horizontal_aperture = 0.20955;
+        c.vertical_aperture = 0.20955;
+        s.cameras.push(c);
+        for (x, seen) in [(4.5, visible), (-4.5, false)] {
+            let mut l = Light::with_defaults(
+                format!("/L{x}"),
+                LightShape::Sphere { radius: 0.6 },
+                DMat4::from_translation(DVec3::new(x, 1.0, 0.0)),
+            );
+            l.visible_to_camera = seen;
+            s.lights.push(l);
+        }
+        if dome {
+            s.lights.push(Light::with_defaults(
+                "/Dome",
+                LightShape::Dome,
+                DMat4::IDENTITY,
+            ));
+        }
+        s
+    }
+
+    fn options(adaptive: AdaptiveSampling) -> RenderOptions {
+        let mut o = RenderOptions::new(ResolvedProfile {
+            profile: Profile::Spec,
+            source: ProfileSource::CommandLine,
+        });
+        o.spp = 2;
+        o.resolution = Some([96, 96]);
+        o.adaptive = Some(adaptive);
+        o
+    }
+
+    /// The tiles `tile_rays` finds empty: (tiles, empty ones, ones without triangles that are
+    /// not empty).
+    fn empties(r: &Renderer) -> (u32, u32, u32) {
+        let (mut tiles, mut empty, mut lit) = (0, 0, 0);
+        for y in (0..96).step_by(TILE as usize) {
+            for x in (0..96).step_by(TILE as usize) {
+                let t = r
+                    .integrator()
+                    .tile_rays(&r.camera, [x, y, x + TILE, y + TILE]);
+                tiles += 1;
+                empty += t.empty as u32;
+                lit += (!t.empty && t.triangles.as_ref().is_some_and(|t| t.is_empty())) as u32;
+            }
+        }
+        (tiles, empty, lit)
+    }
+
+    /// A tile whose camera rays can meet nothing is taken as black with alpha 0 without
+    /// tracing: the render (tile lists and empty tiles) gives the bits and the ray counts of
+    /// every pixel's own estimate through the BVH (`Film::pixel` without a tile), with and without
+    /// adaptive sampling's extra samples (which reach into empty tiles beside the floor's
+    /// edge); a tile holding only a camera-visible light, or any tile under a visible dome, is
+    /// not empty.
+    #[test]
+    fn empty_tiles_render_what_their_rays_see() {
+        for (visible, dome) in [(true, false), (false, false), (true, true)] {
+            let s = scene(visible, dome);
+            let r = Renderer::new(&s, options(AdaptiveSampling::OFF)).unwrap();
+            let (tiles, empty, lit) = empties(&r);
+            assert_eq!(tiles, 36);
+            match (visible, dome) {
+                // (the floor covers the middle 4 × 4 tiles or so; the visible light one or
+                // two triangle-free tiles on the right)
+                (true, false) => assert!(empty >= 12 && lit >= 1, "{empty} empty, {lit} lit"),
+                (false, false) => assert!(empty >= 13 && lit == 0, "{empty} empty, {lit} lit"),
+                _ => assert_eq!(empty, 0),
+            }
+            let (img, stats) = r.render(&|_| {});
+            let (integrator, mut c) = (r.integrator(), Counters::default());
+            let mut seen = 0;
+            for y in 0..96 {
+                for x in 0..96 {
+                    let v = r
+                        .film
+                        .pixel(&r.camera, &integrator, x, y, &mut c, &mut |_| {});
+                    let want = v.to_array().map(|v| (v as f32).to_bits());
+                    let got = img.pixels[(y * 96 + x) as usize].map(f32::to_bits);
+                    assert_eq!(
+                        got, want,
+                        "pixel ({x}, {y}), visible {visible}, dome {dome}"
+                    );
+                    seen += (f32::from_bits(got[3]) > 0.0) as u32;
+                }
+            }
+            // Camera rays are counted whether traced or not.
+            assert_eq!(
+                (stats.rays, stats.shadow_rays, stats.light_samples),
+                (c.rays, c.shadow, c.light_samples)
+            );
+            assert!(seen > 1500 && seen < 96 * 96 - 3000 || dome, "{seen}");
+            // With adaptive sampling the image is the same wherever the tiles are empty.
+            let ra = Renderer::new(&s, options(AdaptiveSampling::DEFAULT)).unwrap();
+            let (a, stats) = ra.render(&|_| {});
+            assert!(stats.adaptive_samples > 0);
+            for y in 0..96u32 {
+                for x in 0..96u32 {
+                    let t = ra.integrator().tile_rays(&ra.camera, [x, y, x + 1, y + 1]);
+                    if t.empty {
+                        assert_eq!(a.pixels[(y * 96 + x) as usize], [0.0; 4], "({x}, {y})");
+                    }
+                }
+            }
+        }
+    }
+}

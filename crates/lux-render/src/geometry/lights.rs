@@ -134,6 +134,28 @@ impl LightShapes {
         self.all.len()
     }
 
+    /// True when no ray inside `frustum` can meet a light that `visible` keeps: each one's box
+    /// ([`Light::surface_box`]) lies wholly outside it. False (unsure) beyond
+    /// [`LINEAR_LIGHTS`] such lights, which are not looked at.
+    pub fn none_in(
+        &self,
+        lights: &[Light],
+        frustum: &super::RayFrustum,
+        visible: impl Fn(&Light) -> bool,
+    ) -> bool {
+        let mut seen = 0;
+        self.all.iter().all(|&i| {
+            let l = &lights[i as usize];
+            if !visible(l) {
+                return true;
+            }
+            seen += 1;
+            seen <= LINEAR_LIGHTS
+                && l.surface_box()
+                    .is_some_and(|(lo, hi)| frustum.misses_box(lo, hi))
+        })
+    }
+
     /// Calls `f` with every light whose surface may cross `o + t·d`, `t ∈ (tmin, tmax)`
     /// (a superset; in BVH order), each once.
     #[inline]

@@ -506,6 +506,19 @@ impl Geometry {
             .closest(lights, origin, dir, tmin, tmax, visible)
     }
 
+    /// True when no ray inside `frustum` can meet an analytic light that `visible` keeps (what
+    /// [`Geometry::closest_light`] finds): each one's box lies wholly outside it
+    /// ([`RayFrustum::misses_box`]); false (unsure) with more than [`LINEAR_LIGHTS`] of them.
+    /// `lights` is the slice the geometry was built with.
+    pub fn no_light_in(
+        &self,
+        lights: &[Light],
+        frustum: &RayFrustum,
+        visible: impl Fn(&Light) -> bool,
+    ) -> bool {
+        self.lights.none_in(lights, frustum, visible)
+    }
+
     /// Calls `f` with every analytic light crossing `origin + t·dir`, `t ∈ (tmin, tmax)`, and
     /// its hit, by light index (lights do not occlude one another). `lights` is the slice the
     /// geometry was built with.

@@ -134,8 +134,8 @@ impl<'a> DirectIntegrator<'a> {
         let w = &self.world;
         let lights = &w.lights.lights;
         c.rays += 1;
-        let hit = match &c.tile_triangles {
-            // (only without transparency: Integrator::tile_triangles)
+        let hit = match &c.tile.triangles {
+            // (only without transparency: Integrator::tile_rays)
             Some(ids) => w
                 .geometry
                 .intersect_among(w.scene, ids, ray.o, ray.d, ray.tmin, ray.tmax),

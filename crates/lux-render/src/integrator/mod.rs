@@ -66,32 +66,49 @@ pub enum Integrator<'a> {
     Path(PathIntegrator<'a>),
 }
 
-/// Most triangles a tile's camera rays test as a list ([`Integrator::tile_triangles`]): beyond
-/// that the BVH's traversal costs less.
+/// Most triangles a tile's camera rays test as a list ([`Integrator::tile_rays`]): beyond that
+/// the BVH's traversal costs less.
 pub const TILE_TRIANGLES: usize = 12;
 
+/// What the camera rays through one tile of pixels can meet ([`Integrator::tile_rays`]), for
+/// every sample of the tile ([`Counters::tile`](crate::film::Counters::tile)).
+#[derive(Clone, Debug, Default)]
+pub struct TileRays {
+    /// The world triangles the rays can hit, when few; `None`: they take the BVH.
+    pub triangles: Option<Box<[u32]>>,
+    /// Nothing at all: no triangle, no camera-visible analytic light and no background, so
+    /// every ray ends black with alpha 0 ([`DirectIntegrator::li`]'s answer for a ray that meets
+    /// nothing), which the film takes without tracing it.
+    pub empty: bool,
+}
+
 impl Integrator<'_> {
-    /// The world triangles the camera rays through pixels `[x0, y0, x1, y1)` can hit
-    /// ([`Geometry::triangles_in`] of the camera's [`Camera::frustum`]), for
-    /// [`Counters::tile_triangles`]; `None` (the BVH) with more than [`TILE_TRIANGLES`], with
-    /// instances or partly transparent surfaces (their rays go on past a hit).
+    /// What the camera rays through pixels `[x0, y0, x1, y1)` can meet, from the camera's
+    /// [`Camera::frustum`] of the tile: the world triangles in it ([`Geometry::triangles_in`];
+    /// `None`, the BVH, with more than [`TILE_TRIANGLES`], with instances or partly transparent
+    /// surfaces, whose rays go on past a hit), and whether it holds nothing at all — no
+    /// triangle, no camera-visible light at infinity, and no camera-visible analytic light
+    /// whose box reaches the frustum ([`Geometry::no_light_in`]).
     ///
     /// [`Camera::frustum`]: crate::camera::Camera::frustum
-    pub fn tile_triangles(
-        &self,
-        camera: &crate::camera::Camera,
-        rect: [u32; 4],
-    ) -> Option<Box<[u32]>> {
+    pub fn tile_rays(&self, camera: &crate::camera::Camera, rect: [u32; 4]) -> TileRays {
         let w = match self {
             Integrator::Direct(i) => &i.world,
             Integrator::Path(i) => i.world(),
         };
-        if w.transparent {
-            return None;
-        }
-        let (lo, hi) = w.geometry.world_bounds()?;
-        let frustum = camera.frustum(rect, lo.abs().max(hi.abs()).max_element())?;
-        w.geometry.triangles_in(&frustum, TILE_TRIANGLES)
+        let Some((lo, hi)) = w.geometry.world_bounds().filter(|_| !w.transparent) else {
+            return TileRays::default();
+        };
+        let Some(frustum) = camera.frustum(rect, lo.abs().max(hi.abs()).max_element()) else {
+            return TileRays::default();
+        };
+        let triangles = w.geometry.triangles_in(&frustum, TILE_TRIANGLES);
+        let lights = &w.lights.lights;
+        let empty = triangles.as_ref().is_some_and(|t| t.is_empty())
+            && w.lights.background.is_empty()
+            && w.geometry
+                .no_light_in(lights, &frustum, |l| l.base().camera_visible);
+        TileRays { triangles, empty }
     }
 
     /// Radiance (RGB) and alpha (coverage) along a camera ray, drawing its random numbers
