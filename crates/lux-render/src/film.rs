@@ -212,12 +212,12 @@ type StoreTile<'a, D, T> = dyn Fn(&mut D, [u32; 4], &[T]) + Sync + 'a;
 /// tile — each is a function of its key alone (integrator/patches.rs) — so that neighbouring
 /// tiles share the cells on their edges, and the passes share theirs.
 #[allow(clippy::too_many_arguments)]
-fn par_tiles<T: Copy + Send, D: Send>(
+fn par_tiles<T: Copy + Send, D: Send, F: Fn(u32, u32, &mut Counters, &mut u64) -> T + Sync>(
     rect: [u32; 4],
     shared: &Shared,
     memo: &[Mutex<ClearPatches>],
     tile_rays: &(dyn Fn([u32; 4]) -> TileRays + Sync),
-    f: &(dyn Fn(u32, u32, &mut Counters, &mut u64) -> T + Sync),
+    f: &F,
     done: &(dyn Fn([u32; 4]) + Sync),
     dest: &mut D,
     store: &StoreTile<'_, D, T>,
@@ -489,7 +489,7 @@ impl Film {
         c: &mut Counters,
         each: &mut dyn FnMut(DVec3),
     ) -> DVec4 {
-        let (_, s) = self.first_samples(camera, integrator, [x, y], c, each);
+        let (_, s) = self.first_samples(camera, integrator, [x, y], c, &mut |v| each(v));
         s.rgba / self.spp as f64
     }
 
@@ -501,7 +501,7 @@ impl Film {
         integrator: &Integrator,
         [x, y]: [u32; 2],
         c: &mut Counters,
-        each: &mut dyn FnMut(DVec3),
+        each: &mut impl FnMut(DVec3),
     ) -> (u32, Sums) {
         let factor = self.penumbra_factor(camera, integrator, x, y, c);
         let s = self.samples(
@@ -568,7 +568,7 @@ impl Film {
         [n, factor]: [u32; 2],
         salt: u64,
         c: &mut Counters,
-        each: &mut dyn FnMut(DVec3),
+        each: &mut impl FnMut(DVec3),
     ) -> Sums {
         let mut sums = Sums::default();
         if c.tile.empty {
