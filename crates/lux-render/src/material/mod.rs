@@ -192,6 +192,48 @@ pub struct Materials {
     /// Per mesh: a `MeshLightAPI` light with no surface response (no bound material, or
     /// `materialSyncMode = noMaterialResponse`): it reflects nothing.
     no_response: Vec<bool>,
+    /// Per mesh: the albedo of a plain Lambertian surface ([`plain_albedo`]), which
+    /// [`Materials::at`] takes for a hit on the mesh itself without evaluating anything.
+    plain: Vec<Option<DVec3>>,
+}
+
+/// The clamped albedo of mesh `i` when every hit on it (not through an instance) is the same
+/// Lambertian surface about its geometric normal: no `normals` primvar, no surface response
+/// withheld, and a constant albedo — a `wavelength:reflectance`, a bound material's untextured
+/// `diffuseColor` without UsdPreviewSurface lobes, or no material and no `displayColor`
+/// primvar (white). What [`Materials::at`] computes for such a hit, once.
+fn plain_albedo(
+    scene: &Scene,
+    i: usize,
+    materials: &[Shader],
+    reflectance: Option<DVec3>,
+    no_response: &[bool],
+) -> Option<DVec3> {
+    let mesh = &scene.meshes[i];
+    let shader = mesh.material.and_then(|k| materials.get(k));
+    if mesh.normals.is_some() || no_response[i] || shader.is_some_and(|m| m.preview.is_some()) {
+        return None;
+    }
+    let albedo = match (reflectance, shader) {
+        (Some(c), _) => c,
+        (None, Some(m)) => match &m.diffuse {
+            Param::Value(v) => *v,
+            Param::Texture(_) => return None,
+        },
+        (None, None) if mesh.colors.is_none() => DVec3::ONE,
+        (None, None) => return None,
+    };
+    Some(clamped_albedo(albedo))
+}
+
+/// An albedo as surfaces take it: each channel clamped to `[0, 1]`, black where not finite.
+#[inline]
+fn clamped_albedo(albedo: DVec3) -> DVec3 {
+    if albedo.is_finite() {
+        albedo.clamp(DVec3::ZERO, DVec3::ONE)
+    } else {
+        DVec3::ZERO
+    }
 }
 
 /// Linear Rec.709 albedo of a `wavelength:reflectance` (lux-spectral, lit by the colour
@@ -359,7 +401,7 @@ impl Materials {
             .collect();
         // Geometry lights (geometry-lights proposal, "No-Material Behavior" and
         // `noMaterialResponse`): "no specular, diffuse, or transmissive response".
-        let no_response = scene
+        let no_response: Vec<bool> = scene
             .meshes
             .iter()
             .map(|m| {
@@ -371,11 +413,15 @@ impl Materials {
                     })
             })
             .collect();
+        let plain = (0..scene.meshes.len())
+            .map(|i| plain_albedo(scene, i, &materials, mesh_reflectance[i], &no_response))
+            .collect();
         Ok(Materials {
             no_response,
             warnings,
             materials,
             mesh_reflectance,
+            plain,
             instance_normal,
             instance_linear,
             mesh_transparent,
@@ -470,6 +516,27 @@ impl Materials {
 
     /// The surface seen by a ray of direction `d` at `hit`.
     pub fn at(&self, scene: &Scene, hit: &Hit, d: DVec3) -> SurfacePoint {
+        // A plain Lambertian mesh: what `evaluated_at` gives, known in advance.
+        if hit.instance.is_none()
+            && let Some(albedo) = self.plain[hit.mesh]
+        {
+            let ng = if hit.ng.dot(d) > 0.0 { -hit.ng } else { hit.ng };
+            return SurfacePoint {
+                p: hit.p,
+                ng,
+                ns: ng,
+                offset: hit.offset,
+                bsdf: Bsdf::Diffuse(DiffuseBsdf { albedo, ns: ng }),
+                mesh: hit.mesh,
+                tri: hit.tri,
+                instance: None,
+            };
+        }
+        self.evaluated_at(scene, hit, d)
+    }
+
+    /// [`Materials::at`] with every input evaluated at the hit (normals, primvars, textures).
+    fn evaluated_at(&self, scene: &Scene, hit: &Hit, d: DVec3) -> SurfacePoint {
         let mesh = &scene.meshes[hit.mesh];
         let (b1, b2) = (hit.bary.x, hit.bary.y);
         let b0 = 1.0 - b1 - b2;
@@ -500,11 +567,7 @@ impl Materials {
                 None => DVec3::ONE,
             },
         };
-        let albedo = if albedo.is_finite() {
-            albedo.clamp(DVec3::ZERO, DVec3::ONE)
-        } else {
-            DVec3::ZERO
-        };
+        let albedo = clamped_albedo(albedo);
         // Each arm builds the point in place (moving a `Bsdf` out of a `match` copies all of
         // it, the UsdPreviewSurface variant's size, whatever the variant).
         let point = |ns: DVec3, bsdf: Bsdf| SurfacePoint {
@@ -684,5 +747,87 @@ impl InputLoader {
                 _ => None,
             },
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Geometry;
+    use lux_usd::{Input, Material, Mesh};
+
+    /// A unit quad at height `y`, front side up.
+    fn quad(path: &str, x: f64, y: f64) -> Mesh {
+        Mesh::new(
+            path,
+            vec![
+                DVec3::new(x, y, 0.0),
+                DVec3::new(x, y, 1.0),
+                DVec3::new(x + 1.0, y, 1.0),
+                DVec3::new(x + 1.0, y, 0.0),
+            ],
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
+    }
+
+    /// A plain mesh's surface, taken without evaluating it, is what evaluating it gives, bit
+    /// for bit, from either side — no material (white), an untextured `diffuseColor` in and
+    /// out of `[0, 1]` or not finite — and meshes with normals, `displayColor` or a
+    /// UsdPreviewSurface are not plain.
+    #[test]
+    fn plain_surfaces_are_what_evaluating_them_gives() {
+        let mut s = Scene::empty("code.usda");
+        let lambert = |path: &str, c: DVec3| Material {
+            diffuse: Input::Value(c),
+            ..Material::new(path)
+        };
+        s.materials
+            .push(lambert("/M0", DVec3::new(0.25, 0.5, 0.75)));
+        s.materials.push(lambert("/M1", DVec3::new(1.5, -0.5, 0.5)));
+        s.materials
+            .push(lambert("/M2", DVec3::new(0.5, f64::NAN, 0.5)));
+        s.materials.push(Material {
+            preview: true,
+            ..lambert("/M3", DVec3::splat(0.5))
+        });
+        let mut meshes = Vec::new();
+        for (i, material) in [None, Some(0), Some(1), Some(2), Some(3), None, Some(0)]
+            .into_iter()
+            .enumerate()
+        {
+            let mut m = quad(&format!("/Q{i}"), 2.0 * i as f64, 0.0);
+            m.material = material;
+            m.double_sided = true;
+            meshes.push(m);
+        }
+        // (one with normals, one with colours)
+        let tilt = DVec3::new(0.1, 1.0, 0.0).normalize();
+        meshes[5].colors = Some(vec![[DVec3::new(0.2, 0.4, 0.6); 3]; 2]);
+        meshes[6].normals = Some(vec![[tilt; 3]; 2]);
+        s.meshes = meshes;
+        let g = Geometry::new(&s);
+        for surfaces in [SurfaceModel::Lambert, SurfaceModel::Preview] {
+            let m = Materials::with_policy(&s, false, surfaces).unwrap();
+            let preview = surfaces == SurfaceModel::Preview;
+            let plain: Vec<bool> = m.plain.iter().map(Option::is_some).collect();
+            assert_eq!(
+                plain,
+                [true, true, true, true, !preview, false, false],
+                "{surfaces:?}"
+            );
+            for i in 0..7 {
+                for (y, d) in [(3.0, DVec3::NEG_Y), (-3.0, DVec3::Y)] {
+                    let o = DVec3::new(2.0 * i as f64 + 0.3, y, 0.6);
+                    let hit = g.intersect(&s, o, d, 0.0, 10.0).unwrap();
+                    assert_eq!(hit.mesh, i);
+                    let (fast, full) = (m.at(&s, &hit, d), m.evaluated_at(&s, &hit, d));
+                    assert_eq!(
+                        format!("{fast:?}"),
+                        format!("{full:?}"),
+                        "mesh {i}, {surfaces:?}"
+                    );
+                }
+            }
+        }
     }
 }
