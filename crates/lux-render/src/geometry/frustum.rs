@@ -69,15 +69,17 @@ impl RayFrustum {
         })
     }
 
-    /// True when the box `[lo, hi]` lies wholly outside one of the four sides (by the margin):
-    /// no ray of the region meets it. For a side `n·x ≥ d`, the box's farthest point inward
-    /// is its centre `c` plus `|n|·e` (`e` its half size): outside when `n·c + |n|·e − d` is below
-    /// `−margin`.
+    /// True when the box `[lo, hi]` lies wholly outside one of the four sides (by the margin,
+    /// grown by 10⁻⁹ of the box's coordinates for a box beyond the geometry the region was
+    /// made for): no ray of the region meets it. For a side `n·x ≥ d`, the box's farthest point
+    /// inward is its centre `c` plus `|n|·e` (`e` its half size): outside when
+    /// `n·c + |n|·e − d` is below `−margin`.
     pub fn misses_box(&self, lo: DVec3, hi: DVec3) -> bool {
         let (c, e) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
+        let margin = self.margin + 1e-9 * (c.abs() + e).max_element();
         self.planes
             .iter()
-            .any(|&(n, d)| n.dot(c) + n.abs().dot(e) - d < -self.margin)
+            .any(|&(n, d)| n.dot(c) + n.abs().dot(e) - d < -margin)
     }
 }
 
