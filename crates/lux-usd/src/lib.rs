@@ -85,6 +85,21 @@ impl GprimCounts {
     }
 }
 
+/// What lux draws beyond plain polygons, for `lux info`: each count is of prims (a
+/// prototype's once, however many instances draw it).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct DrawnCounts {
+    /// Meshes refined as subdivision surfaces (`subdivisionScheme` `catmullClark`, `loop` or
+    /// `bilinear`) at a level above 0.
+    pub refined_meshes: usize,
+    /// Skinned meshes posed by their skeleton (UsdSkel) at the frame.
+    pub posed_meshes: usize,
+    /// `BasisCurves` and `NurbsCurves` prims drawn.
+    pub curves: usize,
+    /// `Points` prims drawn.
+    pub points: usize,
+}
+
 /// The stage's `upAxis` metadata.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum UpAxis {
@@ -130,6 +145,8 @@ pub struct Scene {
     pub warnings: Vec<Warning>,
     /// Drawn gprims and instances, counted as usd-core counts them.
     pub gprims: GprimCounts,
+    /// What is drawn refined, posed, or as curves and points.
+    pub drawn: DrawnCounts,
     /// Number of active, defined prims visited.
     pub prim_count: usize,
 }
@@ -153,6 +170,7 @@ impl Scene {
             render_settings: Vec::new(),
             warnings: Vec::new(),
             gprims: GprimCounts::default(),
+            drawn: DrawnCounts::default(),
             prim_count: 0,
         }
     }
