@@ -32,6 +32,7 @@ pub mod path_guard;
 pub mod reader;
 mod resolver;
 pub mod spectral;
+pub mod subdiv;
 pub mod tessellate;
 pub mod usda_fix;
 mod value;

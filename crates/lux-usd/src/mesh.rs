@@ -41,6 +41,10 @@ pub struct Mesh {
     pub prototype: Option<usize>,
     /// The gprim schema the triangles came from.
     pub gprim: Gprim,
+    /// For a subdivision surface not yet refined ([`crate::Scene::refine_subdivision`]): its
+    /// control cage, whose polygons `triangles` holds meanwhile (what a renderer draws at
+    /// refinement level 0). `None` for polygons and refined surfaces.
+    pub subdivision: Option<std::sync::Arc<crate::subdiv::Cage>>,
 }
 
 impl Mesh {
@@ -63,6 +67,10 @@ impl Mesh {
             normals: self.normals.clone().map(|n| normals_to_world(n, m, mirror)),
             colors: self.colors.clone().map(|c| mirror_corners(c, mirror)),
             uvs: self.uvs.clone().map(|c| mirror_corners(c, mirror)),
+            subdivision: self
+                .subdivision
+                .as_ref()
+                .map(|c| std::sync::Arc::new(c.transformed(m))),
             ..self.clone()
         }
     }
@@ -151,6 +159,7 @@ impl Mesh {
             spectral: Default::default(),
             prototype: None,
             gprim: Gprim::Mesh,
+            subdivision: None,
         }
     }
 }
@@ -165,6 +174,22 @@ pub struct Topology {
     pub corners: Vec<(usize, [usize; 3])>,
     /// Number of faces.
     pub face_count: usize,
+    /// The authored faces (`faceVertexCounts`, `faceVertexIndices`, `holeIndices`) and
+    /// `orientation` (true for `leftHanded`), for a subdivision cage; `None` for an implicit
+    /// gprim or when a face has fewer than 3 vertices or an index out of range.
+    pub faces: Option<AuthoredFaces>,
+}
+
+/// A `Mesh`'s faces as authored (every face valid).
+pub struct AuthoredFaces {
+    /// `faceVertexCounts`.
+    pub sizes: Vec<u32>,
+    /// `faceVertexIndices`.
+    pub vertices: Vec<u32>,
+    /// `holeIndices` within range.
+    pub holes: Vec<u32>,
+    /// `orientation = "leftHanded"`.
+    pub left_handed: bool,
 }
 
 /// Reads and fan-triangulates a `Mesh` prim (`points`, `faceVertexCounts`, `faceVertexIndices`,
@@ -240,11 +265,29 @@ pub fn mesh_topology(r: &mut Reader<'_>, prim: &Prim) -> Result<Option<Topology>
             format!("{bad_faces} faces with < 3 vertices or out-of-range indices skipped"),
         );
     }
+    let faces = (bad_faces == 0).then(|| AuthoredFaces {
+        sizes: counts.iter().map(|&c| c as u32).collect(),
+        vertices: indices.iter().map(|&i| i as u32).collect(),
+        holes: {
+            let mut h: Vec<u32> = holes
+                .iter()
+                .filter_map(|&h| {
+                    u32::try_from(h)
+                        .ok()
+                        .filter(|&h| (h as usize) < counts.len())
+                })
+                .collect();
+            h.sort_unstable();
+            h
+        },
+        left_handed: left,
+    });
     Ok(Some(Topology {
         points,
         triangles,
         corners,
         face_count: counts.len(),
+        faces,
     }))
 }
 

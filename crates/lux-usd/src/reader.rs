@@ -433,6 +433,15 @@ impl<'s> Reader<'s> {
         self.array(prim, name, "an int array", value::as_int_array)
     }
 
+    /// A floating-point array (`float[]`, `double[]`, `half[]`).
+    pub fn f64_array(
+        &self,
+        prim: &Prim,
+        name: &'static str,
+    ) -> Result<Option<Vec<f64>>, LoadError> {
+        self.array(prim, name, "a floating-point array", value::as_f64_array)
+    }
+
     /// A string metadata field of an attribute (e.g. a primvar's `interpolation`).
     pub fn attr_metadata_text(&self, prim: &Prim, name: &str, key: &str) -> Option<String> {
         if !is_property_name(name) {

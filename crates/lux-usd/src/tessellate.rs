@@ -77,6 +77,7 @@ fn finish(points: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> Topology {
         points,
         triangles,
         corners,
+        faces: None,
     }
 }
 

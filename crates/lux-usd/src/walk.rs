@@ -425,7 +425,7 @@ impl<'s> Walk<'s> {
             None => (here.target != Target::World).then(|| "st".to_owned()),
         };
         let mut uvs = None;
-        if let Some(st) = st {
+        if let Some(st) = &st {
             let name = format!("primvars:{st}");
             if let Some(v) = self.r.raw(prim, &name)?
                 && let Some(st) = crate::value::as_vec2_array(&v)
@@ -434,6 +434,14 @@ impl<'s> Walk<'s> {
                     .map(|c| mirror_corners(c, mirror));
             }
         }
+        // A subdivision surface keeps its control cage for refinement (`subdiv`); `triangles`
+        // holds the cage's polygons meanwhile.
+        let subdivision = if gprim == Gprim::Mesh {
+            crate::subdiv::read_cage(&mut self.r, prim, &topo, &here.world, st.as_deref())?
+                .map(std::sync::Arc::new)
+        } else {
+            None
+        };
         // UsdGeomPlane overrides the Gprim fallback: planes are double-sided unless authored.
         let double_sided = self.r.bool_or(prim, "doubleSided", type_name == "Plane")?;
         let spectral = crate::spectral::read_surface_spectral(&mut self.r, prim)?;
@@ -473,6 +481,7 @@ impl<'s> Walk<'s> {
             spectral,
             prototype: None,
             gprim,
+            subdivision,
         };
         self.emit_mesh(mesh, light, here.target);
         Ok(())
