@@ -75,6 +75,7 @@ fn main() -> ExitCode {
                     adaptive_threshold: None,
                     adaptive_max: None,
                     no_adaptive: false,
+                    subdiv_level: None,
                     threads: None,
                     seed: 0,
                     output: PathBuf::from("lux-demo.exr"),

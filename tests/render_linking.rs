@@ -239,11 +239,13 @@ fn linking_from_a_stage_reaches_the_renderer() {
 )
 def Xform "World" {
     def Mesh "Q1" {
+        uniform token subdivisionScheme = "none"
         int[] faceVertexCounts = [4]
         int[] faceVertexIndices = [0, 1, 2, 3]
         point3f[] points = [(-2, 0, -1), (-2, 0, 1), (-0.5, 0, 1), (-0.5, 0, -1)]
     }
     def Mesh "Q2" {
+        uniform token subdivisionScheme = "none"
         int[] faceVertexCounts = [4]
         int[] faceVertexIndices = [0, 1, 2, 3]
         point3f[] points = [(0.5, 0, -1), (0.5, 0, 1), (2, 0, 1), (2, 0, -1)]

@@ -15,7 +15,7 @@ use lux_render::conformance::{
 };
 use lux_render::light::{LightOptions, LightSelection, LightSet};
 use lux_spectral::SpectralAttribute;
-use lux_usd::defaults::{CAMERA_LIGHT_PATH, FRAMING_CAMERA_PATH};
+use lux_usd::defaults::{CAMERA_LIGHT_PATH, FRAMING_CAMERA_PATH, geometry_bounds};
 use lux_usd::{LoadOptions, PhysicalLight, Scene, Time, load_stage_with};
 use serde_json::{Value, json};
 use std::fmt::Write;
@@ -151,7 +151,12 @@ pub fn report_json(
             "lights": scene.lights.iter().filter(|l| l.path != CAMERA_LIGHT_PATH).count()
                 + scene.gprims.unsupported_lights,
             "lights_not_rendered": scene.gprims.unsupported_lights,
+            "refined_meshes": scene.drawn.refined_meshes,
+            "posed_meshes": scene.drawn.posed_meshes,
+            "curves": scene.drawn.curves,
+            "points": scene.drawn.points,
         },
+        "bounds": geometry_bounds(scene).map(|(lo, hi)| json!({ "min": v3(lo), "max": v3(hi) })),
         "unique_meshes": scene.meshes.len(),
         "prototypes": scene.prototypes.len(),
         "instances": scene.instances.len(),
@@ -270,6 +275,29 @@ pub fn report_text(
         plural(scene.prototypes.len(), "prototype", "prototypes"),
         plural(scene.instances.len(), "instance", "instances"),
     );
+    let d = &scene.drawn;
+    if d.refined_meshes + d.posed_meshes + d.curves + d.points > 0 {
+        let _ = writeln!(
+            s,
+            "drawn: {} refined, {} posed, {}, {}",
+            plural(
+                d.refined_meshes,
+                "subdivision surface",
+                "subdivision surfaces"
+            ),
+            plural(d.posed_meshes, "skinned mesh", "skinned meshes"),
+            plural(d.curves, "curve prim", "curve prims"),
+            plural(d.points, "points prim", "points prims"),
+        );
+    }
+    if let Some((lo, hi)) = geometry_bounds(scene) {
+        let _ = writeln!(
+            s,
+            "bounds: {}..{}",
+            vec3_with(lo, approx),
+            vec3_with(hi, approx)
+        );
+    }
     for d in defaults {
         let _ = writeln!(s, "default: {d}");
     }
@@ -393,6 +421,13 @@ pub fn report(args: &InfoArgs) -> Result<String, String> {
     let env = std::env::var(PROFILE_ENV).ok();
     let profile = resolve_profile(None, &scene, env.as_deref(), &default_config_paths())
         .map_err(|e| e.to_string());
+    // Subdivision surfaces as a render in that profile draws them (its rule for the render
+    // camera at the default resolution), so that the counts and bounds are what is drawn.
+    if let Ok(p) = &profile {
+        let options = lux_render::render::RenderOptions::new(p.clone());
+        lux_render::settings::refine_subdivision(&mut scene, &options)
+            .map_err(|e| e.to_string())?;
+    }
     Ok(if args.json {
         serde_json::to_string_pretty(&report_json(&scene, &profile, &defaults))
             .map_err(|e| e.to_string())?

@@ -19,7 +19,10 @@ pub use crate::settings::{MAX_RESOLUTION, MAX_SPP, RenderOptions};
 
 /// A scene prepared for rendering: BVH, lights, materials and camera.
 pub struct Renderer<'s> {
-    scene: &'s Scene,
+    /// The scene as drawn: `scene` itself, or a copy with its subdivision surfaces refined.
+    scene: std::borrow::Cow<'s, Scene>,
+    /// What refining the subdivision surfaces of the copy replaced or left out.
+    refine_warnings: Vec<String>,
     geometry: Geometry,
     lights: LightSet,
     materials: Materials,
@@ -30,10 +33,28 @@ pub struct Renderer<'s> {
 
 impl<'s> Renderer<'s> {
     /// Prepares `scene` for rendering with `options`.
+    ///
+    /// Subdivision surfaces still holding their cages are refined on a copy of the scene
+    /// ([`crate::settings::refine_subdivision`], which a caller owning its scene can call
+    /// first to save the copy).
     pub fn new(scene: &'s Scene, options: RenderOptions) -> Result<Renderer<'s>, RenderError> {
         let resolved = resolve(scene, &options)?;
+        let mut refine_warnings = Vec::new();
+        let scene = if scene.meshes.iter().any(|m| m.subdivision.is_some()) {
+            let mut copy = scene.clone();
+            let before = copy.warnings.len();
+            crate::settings::refine_subdivision(&mut copy, &options)?;
+            refine_warnings = copy.warnings[before..]
+                .iter()
+                .map(|w| w.to_string())
+                .collect();
+            std::borrow::Cow::Owned(copy)
+        } else {
+            std::borrow::Cow::Borrowed(scene)
+        };
+        let scene_ref: &Scene = &scene;
         let lights = LightSet::new(
-            scene,
+            scene_ref,
             LightOptions {
                 profile: options.profile.profile,
                 selection: options.selection,
@@ -41,8 +62,8 @@ impl<'s> Renderer<'s> {
                 cone_clipping: options.cone_clipping,
             },
         )?;
-        let materials = Materials::with_policy(scene, options.strict, options.surfaces)?;
-        let geometry = Geometry::with_lights(scene, &lights.lights);
+        let materials = Materials::with_policy(scene_ref, options.strict, options.surfaces)?;
+        let geometry = Geometry::with_lights(scene_ref, &lights.lights);
         let film = Film {
             width: resolved.camera.width,
             height: resolved.camera.height,
@@ -56,6 +77,7 @@ impl<'s> Renderer<'s> {
         };
         Ok(Renderer {
             scene,
+            refine_warnings,
             geometry,
             lights,
             materials,
@@ -73,7 +95,10 @@ impl<'s> Renderer<'s> {
     /// Everything the render set-up replaced or left out: lights that cannot emit, IES profiles
     /// and textures that could not be read (each named with the light or material using it).
     pub fn warnings(&self) -> impl Iterator<Item = &String> {
-        self.lights.warnings.iter().chain(&self.materials.warnings)
+        self.refine_warnings
+            .iter()
+            .chain(&self.lights.warnings)
+            .chain(&self.materials.warnings)
     }
 
     /// Output image size.
@@ -120,7 +145,7 @@ impl<'s> Renderer<'s> {
     /// The integrator of the options' sampling mode over the prepared scene.
     pub fn integrator(&self) -> Integrator<'_> {
         let world = World {
-            scene: self.scene,
+            scene: &self.scene,
             geometry: &self.geometry,
             lights: &self.lights,
             materials: &self.materials,

@@ -126,6 +126,13 @@ pub struct RenderOptions {
     /// crosses an edge takes more ([`AdaptiveSampling`]; [`AdaptiveSampling::OFF`]: every pixel
     /// takes `spp`); `None`: [`RenderOptions::adaptive`] chooses.
     pub adaptive: Option<AdaptiveSampling>,
+    /// Subdivision surfaces' refinement level (`lux_usd::subdiv`): `None` follows the
+    /// profile — `spec` refines each surface by its size on screen
+    /// ([`lux_usd::subdiv::screen_level`], at most [`SCREEN_LEVEL_CAP`]), `hdembree` keeps the
+    /// cages' polygons as hdEmbree draws them at usdrecord's default complexity (its
+    /// `mesh.cpp`: "If the refine level is 0, triangulate instead of subdividing");
+    /// `Some(n)` refines every surface at level `n` (0: the cages' polygons).
+    pub subdiv_level: Option<u32>,
     /// Seed of every random number.
     pub seed: u64,
     /// An IES profile or texture that does not resolve or cannot be read is an error instead
@@ -156,8 +163,34 @@ impl RenderOptions {
             cone_clipping: true,
             closed_forms: true,
             adaptive: None,
+            subdiv_level: None,
             seed: 0,
             strict: false,
+        }
+    }
+}
+
+/// The deepest level the `spec` profile's screen rule refines a subdivision surface to
+/// ([`RenderOptions::subdiv_level`]): `2^6` segments along a cage edge.
+pub const SCREEN_LEVEL_CAP: u32 = 6;
+
+impl RenderOptions {
+    /// How subdivision surfaces are refined for `camera` at an image `width` pixels wide
+    /// ([`RenderOptions::subdiv_level`]).
+    pub fn level_rule<'c>(
+        &self,
+        camera: &'c lux_usd::Camera,
+        width: u32,
+    ) -> lux_usd::subdiv::LevelRule<'c> {
+        use lux_usd::subdiv::LevelRule;
+        match (self.subdiv_level, self.profile.profile) {
+            (Some(n), _) => LevelRule::Fixed(n),
+            (None, lux_math::Profile::HdEmbree) => LevelRule::Fixed(0),
+            (None, lux_math::Profile::Spec) => LevelRule::Screen {
+                camera,
+                width,
+                max_level: SCREEN_LEVEL_CAP,
+            },
         }
     }
 }
@@ -293,6 +326,41 @@ pub struct Resolved {
     pub exposure_scale: f64,
 }
 
+/// The USD camera `options` render through: the one at `options.camera`, else the scene's
+/// render camera.
+fn usd_camera<'s>(
+    scene: &'s Scene,
+    options: &RenderOptions,
+) -> Result<&'s lux_usd::Camera, RenderError> {
+    match &options.camera {
+        Some(p) => scene.cameras.iter().find(|c| &c.path == p).ok_or_else(|| {
+            RenderError::NoCamera(format!("no camera at <{p}> in {}", scene.source.display()))
+        }),
+        None => scene.render_camera().ok_or_else(|| {
+            RenderError::NoCamera(format!("{} has no Camera prim", scene.source.display()))
+        }),
+    }
+}
+
+/// Refines `scene`'s subdivision surfaces as a render with `options` draws them
+/// ([`RenderOptions::level_rule`] for its camera and image width; `Scene::refine_subdivision`),
+/// in place: [`crate::render::Renderer::new`] does it on a copy of a scene that still holds
+/// cages, so a caller that owns its scene saves the copy by refining first. Returns the number
+/// of surfaces refined; the scene's warnings say what could not be refined as authored.
+pub fn refine_subdivision(
+    scene: &mut Scene,
+    options: &RenderOptions,
+) -> Result<usize, RenderError> {
+    if !scene.meshes.iter().any(|m| m.subdivision.is_some()) {
+        return Ok(0);
+    }
+    let camera = usd_camera(scene, options)?.clone();
+    let width = options
+        .resolution
+        .unwrap_or_else(|| scene.default_resolution(&camera))[0];
+    Ok(scene.refine_subdivision(&options.level_rule(&camera, width)))
+}
+
 /// Resolves `options` against `scene`: the camera (by path, else the render camera), the
 /// resolution, pixel aspect ratio and data window (product, then settings), and the crop.
 /// Invalid sample counts, resolutions, crops and cameras are errors naming the value.
@@ -328,14 +396,15 @@ pub fn resolve(scene: &Scene, options: &RenderOptions) -> Result<Resolved, Rende
             )));
         }
     }
-    let camera = match &options.camera {
-        Some(p) => scene.cameras.iter().find(|c| &c.path == p).ok_or_else(|| {
-            RenderError::NoCamera(format!("no camera at <{p}> in {}", scene.source.display()))
-        })?,
-        None => scene.render_camera().ok_or_else(|| {
-            RenderError::NoCamera(format!("{} has no Camera prim", scene.source.display()))
-        })?,
-    };
+    if let Some(l) = options.subdiv_level
+        && l > lux_usd::subdiv::MAX_LEVEL
+    {
+        return Err(RenderError::Settings(format!(
+            "subdivision level {l}: expected 0 to {}",
+            lux_usd::subdiv::MAX_LEVEL
+        )));
+    }
+    let camera = usd_camera(scene, options)?;
     let settings = scene.render_settings.first();
     let product = settings.and_then(|s| s.products.first());
     let resolution = options

@@ -32,10 +32,9 @@ pub const FRAMING_CAMERA_PATH: &str = "/__lux_default_camera";
 /// Prim path given to the camera light (not a prim of the stage).
 pub const CAMERA_LIGHT_PATH: &str = "/__lux_camera_light";
 
-/// World-space axis-aligned bounds `(min, max)` of everything drawn: world meshes, every
-/// instance's prototype bounds (the transformed corners of the prototype's box, as
-/// `UsdGeomBBoxCache` aligns transformed boxes), and the boundable lights' extents (rect,
-/// disk, sphere, cylinder). `None` for a stage with nothing drawn.
+/// World-space axis-aligned bounds `(min, max)` of everything drawn: the geometry
+/// ([`geometry_bounds`]) and the boundable lights' extents (rect, disk, sphere, cylinder).
+/// `None` for a stage with nothing drawn.
 pub fn world_bounds(scene: &Scene) -> Option<(DVec3, DVec3)> {
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
@@ -45,26 +44,9 @@ pub fn world_bounds(scene: &Scene) -> Option<(DVec3, DVec3)> {
             hi = hi.max(p);
         }
     };
-    let mut proto_bounds: Vec<Option<(DVec3, DVec3)>> = vec![None; scene.prototypes.len()];
-    for m in &scene.meshes {
-        match m.prototype {
-            None => m.positions.iter().for_each(|p| add(*p)),
-            Some(pi) => {
-                if let Some(b) = proto_bounds.get_mut(pi) {
-                    for p in m.positions.iter().filter(|p| p.is_finite()) {
-                        *b = Some(match *b {
-                            None => (*p, *p),
-                            Some((l, h)) => (l.min(*p), h.max(*p)),
-                        });
-                    }
-                }
-            }
-        }
-    }
-    for inst in &scene.instances {
-        if let Some(Some((l, h))) = proto_bounds.get(inst.prototype) {
-            corners(*l, *h).for_each(|c| add(inst.to_world.transform_point3(c)));
-        }
+    if let Some((a, b)) = geometry_bounds(scene) {
+        add(a);
+        add(b);
     }
     for l in &scene.lights {
         let local: Option<(DVec3, DVec3)> = match l.shape {
@@ -85,6 +67,46 @@ pub fn world_bounds(scene: &Scene) -> Option<(DVec3, DVec3)> {
         };
         if let Some((a, b)) = local {
             corners(a, b).for_each(|c| add(l.light_to_world.transform_point3(c)));
+        }
+    }
+    (lo.x <= hi.x).then_some((lo, hi))
+}
+
+/// World-space axis-aligned bounds `(min, max)` of the drawn geometry, as the scene holds it
+/// (after subdivision refinement when [`Scene::refine_subdivision`] ran, posed skinned
+/// meshes, curves and points): the vertices of world meshes, and for every instance the
+/// transformed corners of its prototype's box (as `UsdGeomBBoxCache` aligns transformed
+/// boxes). Lights and cameras are not geometry. `None` when nothing is drawn.
+pub fn geometry_bounds(scene: &Scene) -> Option<(DVec3, DVec3)> {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    let mut add = |p: DVec3| {
+        if p.is_finite() {
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+    };
+    let mut proto_bounds: Vec<Option<(DVec3, DVec3)>> = vec![None; scene.prototypes.len()];
+    for m in &scene.meshes {
+        // Every point, as UsdGeom's extent counts them.
+        let used = m.positions.iter().copied();
+        match m.prototype {
+            None => used.for_each(&mut add),
+            Some(pi) => {
+                if let Some(b) = proto_bounds.get_mut(pi) {
+                    for p in used.filter(|p| p.is_finite()) {
+                        *b = Some(match *b {
+                            None => (p, p),
+                            Some((l, h)) => (l.min(p), h.max(p)),
+                        });
+                    }
+                }
+            }
+        }
+    }
+    for inst in &scene.instances {
+        if let Some(Some((l, h))) = proto_bounds.get(inst.prototype) {
+            corners(*l, *h).for_each(|c| add(inst.to_world.transform_point3(c)));
         }
     }
     (lo.x <= hi.x).then_some((lo, hi))

@@ -729,35 +729,31 @@ def Camera "Cam" {
     assert_eq!(s.meshes.len(), 1, "one prototype mesh");
     assert_eq!(s.instances.len(), 2);
     let camera = s.cameras[0].clone();
-    // Mean cage edge 2 at distance 9 (the near box's face): 50 / 20.955 · 960 / 9 px a unit,
-    // 2 · that / 4 = 127.3 px over the target: level ⌈log₂ 127.3⌉ = 7; far: 2 · 50/20.955 ·
-    // 960/999 / 4 = 1.15: level 1.
-    let near = lux_usd::subdiv::screen_level(
-        s.meshes[0].subdivision.as_ref().unwrap(),
-        &s.instances
-            .iter()
-            .find(|i| i.path == "/Near")
-            .unwrap()
-            .to_world,
-        &camera,
-        960,
-        10,
-    );
-    let far = lux_usd::subdiv::screen_level(
-        s.meshes[0].subdivision.as_ref().unwrap(),
-        &s.instances
-            .iter()
-            .find(|i| i.path == "/Far")
-            .unwrap()
-            .to_world,
-        &camera,
-        960,
-        10,
-    );
-    let px = |d: f64| 2.0 * 50.0 / 20.955 * 960.0 / d / lux_usd::subdiv::TARGET_EDGE_PIXELS;
-    assert_eq!(near, px(9.0).log2().ceil() as u32);
-    assert_eq!(near, 7);
-    assert_eq!(far, px(999.0).log2().ceil().max(1.0) as u32);
+    // The screen rule's closed form: the near cube's +z face (edges 2 long, turning π/2 to
+    // its neighbours) is 9 from the eye: 2 · (50 / 20.955 · 960) / 9 = 509 pixels, a
+    // sagitta ratio 509 · (π/2) / (8 · 0.25) = 399.8: level ⌈log₄ 399.8⌉ = 5. The far one,
+    // 999 away: ratio 3.6, level 1.
+    let level = |path: &str| {
+        lux_usd::subdiv::screen_level(
+            s.meshes[0].subdivision.as_ref().unwrap(),
+            &s.instances
+                .iter()
+                .find(|i| i.path == path)
+                .unwrap()
+                .to_world,
+            &camera,
+            960,
+            10,
+        )
+    };
+    let ratio = |d: f64| {
+        2.0 * 50.0 / 20.955 * 960.0 / d * std::f64::consts::FRAC_PI_2
+            / (8.0 * lux_usd::subdiv::TARGET_SAGITTA_PIXELS)
+    };
+    assert_eq!(level("/Near"), (ratio(9.0).log2() / 2.0).ceil() as u32);
+    assert_eq!(level("/Near"), 5);
+    assert_eq!(level("/Far"), 1);
+    assert!(ratio(999.0) > 1.0 && ratio(999.0) < 4.0);
     let refined = s.refine_subdivision(&LevelRule::Screen {
         camera: &camera,
         width: 960,
@@ -770,4 +766,31 @@ def Camera "Cam" {
         6 * 2 * 4usize.pow(5),
         "capped at 5"
     );
+}
+
+/// The screen rule refines where the surface bends: a flat sheet and a cube whose edges are
+/// all infinitely sharp (its limit is the cage) stay at level 1 however close the camera is;
+/// the smooth cube seen from its centre refines.
+#[test]
+fn screen_rule_follows_the_bend_not_the_size() {
+    let camera = lux_usd::Camera::with_defaults("/Cam", glam::DMat4::IDENTITY);
+    let level = |text: &str| {
+        let s = load(text);
+        lux_usd::subdiv::screen_level(
+            s.meshes[0].subdivision.as_ref().unwrap(),
+            &glam::DMat4::IDENTITY,
+            &camera,
+            1920,
+            10,
+        )
+    };
+    assert_eq!(level(&grid(3, "")), 1);
+    let sharp = format!(
+        "{CUBE_EDGES}\n float[] creaseSharpnesses = [{}]",
+        ["10"; 12].join(", ")
+    );
+    assert_eq!(level(&cube(&sharp)), 1);
+    // From the centre, every face is 1 away: 2 · (50 / 20.955 · 1920) / 1 · (π/2) / 2 =
+    // 7197 → level ⌈log₄ 7197⌉ = 7.
+    assert_eq!(level(&cube("")), 7);
 }

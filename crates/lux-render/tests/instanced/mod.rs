@@ -77,6 +77,7 @@ def Material "{name}"
 def Mesh "Uses{name}" (prepend apiSchemas = ["MaterialBindingAPI"])
 {{
     rel material:binding = </{name}>
+    uniform token subdivisionScheme = "none"
     int[] faceVertexCounts = [3]
     int[] faceVertexIndices = [0, 1, 2]
     point3f[] points = [(0, 0, 0), (1, 0, 0), (0, 1, 0)]

@@ -3,7 +3,7 @@
 //! polygons. The loader keeps such a mesh's control cage ([`Cage`]: points, faces and the
 //! subdivision tags, the primvars the renderer reads in their authored form) beside the cage's
 //! triangulation; [`refine`] turns the cage into triangles whose vertices lie on the limit
-//! surface, with normals from the limit surface's tangents, and [`level`] says at which level a
+//! surface, with normals from the limit surface's tangents, and [`LevelRule`] says at which level a
 //! renderer refines (a fixed level, or the mesh's size on screen).
 //!
 //! The subdivision rules are OpenSubdiv's, through `opensubdiv-rs` (a pure-Rust port of
@@ -28,7 +28,7 @@ mod level;
 mod read;
 mod refine;
 
-pub use level::{LevelRule, MAX_LEVEL, TARGET_EDGE_PIXELS, screen_level};
+pub use level::{LevelRule, MAX_LEVEL, TARGET_SAGITTA_PIXELS, screen_level};
 pub(crate) use read::read_cage;
 pub use refine::{MAX_REFINED_TRIANGLES, Refined, refine};
 
@@ -266,24 +266,5 @@ impl Cage {
                 (_, n) => 2 * n as u64 * (quads_per_quad / 4),
             })
             .fold(0u64, u64::saturating_add)
-    }
-
-    /// The mean length of the cage's face edges (each edge counted once per face using it).
-    pub fn mean_edge(&self) -> f64 {
-        let (mut sum, mut count) = (0.0, 0usize);
-        let mut start = 0usize;
-        for &n in &self.face_sizes {
-            let f = &self.face_vertices[start..start + n as usize];
-            for k in 0..f.len() {
-                let (a, b) = (f[k] as usize, f[(k + 1) % f.len()] as usize);
-                let d = self.points[a].distance(self.points[b]);
-                if d.is_finite() {
-                    sum += d;
-                    count += 1;
-                }
-            }
-            start += n as usize;
-        }
-        if count == 0 { 0.0 } else { sum / count as f64 }
     }
 }

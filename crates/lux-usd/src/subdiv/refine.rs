@@ -113,6 +113,9 @@ struct Out {
     /// Limit normal per vertex (zero where the tangents are degenerate).
     normals: Vec<DVec3>,
     triangles: Vec<[u32; 3]>,
+    /// Whether the cage has colours and texture coordinates to refine.
+    with_colors: bool,
+    with_uvs: bool,
     colors: Vec<[DVec4; 3]>,
     uvs: Vec<[DVec4; 3]>,
 }
@@ -309,7 +312,16 @@ impl<'a> Refiner<'a> {
 
     fn tessellate(self) -> Refined {
         let map = PatchMap::new(&self.table);
-        let mut out = Out::default();
+        let triangles = self.cage.refined_triangles(self.n.trailing_zeros()) as usize;
+        let mut out = Out {
+            with_colors: self.colors.is_some(),
+            with_uvs: self.uvs.is_some(),
+            ..Out::default()
+        };
+        out.triangles.reserve(triangles);
+        // A closed quad mesh has about half as many vertices as triangles.
+        out.positions.reserve(triangles / 2 + 16);
+        out.normals.reserve(triangles / 2 + 16);
         let mut shared: HashMap<Key, u32> = HashMap::new();
         let quads = self.cage.scheme != Scheme::Loop;
         let ptex = self.table.ptex_indices();
@@ -598,6 +610,7 @@ impl<'a> Refiner<'a> {
             triangles,
             colors,
             uvs,
+            ..
         } = out;
         if normals.contains(&DVec3::ZERO) {
             let mut sum = vec![DVec3::ZERO; positions.len()];
@@ -699,6 +712,10 @@ fn quad_cells(grid: &[GridPoint], n: u32, out: &mut Out) {
 
 fn push_triangle(g: [GridPoint; 3], out: &mut Out) {
     out.triangles.push(g.map(|p| p.vertex));
-    out.colors.push(g.map(|p| p.color));
-    out.uvs.push(g.map(|p| p.uv));
+    if out.with_colors {
+        out.colors.push(g.map(|p| p.color));
+    }
+    if out.with_uvs {
+        out.uvs.push(g.map(|p| p.uv));
+    }
 }
