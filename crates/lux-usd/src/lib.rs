@@ -31,6 +31,7 @@ pub mod mesh;
 pub mod path_guard;
 pub mod reader;
 mod resolver;
+pub mod skel;
 pub mod spectral;
 pub mod subdiv;
 pub mod tessellate;
@@ -93,7 +94,8 @@ pub struct DrawnCounts {
     /// Meshes refined as subdivision surfaces (`subdivisionScheme` `catmullClark`, `loop` or
     /// `bilinear`) at a level above 0.
     pub refined_meshes: usize,
-    /// Skinned meshes posed by their skeleton (UsdSkel) at the frame.
+    /// Skinned gprims (meshes, and implicit surfaces bound rigidly) posed by their skeleton or
+    /// blend shapes (UsdSkel) at the frame ([`skel`]).
     pub posed_meshes: usize,
     /// `BasisCurves` and `NurbsCurves` prims drawn.
     pub curves: usize,

@@ -54,6 +54,9 @@ pub struct Inherited {
     /// prototypes authored under an `over` — the usual way to hide them from traversal — are
     /// instanced, as UsdImaging does.
     pub defined_from_root: bool,
+    /// Whether a `SkelRoot` is at or above this prim: gprims below one may be posed by UsdSkel
+    /// ([`crate::skel`]).
+    pub skel_scope: bool,
 }
 
 impl Inherited {
@@ -67,6 +70,7 @@ impl Inherited {
             binding: None,
             target: Target::World,
             defined_from_root: false,
+            skel_scope: false,
         }
     }
 }
@@ -82,7 +86,8 @@ pub struct Walk<'s> {
     pub problems: Vec<ArcProblem>,
     /// Prototypes walked so far, and where they are.
     pub protos: ProtoWalk,
-    /// Skinned meshes (drawn in their bind pose), for one warning.
+    /// Gprims with `SkelBindingAPI` outside any `SkelRoot` (UsdSkel does not pose them), for
+    /// one warning.
     skinned: Vec<String>,
 }
 
@@ -120,7 +125,8 @@ impl<'s> Walk<'s> {
                 prim: self.skinned[0].clone(),
                 kind: WarningKind::Unsupported,
                 message: format!(
-                    "{} skinned mesh(es) (UsdSkel) are drawn in their bind pose, not posed",
+                    "{} gprim(s) with SkelBindingAPI outside any SkelRoot are drawn as authored \
+                     (UsdSkel poses only gprims under a SkelRoot)",
                     self.skinned.len()
                 ),
             });
@@ -243,6 +249,7 @@ impl<'s> Walk<'s> {
             binding,
             target: parent.target,
             defined_from_root: parent.defined_from_root,
+            skel_scope: parent.skel_scope || type_name == "SkelRoot",
         };
         let drawn = here.visible && matches!(here.purpose.as_str(), "default" | "render");
         if drawn {
@@ -363,7 +370,7 @@ impl<'s> Walk<'s> {
                 counts.implicit += 1;
             }
         }
-        let topo = if gprim == Gprim::Mesh {
+        let mut topo = if gprim == Gprim::Mesh {
             match mesh_topology(&mut self.r, prim)? {
                 Some(t) => t,
                 None => return Ok(()),
@@ -371,12 +378,29 @@ impl<'s> Walk<'s> {
         } else {
             self.implicit(prim, type_name)?
         };
-        if api.iter().any(|a| a == "SkelBindingAPI")
-            || !self.r.targets(prim, "skel:skeleton")?.is_empty()
-        {
-            self.skinned.push(prim.path().to_string());
-        }
-        let (positions, triangles, mirror) = to_world(&topo, &here.world);
+        // UsdSkel: a skinned gprim's points are posed (in its skeleton's space, `pose.to_target`).
+        let pose = if here.skel_scope {
+            let root = match here.target {
+                Target::World => None,
+                Target::Proto(pd) => Some(self.protos.data[pd].path.clone()),
+            };
+            crate::skel::pose(
+                &mut self.r,
+                prim,
+                gprim,
+                &mut topo,
+                &here.world,
+                root.as_deref(),
+            )?
+        } else {
+            if api.iter().any(|a| a == "SkelBindingAPI") {
+                self.skinned.push(prim.path().to_string());
+            }
+            None
+        };
+        self.scene.drawn.posed_meshes += usize::from(pose.is_some());
+        let world = pose.as_ref().map_or(here.world, |p| p.to_target);
+        let (positions, triangles, mirror) = to_world(&topo, &world);
         let mut normals = None;
         if gprim == Gprim::Mesh {
             for (name, default_interp) in [("primvars:normals", "constant"), ("normals", "vertex")]
@@ -390,7 +414,13 @@ impl<'s> Walk<'s> {
                     },
                 )? {
                     normals = expand_primvar(&mut self.r, prim, name, n, default_interp, &topo)?
-                        .map(|c| normals_to_world(c, &here.world, mirror));
+                        .map(|c| match &pose {
+                            Some(p) => {
+                                p.skin_normals(&mut self.r, prim, name, default_interp, c, &topo)
+                            }
+                            None => c,
+                        })
+                        .map(|c| normals_to_world(c, &world, mirror));
                     break;
                 }
             }
@@ -398,7 +428,7 @@ impl<'s> Walk<'s> {
             // Implicit gprims are smooth surfaces: shade them with crease-angle normals.
             normals = Some(normals_to_world(
                 tessellate::crease_normals(&topo, 60.0),
-                &here.world,
+                &world,
                 mirror,
             ));
         }
@@ -457,7 +487,7 @@ impl<'s> Walk<'s> {
                 prim,
                 type_name,
                 LightKind::Mesh,
-                here.world,
+                world,
                 api,
                 Some(tris),
             )?);
