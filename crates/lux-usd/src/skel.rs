@@ -22,6 +22,8 @@
 //!   transform, after blend shapes (`p + Σ wₛ · offsetₛ`), in the skeleton's space. The weights
 //!   are used as authored (UsdSkel does not normalise them when skinning; a set that does not
 //!   sum to 1 is reported). `constant` influences pose rigidly (`UsdSkelSkinTransformLBS`).
+//!   `primvars:skel:skinningMethod = "dualQuaternion"` blends the joints' dual quaternions
+//!   instead (`UsdSkelSkinPointsDQS`, [`skin_point_dqs`]).
 //! - **Where it goes**: skinned points are in skeleton space, so the posed gprim is drawn with
 //!   the *skeleton's* local-to-world transform; the gprim's own transform no longer applies
 //!   (`UsdSkelBakeSkinning` writes `skelPoint × skelLocalToWorld × inverse(gprimLocalToWorld)`
@@ -169,6 +171,189 @@ pub fn rigid_transform_lbs(
         (out[2] - t).extend(0.0),
         t.extend(1.0),
     ))
+}
+
+/// The rotation and stretch of a 3×3 linear map, `m = rotation · stretch` (the polar
+/// decomposition `GfMatrix4d::Factor` computes: the stretch symmetric, negated with the
+/// rotation when `m` mirrors, so that the rotation is proper). `None` for a singular map.
+pub fn polar_rotation(m: &DMat3) -> Option<(DMat3, DMat3)> {
+    let det = m.determinant();
+    if !det.is_finite() || det.abs() < 1e-10 {
+        return None;
+    }
+    // Newton's iteration X ← (X + X⁻ᵀ)/2 converges to the orthogonal polar factor.
+    let mut x = *m;
+    for _ in 0..64 {
+        let next = (x + x.inverse().transpose()) * 0.5;
+        let done = (next - x).to_cols_array().iter().all(|d| d.abs() < 1e-15);
+        x = next;
+        if done {
+            break;
+        }
+    }
+    if det < 0.0 {
+        x = -x;
+    }
+    Some((x, x.transpose() * *m))
+}
+
+/// A joint's skinning transform as dual-quaternion skinning uses it (UsdSkel's
+/// `_ConvertToDualQuaternions`): the rotation `real` and translation (`dual = ½ (t, 0) · real`)
+/// of the transform, and the stretch applied before them by linear blending.
+#[derive(Clone, Copy, Debug)]
+pub struct JointDq {
+    /// The rotation quaternion (zero for a singular transform).
+    pub real: DQuat,
+    /// The dual part carrying the translation.
+    pub dual: DQuat,
+    /// The stretch (`rotationᵀ · M₃`; identity for a singular transform).
+    pub stretch: DMat3,
+}
+
+impl JointDq {
+    /// The dual quaternion of the affine transform `m` (see [`polar_rotation`]).
+    pub fn new(m: &DMat4) -> JointDq {
+        match polar_rotation(&DMat3::from_mat4(*m)) {
+            Some((rot, stretch)) => {
+                let real = DQuat::from_mat3(&rot);
+                let t = m.w_axis.truncate();
+                let dual = DQuat::from_xyzw(t.x, t.y, t.z, 0.0) * real * 0.5;
+                JointDq {
+                    real,
+                    dual,
+                    stretch,
+                }
+            }
+            None => JointDq {
+                real: DQuat::from_xyzw(0.0, 0.0, 0.0, 0.0),
+                dual: DQuat::from_xyzw(0.0, 0.0, 0.0, 0.0),
+                stretch: DMat3::IDENTITY,
+            },
+        }
+    }
+}
+
+/// Whether any joint stretches (its stretch differs from the identity by more than 1e-6 in any
+/// element): UsdSkel then blends the stretches linearly before the dual quaternions.
+pub fn joints_stretch(joints: &[JointDq]) -> bool {
+    joints.iter().any(|j| {
+        (j.stretch - DMat3::IDENTITY)
+            .to_cols_array()
+            .iter()
+            .any(|d| d.abs() > 1e-6)
+    })
+}
+
+/// The blended, normalised dual quaternion of one point's influences and its blended stretch
+/// (`UsdSkelSkinPointsDQS`): each joint's weight is negated when its rotation lies in the other
+/// hemisphere from the heaviest influence's. `None` for an index out of range.
+fn blend_dq(
+    joints: &[JointDq],
+    influences: &[(i64, f64)],
+    stretch: bool,
+) -> Option<(DQuat, DQuat, DMat3)> {
+    let mut pivot: Option<(usize, f64)> = None;
+    for &(j, w) in influences {
+        if let Ok(j) = usize::try_from(j)
+            && j < joints.len()
+            && pivot.is_none_or(|(_, m)| m < w)
+        {
+            pivot = Some((j, w));
+        }
+    }
+    let pivot_q = pivot.map_or(DQuat::from_xyzw(0.0, 0.0, 0.0, 0.0), |(j, _)| {
+        joints[j].real
+    });
+    let zero = DQuat::from_xyzw(0.0, 0.0, 0.0, 0.0);
+    let (mut real, mut dual, mut s) = (zero, zero, DMat3::ZERO);
+    for &(j, w) in influences {
+        let joint = joints.get(usize::try_from(j).ok()?)?;
+        if w == 0.0 {
+            continue;
+        }
+        if stretch {
+            s += joint.stretch * w;
+        }
+        let w = if joint.real.dot(pivot_q) < 0.0 { -w } else { w };
+        real += joint.real * w;
+        dual += joint.dual * w;
+    }
+    // GfDualQuatd::Normalize: unit real part, dual part made orthogonal to it.
+    let len = real.length();
+    if len < 1e-10 {
+        real = DQuat::IDENTITY;
+        dual = zero;
+    } else {
+        real *= 1.0 / len;
+        dual *= 1.0 / len;
+        dual = dual - real * real.dot(dual);
+    }
+    Some((real, dual, if stretch { s } else { DMat3::IDENTITY }))
+}
+
+fn dq_transform(real: DQuat, dual: DQuat, p: DVec3) -> DVec3 {
+    let t = dual * real.conjugate() * 2.0;
+    real.mul_vec3(p) + DVec3::new(t.x, t.y, t.z)
+}
+
+/// Dual-quaternion skinning of one point (`UsdSkelSkinPointsDQS`): `G · p` stretched by the
+/// blended joint stretches (when any joint stretches), then rotated and translated by the
+/// normalised blend of the joints' dual quaternions. `None` for an index out of range.
+pub fn skin_point_dqs(
+    p: DVec3,
+    geom_bind: &DMat4,
+    joints: &[JointDq],
+    stretch: bool,
+    influences: &[(i64, f64)],
+) -> Option<DVec3> {
+    let bound = geom_bind.transform_point3(p);
+    let (real, dual, s) = blend_dq(joints, influences, stretch)?;
+    Some(dq_transform(real, dual, s * bound))
+}
+
+/// The rigid transform of `constant` influences under dual-quaternion skinning
+/// (`UsdSkelSkinTransformDQS`): as [`rigid_transform_lbs`], the frame of `G` skinned point by
+/// point with [`skin_point_dqs`]'s blend.
+pub fn rigid_transform_dqs(
+    geom_bind: &DMat4,
+    skinning: &[DMat4],
+    joints: &[JointDq],
+    stretch: bool,
+    influences: &[(i64, f64)],
+) -> Option<DMat4> {
+    if let [(j, w)] = influences
+        && (w - 1.0).abs() <= EPS
+    {
+        return Some(*skinning.get(usize::try_from(*j).ok()?)? * *geom_bind);
+    }
+    let (real, dual, s) = blend_dq(joints, influences, stretch)?;
+    let pivot = geom_bind.w_axis.truncate();
+    let f = |p: DVec3| dq_transform(real, dual, s * p);
+    let t = f(pivot);
+    Some(DMat4::from_cols(
+        (f(pivot + geom_bind.x_axis.truncate()) - t).extend(0.0),
+        (f(pivot + geom_bind.y_axis.truncate()) - t).extend(0.0),
+        (f(pivot + geom_bind.z_axis.truncate()) - t).extend(0.0),
+        t.extend(1.0),
+    ))
+}
+
+/// The normal transform of one point under dual-quaternion skinning
+/// (`UsdSkelSkinNormalsDQS`): the joints' normal matrices `S₃⁻ᵀ` split into rotation and
+/// stretch ([`polar_rotation`]), the stretches blended linearly (when any stretches), the
+/// rotations blended as quaternions (hemisphere-aligned to the heaviest influence) and
+/// normalised, after `G₃⁻ᵀ`. `None` for an index out of range.
+///
+/// `normal_joints[j]` is `JointDq::new` of joint `j`'s `S₃⁻ᵀ`, `stretch` whether any of them
+/// stretches ([`joints_stretch`]).
+pub fn normal_matrix_dqs(
+    geom_inv_t: &DMat3,
+    normal_joints: &[JointDq],
+    stretch: bool,
+    influences: &[(i64, f64)],
+) -> Option<DMat3> {
+    let (real, _, s) = blend_dq(normal_joints, influences, stretch)?;
+    Some(DMat3::from_quat(real) * s * *geom_inv_t)
 }
 
 /// Which shape a blend-shape sub-shape is: the rest (weight 0), the primary `offsets` (weight
@@ -547,7 +732,11 @@ fn flattened<T: Copy>(
     else {
         return Ok(Some(values));
     };
-    let mut out = Vec::with_capacity(ix.len() * element_size);
+    let mut out = Vec::with_capacity(
+        ix.len()
+            .saturating_mul(element_size)
+            .min(r.limits.max_array_len),
+    );
     for i in ix {
         let start = usize::try_from(i).ok().map(|i| i * element_size);
         match start.and_then(|s| values.get(s..s + element_size)) {
@@ -575,9 +764,10 @@ fn influences(r: &mut Reader<'_>, b: &Binding) -> Result<Result<Influences, Stri
         return Ok(Err(format!("{ji} must be int[] and {jw} float[]")));
     };
     let (ies, wes) = (element_size(r, ip, ji), element_size(r, wp, jw));
-    if ies != wes || ies <= 0 {
+    if ies != wes || ies <= 0 || ies as u64 > r.limits.max_array_len as u64 {
         return Ok(Err(format!(
-            "{ji} elementSize {ies} and {jw} elementSize {wes} must be equal and positive"
+            "{ji} elementSize {ies} and {jw} elementSize {wes} must be equal, positive and \
+             within the array limit"
         )));
     }
     let interp = |r: &Reader<'_>, p: &str, n: &str| {
@@ -1045,14 +1235,11 @@ pub(crate) fn pose(
             );
         }
         let method = b.skinning_method.as_deref().unwrap_or("classicLinear");
-        if method != "classicLinear" {
-            r.warn(
-                prim,
-                WarningKind::Unsupported,
-                format!(
-                    "primvars:skel:skinningMethod {method:?} is not implemented; posed with \
-                     classicLinear blend skinning instead"
-                ),
+        let dq = method == "dualQuaternion";
+        if !dq && method != "classicLinear" {
+            return fail(
+                r,
+                format!("primvars:skel:skinningMethod {method:?} is not a UsdSkel skinning method"),
             );
         }
         let skinning = match skinning_transforms(r, &skel, anim.as_ref(), b.joints.as_deref())? {
@@ -1076,8 +1263,19 @@ pub(crate) fn pose(
                 skinning.len()
             )
         };
+        let joints: Vec<JointDq> = if dq {
+            skinning.iter().map(JointDq::new).collect()
+        } else {
+            Vec::new()
+        };
+        let stretch = joints_stretch(&joints);
         if rigid {
-            match rigid_transform_lbs(&geom_bind, &skinning, &inf) {
+            let m = if dq {
+                rigid_transform_dqs(&geom_bind, &skinning, &joints, stretch, &inf)
+            } else {
+                rigid_transform_lbs(&geom_bind, &skinning, &inf)
+            };
+            match m {
                 Some(m) => to_target = skel_to_target * m,
                 None => {
                     let why = out_of_range();
@@ -1087,7 +1285,12 @@ pub(crate) fn pose(
         } else {
             let mut posed = Vec::with_capacity(points.len());
             for (p, i) in points.iter().zip(inf.chunks(es)) {
-                match skin_point_lbs(*p, &geom_bind, &skinning, i) {
+                let q = if dq {
+                    skin_point_dqs(*p, &geom_bind, &joints, stretch, i)
+                } else {
+                    skin_point_lbs(*p, &geom_bind, &skinning, i)
+                };
+                match q {
                     Some(q) => posed.push(q),
                     None => {
                         let why = out_of_range();
@@ -1102,9 +1305,25 @@ pub(crate) fn pose(
                 .iter()
                 .map(|s| DMat3::from_mat4(*s).inverse().transpose())
                 .collect();
+            let normal_joints: Vec<JointDq> = if dq {
+                inv_t
+                    .iter()
+                    .map(|m| JointDq::new(&DMat4::from_mat3(*m)))
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            let normal_stretch = joints_stretch(&normal_joints);
             normal_matrices = Some(
                 inf.chunks(es)
-                    .map(|i| normal_matrix_lbs(&geom_inv_t, &inv_t, i).unwrap_or(DMat3::IDENTITY))
+                    .map(|i| {
+                        if dq {
+                            normal_matrix_dqs(&geom_inv_t, &normal_joints, normal_stretch, i)
+                        } else {
+                            normal_matrix_lbs(&geom_inv_t, &inv_t, i)
+                        }
+                        .unwrap_or(DMat3::IDENTITY)
+                    })
                     .collect(),
             );
         }
@@ -1115,4 +1334,159 @@ pub(crate) fn pose(
         normal_matrices,
         normal_offsets,
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::FRAC_1_SQRT_2;
+
+    fn close(a: DVec3, b: DVec3) -> bool {
+        (a - b).length() < 1e-12
+    }
+
+    #[test]
+    fn a_joint_turned_90_degrees_about_z_moves_x_to_y() {
+        let s = [DMat4::from_rotation_z(std::f64::consts::FRAC_PI_2)];
+        let p = skin_point_lbs(DVec3::X, &DMat4::IDENTITY, &s, &[(0, 1.0)]).unwrap();
+        assert!(close(p, DVec3::Y), "{p}");
+        // The same through the skeleton: bind at the origin, animated local rotation.
+        let local = joint_local_transform(
+            DVec3::ZERO,
+            DQuat::from_xyzw(0.0, 0.0, FRAC_1_SQRT_2, FRAC_1_SQRT_2),
+            DVec3::ONE,
+        );
+        let skel = concat_joint_transforms(&[None], &[local]).unwrap();
+        let q = skin_point_lbs(DVec3::X, &DMat4::IDENTITY, &skel, &[(0, 1.0)]).unwrap();
+        assert!(close(q, DVec3::Y), "{q}");
+    }
+
+    #[test]
+    fn rigid_constant_skinning_is_one_transform() {
+        let s = [
+            DMat4::from_translation(DVec3::new(2.0, 0.0, 0.0)),
+            DMat4::from_translation(DVec3::new(0.0, 4.0, 0.0)),
+        ];
+        let g = DMat4::from_scale(DVec3::splat(3.0));
+        // One influence of weight 1: S · G.
+        let one = rigid_transform_lbs(&g, &s, &[(1, 1.0)]).unwrap();
+        assert_eq!(one, s[1] * g);
+        // Half and half: the frame of G blended, an affine map.
+        let half = rigid_transform_lbs(&g, &s, &[(0, 0.5), (1, 0.5)]).unwrap();
+        assert!(close(
+            half.transform_point3(DVec3::X),
+            DVec3::new(4.0, 2.0, 0.0)
+        ));
+        assert_eq!(half.row(3), glam::DVec4::W);
+    }
+
+    /// UsdSkel skins with the weights as authored (`UsdSkelSkinPointsLBS` does not normalise
+    /// them; `UsdSkelNormalizeWeights` is an authoring utility): weights summing to 2 double
+    /// the point, as usd-core's BakeSkinning does (the `Unnormalised` prim of skel_cases.usda).
+    #[test]
+    fn weights_are_applied_as_authored_not_normalised() {
+        let s = [DMat4::IDENTITY, DMat4::IDENTITY];
+        let p = DVec3::new(1.0, 2.0, 3.0);
+        let doubled = skin_point_lbs(p, &DMat4::IDENTITY, &s, &[(0, 1.0), (1, 1.0)]).unwrap();
+        assert!(close(doubled, p * 2.0));
+        let zero = skin_point_lbs(p, &DMat4::IDENTITY, &s, &[(0, 0.0), (1, 0.0)]).unwrap();
+        assert!(close(zero, DVec3::ZERO));
+    }
+
+    #[test]
+    fn an_out_of_range_joint_index_is_refused() {
+        let s = [DMat4::IDENTITY];
+        assert!(skin_point_lbs(DVec3::X, &DMat4::IDENTITY, &s, &[(1, 1.0)]).is_none());
+        assert!(skin_point_lbs(DVec3::X, &DMat4::IDENTITY, &s, &[(-1, 1.0)]).is_none());
+        assert!(rigid_transform_lbs(&DMat4::IDENTITY, &s, &[(3, 1.0)]).is_none());
+    }
+
+    #[test]
+    fn joint_parents_are_the_nearest_listed_ancestors() {
+        let j = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        assert_eq!(
+            joint_parents(&j(&["a", "a/b", "a/b/c", "x/y"])),
+            [None, Some(0), Some(1), None]
+        );
+        assert_eq!(joint_parents(&j(&["a", "a/b/c"])), [None, Some(0)]);
+        // A child listed before its parent cannot be concatenated.
+        let parents = joint_parents(&j(&["a/b", "a"]));
+        assert_eq!(
+            concat_joint_transforms(&parents, &[DMat4::IDENTITY; 2]),
+            Err(0)
+        );
+    }
+
+    #[test]
+    fn inbetweens_split_the_weight_between_their_neighbours() {
+        use SubShape::*;
+        // No inbetween: the primary shape at the weight, extrapolated beyond [0, 1].
+        assert_eq!(sub_shape_weights(2.0, &[]), [(Primary, 2.0)]);
+        // An inbetween at 0.5: below it, the rest and the inbetween; above, it and the primary.
+        assert_eq!(sub_shape_weights(0.25, &[0.5]), [(Inbetween(0), 0.5)]);
+        assert_eq!(
+            sub_shape_weights(0.75, &[0.5]),
+            [(Inbetween(0), 0.5), (Primary, 0.5)]
+        );
+        assert_eq!(sub_shape_weights(0.5, &[0.5]), [(Inbetween(0), 1.0)]);
+        // Beyond the primary: extrapolated from the last pair.
+        assert_eq!(
+            sub_shape_weights(1.5, &[0.5]),
+            [(Inbetween(0), -1.0), (Primary, 2.0)]
+        );
+        // A negative inbetween, and one at 1 (invalid, dropped as UsdSkel drops it).
+        assert_eq!(
+            sub_shape_weights(-0.25, &[-0.5, 1.0]),
+            [(Inbetween(0), 0.5)]
+        );
+    }
+
+    #[test]
+    fn normals_follow_the_inverse_transpose() {
+        // A joint stretching y by 2: a 45° normal in xy turns towards x.
+        let s = [DMat4::from_scale(DVec3::new(1.0, 2.0, 1.0))];
+        let inv_t = [DMat3::from_mat4(s[0]).inverse().transpose()];
+        let m = normal_matrix_lbs(&DMat3::IDENTITY, &inv_t, &[(0, 1.0)]).unwrap();
+        let n = (m * DVec3::new(1.0, 1.0, 0.0)).normalize();
+        assert!(close(n, DVec3::new(1.0, 0.5, 0.0).normalize()), "{n}");
+    }
+
+    #[test]
+    fn dual_quaternions_blend_rotations_rigidly() {
+        // Half identity, half a quarter turn about z: a 45° turn, where linear blending
+        // shrinks the point towards the axis.
+        let s = [
+            DMat4::IDENTITY,
+            DMat4::from_rotation_z(std::f64::consts::FRAC_PI_2),
+        ];
+        let joints: Vec<JointDq> = s.iter().map(JointDq::new).collect();
+        assert!(!joints_stretch(&joints));
+        let inf = [(0, 0.5), (1, 0.5)];
+        let dq = skin_point_dqs(DVec3::X, &DMat4::IDENTITY, &joints, false, &inf).unwrap();
+        assert!(
+            close(dq, DVec3::new(FRAC_1_SQRT_2, FRAC_1_SQRT_2, 0.0)),
+            "{dq}"
+        );
+        let lbs = skin_point_lbs(DVec3::X, &DMat4::IDENTITY, &s, &inf).unwrap();
+        assert!(close(lbs, DVec3::new(0.5, 0.5, 0.0)), "{lbs}");
+        // A translated joint keeps its translation.
+        let t = JointDq::new(&DMat4::from_translation(DVec3::new(1.0, 2.0, 3.0)));
+        let p = skin_point_dqs(DVec3::X, &DMat4::IDENTITY, &[t], false, &[(0, 1.0)]).unwrap();
+        assert!(close(p, DVec3::new(2.0, 2.0, 3.0)), "{p}");
+    }
+
+    #[test]
+    fn polar_rotation_splits_a_stretched_turn() {
+        let r = DMat3::from_rotation_z(0.3);
+        let m = r * DMat3::from_diagonal(DVec3::new(2.0, 1.0, 0.5));
+        let (rot, stretch) = polar_rotation(&m).unwrap();
+        assert!((rot - r).to_cols_array().iter().all(|d| d.abs() < 1e-12));
+        assert!(
+            (rot * stretch - m)
+                .to_cols_array()
+                .iter()
+                .all(|d| d.abs() < 1e-12)
+        );
+        assert!(polar_rotation(&DMat3::ZERO).is_none());
+    }
 }
