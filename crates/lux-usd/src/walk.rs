@@ -467,7 +467,7 @@ impl<'s> Walk<'s> {
         // A subdivision surface keeps its control cage for refinement (`subdiv`); `triangles`
         // holds the cage's polygons meanwhile.
         let subdivision = if gprim == Gprim::Mesh {
-            crate::subdiv::read_cage(&mut self.r, prim, &topo, &here.world, st.as_deref())?
+            crate::subdiv::read_cage(&mut self.r, prim, &topo, &world, st.as_deref())?
                 .map(std::sync::Arc::new)
         } else {
             None
