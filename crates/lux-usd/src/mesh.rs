@@ -93,10 +93,18 @@ pub enum Gprim {
     Capsule,
     /// `Plane`, tessellated.
     Plane,
+    /// `BasisCurves`, swept into tubes or ribbons ([`crate::curves`]).
+    BasisCurves,
+    /// `NurbsCurves`, swept into tubes or ribbons ([`crate::curves`]).
+    NurbsCurves,
+    /// `Points`, one sphere per point ([`crate::points`]).
+    Points,
 }
 
 impl Gprim {
-    /// The gprim of a prim type name, `None` for anything else.
+    /// The gprim of a prim type name for the gprims drawn through `Mesh` topology or implicit
+    /// tessellation; `None` for anything else — curves and points included, which the walk
+    /// tessellates on their own path ([`crate::curves`], [`crate::points`]).
     pub fn of_type(type_name: &str) -> Option<Gprim> {
         Some(match type_name {
             "Mesh" => Gprim::Mesh,

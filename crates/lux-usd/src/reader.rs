@@ -372,6 +372,16 @@ impl<'s> Reader<'s> {
         self.array(prim, name, "a 3-vector array", value::as_vec3_array)
     }
 
+    /// A numeric array (`float[]`, `double[]`, `half[]`, `int[]`) as `f64`s (widths, knots,
+    /// weights).
+    pub fn f64_array(
+        &self,
+        prim: &Prim,
+        name: &'static str,
+    ) -> Result<Option<Vec<f64>>, LoadError> {
+        self.array(prim, name, "a number array", value::as_f64_array)
+    }
+
     /// A 2-vector array (texture coordinates).
     pub fn vec2_array(
         &self,
@@ -431,15 +441,6 @@ impl<'s> Reader<'s> {
         name: &'static str,
     ) -> Result<Option<Vec<i64>>, LoadError> {
         self.array(prim, name, "an int array", value::as_int_array)
-    }
-
-    /// A floating-point array (`float[]`, `double[]`, `half[]`).
-    pub fn f64_array(
-        &self,
-        prim: &Prim,
-        name: &'static str,
-    ) -> Result<Option<Vec<f64>>, LoadError> {
-        self.array(prim, name, "a floating-point array", value::as_f64_array)
     }
 
     /// A string metadata field of an attribute (e.g. a primvar's `interpolation`).
