@@ -71,7 +71,13 @@ pub struct GprimCounts {
     /// Implicit surfaces (`Sphere`, `Cube`, `Cylinder`, `Cone`, `Capsule`, `Plane`), drawn
     /// tessellated.
     pub implicit: usize,
-    /// Gprims lux does not draw, by type ([`SKIPPED_GPRIMS`]: curves, points, volumes…).
+    /// `BasisCurves` and `NurbsCurves` prims (drawn as tubes or ribbons; counted whether or not
+    /// their data let them be drawn).
+    pub curves: usize,
+    /// `Points` prims (drawn as spheres; counted whether or not their data let them be drawn).
+    pub points: usize,
+    /// Gprims lux does not draw, by type ([`SKIPPED_GPRIMS`]: HermiteCurves, NurbsPatch,
+    /// TetMesh, volumes…).
     pub skipped: BTreeMap<String, usize>,
     /// Native instances (`instanceable` prims with a prototype).
     pub native_instances: usize,
@@ -82,10 +88,10 @@ pub struct GprimCounts {
 }
 
 impl GprimCounts {
-    /// Gprims other than `Mesh` (implicit surfaces and skipped types): usd-core's count of
-    /// non-mesh gprims.
+    /// Gprims other than `Mesh` (implicit surfaces, curves, points and skipped types):
+    /// usd-core's count of non-mesh gprims.
     pub fn other_gprims(&self) -> usize {
-        self.implicit + self.skipped.values().sum::<usize>()
+        self.implicit + self.curves + self.points + self.skipped.values().sum::<usize>()
     }
 }
 

@@ -22,11 +22,8 @@ use openusd::usd::Prim;
 use std::collections::HashMap;
 
 /// Gprim types lux does not draw; each is counted and reported once per load.
-pub const SKIPPED_GPRIMS: [&str; 8] = [
-    "BasisCurves",
-    "NurbsCurves",
+pub const SKIPPED_GPRIMS: [&str; 5] = [
     "HermiteCurves",
-    "Points",
     "NurbsPatch",
     "TetMesh",
     "Volume",
@@ -313,6 +310,9 @@ impl<'s> Walk<'s> {
             t if Gprim::of_type(t).is_some() => {
                 self.gprim(prim, type_name, api, here)?;
             }
+            "BasisCurves" | "NurbsCurves" | "Points" => {
+                self.curves_or_points(prim, type_name, here)?
+            }
             t if SKIPPED_GPRIMS.contains(&t) => {
                 *self
                     .counts(here.target)
@@ -517,6 +517,70 @@ impl<'s> Walk<'s> {
         Ok(())
     }
 
+    /// A `BasisCurves`, `NurbsCurves` or `Points` prim: counted, tessellated in its own space
+    /// ([`crate::curves`], [`crate::points`]) and emitted as one mesh with the bound material.
+    /// Tubes and spheres are closed and single-sided (unless `doubleSided` is authored true);
+    /// ribbons are double-sided.
+    fn curves_or_points(
+        &mut self,
+        prim: &Prim,
+        type_name: &str,
+        here: &Inherited,
+    ) -> Result<(), LoadError> {
+        let points = type_name == "Points";
+        let counts = self.counts(here.target);
+        if points {
+            counts.points += 1;
+        } else {
+            counts.curves += 1;
+        }
+        let (tess, gprim) = match type_name {
+            "BasisCurves" => (
+                crate::curves::read_basis_curves(&mut self.r, prim)?,
+                Gprim::BasisCurves,
+            ),
+            "NurbsCurves" => (
+                crate::curves::read_nurbs_curves(&mut self.r, prim)?,
+                Gprim::NurbsCurves,
+            ),
+            _ => (
+                crate::points::read_points(&mut self.r, prim)?,
+                Gprim::Points,
+            ),
+        };
+        let Some(t) = tess else {
+            return Ok(());
+        };
+        let double_sided = self.r.bool_or(prim, "doubleSided", false)?;
+        let material = match &here.binding {
+            Some(path) => Some(self.material(path)?),
+            None => None,
+        };
+        let spectral = crate::spectral::read_surface_spectral(&mut self.r, prim)?;
+        let mesh = Mesh {
+            path: prim.path().to_string(),
+            positions: t.positions,
+            triangles: t.triangles,
+            normals: Some(t.normals),
+            colors: t.colors,
+            uvs: None,
+            double_sided: double_sided || t.double_sided,
+            material,
+            light: None,
+            spectral,
+            prototype: None,
+            gprim,
+        }
+        .transformed(&here.world);
+        self.emit_mesh(mesh, None, here.target);
+        if points {
+            self.scene.drawn.points += 1;
+        } else {
+            self.scene.drawn.curves += 1;
+        }
+        Ok(())
+    }
+
     /// Puts a mesh (and its `MeshLightAPI` light) where the walk is: the world, or the
     /// prototype being walked. A mesh light inside a prototype is kept apart and placed per
     /// instance as world geometry (a light needs world-space triangles).
@@ -560,6 +624,8 @@ impl<'s> Walk<'s> {
 pub fn add_counts(into: &mut GprimCounts, other: &GprimCounts, times: usize) {
     into.meshes += other.meshes * times;
     into.implicit += other.implicit * times;
+    into.curves += other.curves * times;
+    into.points += other.points * times;
     into.native_instances += other.native_instances * times;
     into.point_instances += other.point_instances * times;
     into.unsupported_lights += other.unsupported_lights * times;

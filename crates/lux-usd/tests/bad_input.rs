@@ -188,16 +188,19 @@ fn cycles() {
 #[test]
 fn renderer_specific_attributes_and_unknown_types_are_silent() {
     let s = load_stage(scenes().join("renderer_specific.usda"), 1.0).unwrap();
-    // the one warning: the curves and points lux does not draw, counted
+    // the one warning: the 2-vertex cubic (bezier by fallback) curve, drawn as Storm draws it;
+    // the curve and the points are counted and drawn
     assert_eq!(s.warnings.len(), 1, "{:#?}", s.warnings);
-    assert_eq!(s.warnings[0].kind, WarningKind::Unsupported);
+    assert_eq!(s.warnings[0].kind, WarningKind::InvalidGeometry);
+    assert_eq!(s.warnings[0].prim, "/Typeless/Child/Hair");
     assert!(
-        s.warnings[0].message.ends_with("1 BasisCurves, 1 Points"),
+        s.warnings[0].message.contains("fewer than 4 vertices"),
         "{}",
         s.warnings[0]
     );
-    assert_eq!(s.gprims.skipped.get("Points"), Some(&1));
-    assert_eq!(s.gprims.skipped.get("BasisCurves"), Some(&1));
+    assert_eq!((s.gprims.curves, s.gprims.points), (1, 1));
+    assert!(s.gprims.skipped.is_empty());
+    assert_eq!((s.drawn.curves, s.drawn.points), (1, 1));
     let panel = s.light("/Panel").unwrap();
     assert_eq!(
         panel.shape,
@@ -215,11 +218,18 @@ fn renderer_specific_attributes_and_unknown_types_are_silent() {
     assert_eq!(s.cameras.len(), 1);
     assert_eq!(s.cameras[0].focal_length, 20.0);
     assert_eq!(s.render_settings[0].resolution(), [64, 32]);
-    // Only the mesh and the sphere under the unknown-typed prim are drawn; points and curves
-    // are not surfaces lux renders.
+    // The mesh, the sphere under the unknown-typed prim, the points and the curve are drawn.
     let mut drawn: Vec<&str> = s.meshes.iter().map(|m| m.path.as_str()).collect();
     drawn.sort_unstable();
-    assert_eq!(drawn, ["/Tri", "/Unknown/InsideUnknown"]);
+    assert_eq!(
+        drawn,
+        [
+            "/Tri",
+            "/Typeless/Child/Hair",
+            "/Typeless/Child/Particles",
+            "/Unknown/InsideUnknown"
+        ]
+    );
 }
 
 #[test]
