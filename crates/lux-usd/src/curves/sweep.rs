@@ -12,7 +12,8 @@
 //! angle, the ring is stretched along the bend by `1 / cos(half angle)` (a mitre, capped at
 //! [`MITER_LIMIT`]) so that the tube keeps its radius around both chords. Open tubes are closed
 //! by flat caps at the end samples (a fan over the ring: no vertex on the axis), so the surface
-//! is closed and single-sided. Shading normals are the smooth ring normals, tilted by the slope
+//! is closed and single-sided; an open curve that ends where it starts (a NURBS circle, a
+//! bezier loop) is swept as a closed one, without caps meeting inside the tube. Shading normals are the smooth ring normals, tilted by the slope
 //! of the radius (`normalize(o − r′·T)` for the ring direction `o` and `r′ = dr/ds`); caps get
 //! the flat `±T`.
 //!
@@ -87,8 +88,8 @@ impl Tessellation {
 }
 
 /// The path without repeated points (closer than 1e-12 of its size; a closed path's last
-/// points equal to its first too). `None` when fewer than 2 distinct points remain (3 for a
-/// closed path), or every width is zero.
+/// points equal to its first too), closed when it ends where it starts. `None` when fewer than
+/// 2 distinct points remain (3 for a closed path), or every width is zero.
 fn clean(path: &CurvePath) -> Option<CurvePath> {
     let size = path
         .points
@@ -111,6 +112,14 @@ fn clean(path: &CurvePath) -> Option<CurvePath> {
         if !path.normals.is_empty() {
             out.normals.push(path.normals[i]);
         }
+    }
+    // An open path ending where it starts (a NURBS circle, a bezier loop) is swept closed: one
+    // seamless tube instead of two caps meeting inside it.
+    if !out.closed
+        && out.points.len() > 3
+        && (out.points[out.points.len() - 1] - out.points[0]).length() <= eps
+    {
+        out.closed = true;
     }
     while out.closed
         && out.points.len() > 1
