@@ -367,7 +367,8 @@ fn point_instancer_masks_and_hidden_prototypes() {
 }
 
 /// Native instancing shares geometry: an instanceable prim referencing an inactive source is
-/// drawn from its prototype (7 meshes and 8 implicit surfaces, stored once).
+/// drawn from its prototype (7 meshes, 8 implicit surfaces, a BasisCurves and 2 Points,
+/// stored once).
 #[test]
 fn native_instances_share_their_prototype() {
     let f = path(
@@ -375,7 +376,7 @@ fn native_instances_share_their_prototype() {
     );
     let s = load_stage_with(&f, Time::Start, &LoadOptions::default()).unwrap();
     assert_eq!(s.instances.len(), 1);
-    assert_eq!(s.prototypes[0].meshes.len(), 15);
+    assert_eq!(s.prototypes[0].meshes.len(), 18);
     assert!(s.meshes.iter().all(|m| m.prototype == Some(0)));
 }
 
