@@ -11,7 +11,8 @@
 //! parser reads type-blind ([`reader::Reader::raw`]); resolution of asset paths held in time
 //! samples against their authoring layer ([`reader::Reader::asset`]); an error for references
 //! to prims that do not exist; schema defaults; transform-op evaluation in f64 ([`xform`]);
-//! triangulation, primvar expansion and implicit-gprim tessellation. [`load_usda_str`] loads
+//! triangulation, primvar expansion, implicit-gprim tessellation and curves and points swept
+//! into triangles ([`curves`], [`points`]). [`load_usda_str`] loads
 //! `.usda` text from memory.
 
 #![warn(missing_docs)]

@@ -26,8 +26,8 @@
 //!   Linear segments are 1 step.
 //! - **Around the curve**: tubes have [`TUBE_SIDES`]`[0]` = 12 sides (the polygon reaches
 //!   within 3.4 % of the radius; the smooth normals hide the facets) and flat end caps.
-//! - **Budget**: a prim is drawn with at most [`TRIANGLE_BUDGET`] triangles (about 2²⁰, some
-//!   200 MB with colours): past it, tubes lose sides (12 → 8 → 6 → 4 → 3), then spans lose
+//! - **Budget**: a prim is drawn with at most [`TRIANGLE_BUDGET`] triangles (2²⁰, some 180 MB
+//!   with colours): past it, tubes lose sides (12 → 8 → 6 → 4 → 3), then spans lose
 //!   steps (down to 1), with a warning saying what was cut; a prim needing more even then is
 //!   drawn at that minimum, with a warning.
 //!
@@ -49,8 +49,10 @@ use primvar::{CurvePrimvar, Interpolation, Sizes, Value};
 use std::collections::BTreeMap;
 use sweep::{CurvePath, Tessellation};
 
-/// The width (diameter) of curves and points whose `widths` are unauthored: Hydra's fallback
-/// (Storm's and RenderMan's), 1 in object space. (UsdGeom's extent computation pads by 0 then.)
+/// The width (diameter) of curves and points whose `widths` are unauthored or unusable:
+/// Hydra's fallback, 1 in object space (the value Storm's curve primvar interpolation falls
+/// back to for a float primvar of the wrong size). UsdGeom's extent computation pads by 0 when
+/// `widths` is unauthored, so such tubes reach half a unit past usd-core's extent.
 pub const FALLBACK_WIDTH: f64 = 1.0;
 
 /// Largest distance of a chord from the curve, relative to the control-polygon length of its
@@ -407,20 +409,21 @@ fn choose_detail(
         }
     }
     let d = detail.unwrap_or(full);
-    let shape = if ribbons {
-        "ribbons".to_owned()
+    let (at_full, drawn) = if ribbons {
+        ("ribbons".to_owned(), "ribbons".to_owned())
     } else {
-        format!("{}-sided tubes", d.sides)
+        (
+            format!("{}-sided tubes", TUBE_SIDES[0]),
+            format!("{}-sided tubes", d.sides),
+        )
     };
     r.warn(
         prim,
         WarningKind::Unsupported,
         format!(
-            "needs {need} triangles at full detail ({}-sided tubes, chords within {} of each \
-             span), past the budget of {TRIANGLE_BUDGET} triangles per prim: drawn as {shape} \
+            "needs {need} triangles at full detail ({at_full}, chords within {FLATNESS} of each \
+             span), past the budget of {TRIANGLE_BUDGET} triangles per prim: drawn as {drawn} \
              with {:.0} % of the steps along each span",
-            TUBE_SIDES[0],
-            FLATNESS,
             100.0 * d.scale
         ),
     );
