@@ -570,6 +570,7 @@ impl<'s> Walk<'s> {
             spectral,
             prototype: None,
             gprim,
+            subdivision: None,
         }
         .transformed(&here.world);
         self.emit_mesh(mesh, None, here.target);
