@@ -89,8 +89,15 @@ fn per_point<T: Copy>(p: &CurvePrimvar<T>, i: usize) -> T {
 
 /// Reads a `Points` prim and tessellates it in its own space. `None` (with a warning) when no
 /// point can be drawn.
-pub fn read_points(r: &mut Reader<'_>, prim: &Prim) -> Result<Option<Tessellation>, LoadError> {
-    let points = r.vec3_array(prim, "points")?.unwrap_or_default();
+pub fn read_points(
+    r: &mut Reader<'_>,
+    prim: &Prim,
+    posed: Option<Vec<DVec3>>,
+) -> Result<Option<Tessellation>, LoadError> {
+    let points = match posed {
+        Some(p) => p,
+        None => r.vec3_array(prim, "points")?.unwrap_or_default(),
+    };
     if points.is_empty() {
         r.warn(
             prim,

@@ -1184,7 +1184,13 @@ pub(crate) fn pose(
             Ok(i) => i,
             Err(why) => return fail(r, why),
         };
-        if gprim != Gprim::Mesh && !rigid {
+        // Point-based gprims (meshes, curves, points) skin point by point; implicit surfaces
+        // have no points to weight, only a rigid influence.
+        let point_based = matches!(
+            gprim,
+            Gprim::Mesh | Gprim::BasisCurves | Gprim::NurbsCurves | Gprim::Points
+        );
+        if !point_based && !rigid {
             return fail(
                 r,
                 format!(

@@ -521,6 +521,55 @@ impl<'s> Walk<'s> {
     /// ([`crate::curves`], [`crate::points`]) and emitted as one mesh with the bound material.
     /// Tubes and spheres are closed and single-sided (unless `doubleSided` is authored true);
     /// ribbons are double-sided.
+    /// The `points` of the curves or points prim `prim` posed by UsdSkel ([`crate::skel`])
+    /// and where they go, when it is skinned under a `SkelRoot`. Authored ribbon `normals`
+    /// are not skinned (said in a warning).
+    fn pose_points(
+        &mut self,
+        prim: &Prim,
+        gprim: Gprim,
+        here: &Inherited,
+    ) -> Result<Option<(Vec<glam::DVec3>, DMat4)>, LoadError> {
+        if !here.skel_scope {
+            return Ok(None);
+        }
+        let Some(points) = self.r.vec3_array(prim, "points")? else {
+            return Ok(None);
+        };
+        let mut topo = Topology {
+            points,
+            triangles: Vec::new(),
+            corners: Vec::new(),
+            face_count: 0,
+            faces: None,
+        };
+        let root = match here.target {
+            Target::World => None,
+            Target::Proto(pd) => Some(self.protos.data[pd].path.clone()),
+        };
+        let pose = crate::skel::pose(
+            &mut self.r,
+            prim,
+            gprim,
+            &mut topo,
+            &here.world,
+            root.as_deref(),
+        )?;
+        let Some(pose) = pose else {
+            return Ok(None);
+        };
+        self.scene.drawn.posed_meshes += 1;
+        if self.r.raw(prim, "normals")?.is_some() {
+            self.r.warn(
+                prim,
+                WarningKind::Unsupported,
+                "UsdSkel poses the points of these curves; their authored normals are not \
+                 skinned",
+            );
+        }
+        Ok(Some((topo.points, pose.to_target)))
+    }
+
     fn curves_or_points(
         &mut self,
         prim: &Prim,
@@ -534,19 +583,20 @@ impl<'s> Walk<'s> {
         } else {
             counts.curves += 1;
         }
-        let (tess, gprim) = match type_name {
-            "BasisCurves" => (
-                crate::curves::read_basis_curves(&mut self.r, prim)?,
-                Gprim::BasisCurves,
-            ),
-            "NurbsCurves" => (
-                crate::curves::read_nurbs_curves(&mut self.r, prim)?,
-                Gprim::NurbsCurves,
-            ),
-            _ => (
-                crate::points::read_points(&mut self.r, prim)?,
-                Gprim::Points,
-            ),
+        let gprim = match type_name {
+            "BasisCurves" => Gprim::BasisCurves,
+            "NurbsCurves" => Gprim::NurbsCurves,
+            _ => Gprim::Points,
+        };
+        // UsdSkel poses every point-based gprim: its control points, before tessellation.
+        let (posed, world) = match self.pose_points(prim, gprim, here)? {
+            Some((points, to_target)) => (Some(points), to_target),
+            None => (None, here.world),
+        };
+        let tess = match gprim {
+            Gprim::BasisCurves => crate::curves::read_basis_curves(&mut self.r, prim, posed)?,
+            Gprim::NurbsCurves => crate::curves::read_nurbs_curves(&mut self.r, prim, posed)?,
+            _ => crate::points::read_points(&mut self.r, prim, posed)?,
         };
         let Some(t) = tess else {
             return Ok(());
@@ -572,7 +622,7 @@ impl<'s> Walk<'s> {
             gprim,
             subdivision: None,
         }
-        .transformed(&here.world);
+        .transformed(&world);
         self.emit_mesh(mesh, None, here.target);
         if points {
             self.scene.drawn.points += 1;

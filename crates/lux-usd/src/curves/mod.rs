@@ -262,8 +262,15 @@ type CountsPoints = (Vec<usize>, Vec<DVec3>);
 
 /// `curveVertexCounts` and `points`, or `None` (with a warning) when they do not describe
 /// curves.
-fn read_counts_points(r: &mut Reader<'_>, prim: &Prim) -> Result<Option<CountsPoints>, LoadError> {
-    let points = r.vec3_array(prim, "points")?.unwrap_or_default();
+fn read_counts_points(
+    r: &mut Reader<'_>,
+    prim: &Prim,
+    posed: Option<Vec<DVec3>>,
+) -> Result<Option<CountsPoints>, LoadError> {
+    let points = match posed {
+        Some(p) => p,
+        None => r.vec3_array(prim, "points")?.unwrap_or_default(),
+    };
     let counts = r.int_array(prim, "curveVertexCounts")?.unwrap_or_default();
     if counts.is_empty() || points.is_empty() {
         r.warn(
@@ -553,8 +560,9 @@ impl CurveSource for BasisSource {
 pub fn read_basis_curves(
     r: &mut Reader<'_>,
     prim: &Prim,
+    posed: Option<Vec<DVec3>>,
 ) -> Result<Option<Tessellation>, LoadError> {
-    let Some((counts, points)) = read_counts_points(r, prim)? else {
+    let Some((counts, points)) = read_counts_points(r, prim, posed)? else {
         return Ok(None);
     };
     let ty = match r.text(prim, "type")?.as_deref() {
@@ -795,8 +803,9 @@ fn weighted<T: Value, H>(values: &[T], weights: &[f64], make: impl Fn(T, f64) ->
 pub fn read_nurbs_curves(
     r: &mut Reader<'_>,
     prim: &Prim,
+    posed: Option<Vec<DVec3>>,
 ) -> Result<Option<Tessellation>, LoadError> {
-    let Some((counts, points)) = read_counts_points(r, prim)? else {
+    let Some((counts, points)) = read_counts_points(r, prim, posed)? else {
         return Ok(None);
     };
     let order = r.int_array(prim, "order")?.unwrap_or_default();

@@ -119,9 +119,12 @@ def case(path, time):
     bbox = UsdGeom.BBoxCache(time, [UsdGeom.Tokens.default_, UsdGeom.Tokens.render])
     for prim in stage.Traverse():
         kind = prim.GetTypeName()
-        if not (kind == "Mesh" or kind in IMPLICIT) or not drawn(prim, time):
+        if not (kind in ("Mesh", "BasisCurves") or kind in IMPLICIT) or not drawn(prim, time):
             continue
-        box.UnionWith(bbox.ComputeWorldBound(prim).ComputeAlignedRange())
+        if kind != "BasisCurves":
+            # Curves are left out of the box: usd-core's extent pads their unauthored widths
+            # by 0, where renderers draw them 1 wide (Hydra's fallback), as lux does.
+            box.UnionWith(bbox.ComputeWorldBound(prim).ComputeAlignedRange())
         l2w = UsdGeom.Xformable(prim).ComputeLocalToWorldTransform(time)
         prim_path = str(prim.GetPath())
         g = {
@@ -129,7 +132,11 @@ def case(path, time):
             "type": kind,
             "posed": before.get(prim_path) != after.get(prim_path),
         }
-        if kind == "Mesh":
+        if kind == "BasisCurves":
+            curves = UsdGeom.BasisCurves(prim)
+            g["points"] = [vec(l2w.Transform(Gf.Vec3d(p))) for p in curves.GetPointsAttr().Get(time)]
+            g["curve_vertex_counts"] = list(curves.GetCurveVertexCountsAttr().Get(time))
+        elif kind == "Mesh":
             mesh = UsdGeom.Mesh(prim)
             g["points"] = [vec(l2w.Transform(Gf.Vec3d(p))) for p in mesh.GetPointsAttr().Get(time)]
             g["face_vertex_counts"] = list(mesh.GetFaceVertexCountsAttr().Get(time))
