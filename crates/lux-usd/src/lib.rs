@@ -53,8 +53,10 @@ pub use light::{
 };
 pub use linking::{Linking, Membership, Rule};
 pub use load::{LoadOptions, MEMORY_LAYER, Time, load_stage, load_stage_with, load_usda_str};
-pub use material::{Diffuse, Input, Material, SourceColorSpace, TextureInput, Transform2d, Wrap};
-pub use mesh::{Gprim, Instance, Mesh, Prototype};
+pub use material::{
+    Diffuse, Input, Material, PrimvarInput, SourceColorSpace, TextureInput, Transform2d, Wrap,
+};
+pub use mesh::{CornerPrimvar, Gprim, Instance, Mesh, Prototype};
 pub use reader::AssetRef;
 pub use spectral::{PhysicalLight, SurfaceSpectral};
 pub use walk::SKIPPED_GPRIMS;

@@ -117,7 +117,8 @@ impl SourceColorSpace {
     }
 }
 
-/// A UsdPreviewSurface input: an authored (or default) value, or a `UsdUVTexture` output.
+/// A UsdPreviewSurface input: an authored (or default) value, a `UsdUVTexture` output, or a
+/// primvar read by a `UsdPrimvarReader_*`.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Input<T> {
     /// A constant.
@@ -125,6 +126,9 @@ pub enum Input<T> {
     /// A texture lookup (the texture's connected output: `rgb` for colours, `r`/`g`/`b`/`a`
     /// for floats).
     Texture(Box<TextureInput>),
+    /// A primvar of the gprim (`UsdPrimvarReader_float`, `_float2`, `_float3`, `_float4`,
+    /// `_int`, `_normal`, `_point`, `_vector`).
+    Primvar(Box<PrimvarInput>),
 }
 
 impl<T: Copy> Input<T> {
@@ -132,18 +136,56 @@ impl<T: Copy> Input<T> {
     pub fn value(&self) -> Option<T> {
         match self {
             Input::Value(v) => Some(*v),
-            Input::Texture(_) => None,
+            _ => None,
         }
     }
 
     /// The texture, if the input is one.
     pub fn texture(&self) -> Option<&TextureInput> {
         match self {
-            Input::Value(_) => None,
             Input::Texture(t) => Some(t),
+            _ => None,
+        }
+    }
+
+    /// The primvar reader, if the input is one.
+    pub fn primvar(&self) -> Option<&PrimvarInput> {
+        match self {
+            Input::Primvar(p) => Some(p),
+            _ => None,
         }
     }
 }
+
+/// A `UsdPrimvarReader_*` feeding a UsdPreviewSurface input: the gprim's primvar `varname`,
+/// interpolated over the surface as its `interpolation` says, or `fallback` where the gprim
+/// has no such primvar (UsdPreviewSurface spec, "Primvar Reader").
+#[derive(Clone, Debug, PartialEq)]
+pub struct PrimvarInput {
+    /// The reader shader's prim path.
+    pub shader: String,
+    /// Its `info:id` (`UsdPrimvarReader_float3`, …).
+    pub id: String,
+    /// `inputs:varname` (a token or a string; through interface connections): the primvar
+    /// name without `primvars:`.
+    pub name: String,
+    /// How many components the reader outputs (1 for `_float` and `_int`, 2, 3 or 4).
+    pub components: usize,
+    /// `inputs:fallback` (schema default 0), padded with zeros to four components.
+    pub fallback: DVec4,
+}
+
+/// The `UsdPrimvarReader_*` shader ids and their output sizes.
+pub const PRIMVAR_READERS: [(&str, usize); 8] = [
+    ("UsdPrimvarReader_float", 1),
+    ("UsdPrimvarReader_float2", 2),
+    ("UsdPrimvarReader_float3", 3),
+    ("UsdPrimvarReader_float4", 4),
+    ("UsdPrimvarReader_int", 1),
+    ("UsdPrimvarReader_normal", 3),
+    ("UsdPrimvarReader_point", 3),
+    ("UsdPrimvarReader_vector", 3),
+];
 
 /// Where a material's diffuse colour comes from (`inputs:diffuseColor`).
 pub type Diffuse = Input<DVec3>;
@@ -224,6 +266,8 @@ pub struct Material {
     pub emissive: DVec3,
     /// `inputs:emissiveColor` from a `UsdUVTexture` (radiance per texel).
     pub emissive_texture: Option<Box<TextureInput>>,
+    /// `inputs:emissiveColor` from a primvar reader (radiance per point of the surface).
+    pub emissive_primvar: Option<Box<PrimvarInput>>,
 }
 
 impl Material {
@@ -248,6 +292,7 @@ impl Material {
             spectral: SurfaceSpectral::default(),
             emissive: DVec3::ZERO,
             emissive_texture: None,
+            emissive_primvar: None,
         }
     }
 
@@ -268,6 +313,36 @@ impl Material {
         .into_iter()
         .filter_map(|(n, t)| t.map(|t| (n, t)))
         .collect()
+    }
+
+    /// Every primvar reader feeding one of the material's inputs, with the input's name.
+    pub fn primvar_readers(&self) -> Vec<(&'static str, &PrimvarInput)> {
+        [
+            ("diffuseColor", self.diffuse.primvar()),
+            ("specularColor", self.specular.primvar()),
+            ("metallic", self.metallic.primvar()),
+            ("roughness", self.roughness.primvar()),
+            ("clearcoat", self.clearcoat.primvar()),
+            ("clearcoatRoughness", self.clearcoat_roughness.primvar()),
+            ("ior", self.ior.primvar()),
+            ("opacity", self.opacity.primvar()),
+            ("emissiveColor", self.emissive_primvar.as_deref()),
+        ]
+        .into_iter()
+        .filter_map(|(n, p)| p.map(|p| (n, p)))
+        .collect()
+    }
+
+    /// The names of the primvars the material's primvar readers read (each once, in input
+    /// order).
+    pub fn primvar_names(&self) -> Vec<&str> {
+        let mut names: Vec<&str> = Vec::new();
+        for (_, p) in self.primvar_readers() {
+            if !names.contains(&p.name.as_str()) {
+                names.push(&p.name);
+            }
+        }
+        names
     }
 
     /// The texture-coordinate primvar the material reads (that of its first texture; lux reads
@@ -380,6 +455,7 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
     })? {
         Input::Value(e) => out.emissive = e,
         Input::Texture(t) => out.emissive_texture = Some(t),
+        Input::Primvar(p) => out.emissive_primvar = Some(p),
     }
     let colour = |v: DVec3| v.is_finite();
     let unit = |v: f64| v.is_finite() && (0.0..=1.0).contains(&v);
@@ -410,10 +486,18 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
         .value()
         .unwrap_or(0.0);
     out.uses_opacity = out.opacity.value().is_none_or(|o| o < 1.0) || out.opacity_threshold > 0.0;
-    if let Input::Texture(t) =
-        colour_input(r, &mat, &shader_path, "normal", DVec3::Z, |v| v.is_finite())?
-    {
-        out.normal = Some(t);
+    match colour_input(r, &mat, &shader_path, "normal", DVec3::Z, |v| v.is_finite())? {
+        Input::Texture(t) => out.normal = Some(t),
+        Input::Primvar(p) => r.warn(
+            &mat,
+            WarningKind::Unsupported,
+            format!(
+                "normal connected to the primvar reader {} (a tangent-space normal map from a \
+                 primvar); the surface's own normal is used",
+                p.shader
+            ),
+        ),
+        Input::Value(_) => {}
     }
     Ok(out)
 }
@@ -459,7 +543,27 @@ fn input<T: Copy + std::fmt::Debug>(
     let (src_prim, src_attr) = follow(r, shader, &format!("inputs:{name}"))?;
     let src = r.stage.prim(src_prim.as_str());
     if let Some(output) = src_attr.strip_prefix("outputs:") {
-        if shader_id(r, &src)?.as_deref() != Some("UsdUVTexture") {
+        let id = shader_id(r, &src)?;
+        if let Some(&(id, components)) = PRIMVAR_READERS
+            .iter()
+            .find(|(known, _)| Some(*known) == id.as_deref())
+        {
+            return match read_primvar_reader(r, &src_prim, id, components)? {
+                Some(p) => Ok(Input::Primvar(Box::new(p))),
+                None => {
+                    r.warn(
+                        mat,
+                        WarningKind::InvalidValue,
+                        format!(
+                            "{name} connected to {src_prim} ({id}) whose inputs:varname is \
+                             unauthored; default {default:?}"
+                        ),
+                    );
+                    Ok(Input::Value(default))
+                }
+            };
+        }
+        if id.as_deref() != Some("UsdUVTexture") {
             r.warn(
                 mat,
                 WarningKind::Unsupported,
@@ -494,6 +598,39 @@ fn input<T: Copy + std::fmt::Debug>(
         }
         Err(e) => Err(e),
     }
+}
+
+/// The `UsdPrimvarReader_*` at `src_prim`: its `varname` (token or string, through interface
+/// connections) and `fallback`; `None` without a varname.
+fn read_primvar_reader(
+    r: &mut Reader<'_>,
+    src_prim: &str,
+    id: &str,
+    components: usize,
+) -> Result<Option<PrimvarInput>, LoadError> {
+    let (vp, va) = follow(r, src_prim, "inputs:varname")?;
+    let vprim = r.stage.prim(vp.as_str());
+    let Some(name) = r.text(&vprim, &va)? else {
+        return Ok(None);
+    };
+    let (fp, fa) = follow(r, src_prim, "inputs:fallback")?;
+    let fprim = r.stage.prim(fp.as_str());
+    let fallback = match r.raw(&fprim, &fa)? {
+        Some(v) => crate::value::as_vec4(&v)
+            .or_else(|| crate::value::as_vec3(&v).map(|c| c.extend(0.0)))
+            .or_else(|| crate::value::as_vec2(&v).map(|c| DVec4::new(c.x, c.y, 0.0, 0.0)))
+            .or_else(|| crate::value::as_f64(&v).map(|x| DVec4::new(x, 0.0, 0.0, 0.0)))
+            .filter(|v| v.is_finite())
+            .unwrap_or(DVec4::ZERO),
+        None => DVec4::ZERO,
+    };
+    Ok(Some(PrimvarInput {
+        shader: src_prim.to_owned(),
+        id: id.to_owned(),
+        name: name.strip_prefix("primvars:").unwrap_or(&name).to_owned(),
+        components,
+        fallback,
+    }))
 }
 
 /// The `UsdUVTexture` at `src_prim` read through its `output`, with the primvar (and

@@ -2,7 +2,7 @@
 
 use crate::error::{LoadError, WarningKind};
 use crate::reader::Reader;
-use glam::{DMat3, DMat4, DVec2, DVec3};
+use glam::{DMat3, DMat4, DVec2, DVec3, DVec4};
 use openusd::usd::Prim;
 
 /// A renderable triangle mesh: in world space, or — when [`Mesh::prototype`] is set — in the
@@ -26,6 +26,9 @@ pub struct Mesh {
     pub colors: Option<Vec<[DVec3; 3]>>,
     /// Texture coordinates per triangle corner from the primvar the bound material reads.
     pub uvs: Option<Vec<[DVec2; 3]>>,
+    /// The primvars the bound material's `UsdPrimvarReader_*` shaders read, per triangle
+    /// corner (those the gprim authors).
+    pub primvars: Vec<CornerPrimvar>,
     /// `doubleSided` (Gprim fallback false; UsdGeomPlane's fallback true).
     pub double_sided: bool,
     /// Index into `Scene::materials` of the bound material (`material:binding`, resolved
@@ -67,6 +70,14 @@ impl Mesh {
             normals: self.normals.clone().map(|n| normals_to_world(n, m, mirror)),
             colors: self.colors.clone().map(|c| mirror_corners(c, mirror)),
             uvs: self.uvs.clone().map(|c| mirror_corners(c, mirror)),
+            primvars: self
+                .primvars
+                .iter()
+                .map(|p| CornerPrimvar {
+                    name: p.name.clone(),
+                    values: mirror_corners(p.values.clone(), mirror),
+                })
+                .collect(),
             subdivision: self
                 .subdivision
                 .as_ref()
@@ -74,6 +85,16 @@ impl Mesh {
             ..self.clone()
         }
     }
+}
+
+/// A primvar per triangle corner: up to four components (`float` in `x`, `float2` in `xy`,
+/// …; the rest 0), in the mesh's triangle order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CornerPrimvar {
+    /// The primvar's name without `primvars:`.
+    pub name: String,
+    /// Its values at each triangle's corners.
+    pub values: Vec<[DVec4; 3]>,
 }
 
 /// The UsdGeom gprim type a [`Mesh`] was made from.
@@ -161,6 +182,7 @@ impl Mesh {
             normals: None,
             colors: None,
             uvs: None,
+            primvars: Vec::new(),
             double_sided: false,
             material: None,
             light: None,
@@ -368,6 +390,36 @@ pub fn expand_primvar<T: Copy>(
     }
     let _ = topo.face_count;
     Ok(Some(out))
+}
+
+/// The values of the primvar attribute `name` (`primvars:…`) as 4-vectors padded with zeros
+/// (any numeric type of 1 to 4 components, an array or — for constant interpolation — a
+/// single value); `None` when unauthored or not numeric (the latter with a warning, as any
+/// attribute of the wrong type).
+pub fn primvar_values(
+    r: &Reader<'_>,
+    prim: &Prim,
+    name: &str,
+) -> Result<Option<Vec<DVec4>>, LoadError> {
+    let Some(v) = r.raw(prim, name)? else {
+        return Ok(None);
+    };
+    let single = crate::value::as_vec4(&v)
+        .or_else(|| crate::value::as_vec3(&v).map(|c| c.extend(0.0)))
+        .or_else(|| crate::value::as_vec2(&v).map(|c| DVec4::new(c.x, c.y, 0.0, 0.0)))
+        .or_else(|| crate::value::as_f64(&v).map(|x| DVec4::new(x, 0.0, 0.0, 0.0)));
+    let values = crate::value::as_dvec4_array(&v).or_else(|| single.map(|x| vec![x]));
+    if values.is_none() {
+        r.type_warnings.borrow_mut().push(crate::error::Warning {
+            prim: prim.path().to_string(),
+            kind: WarningKind::InvalidValue,
+            message: format!(
+                "{name}: expected numbers of 1 to 4 components, found {}; ignored",
+                crate::value::type_label(&v)
+            ),
+        });
+    }
+    Ok(values)
 }
 
 /// Transforms a local topology to world space, flipping the winding when the transform mirrors.

@@ -134,6 +134,43 @@ pub fn as_vec3_array(v: &Value) -> Option<Vec<DVec3>> {
     })
 }
 
+/// A numeric array of 1 to 4 components an element (`float[]`, `int[]`, `float2[]`,
+/// `color3f[]`, `float4[]`, any precision) as 4-vectors padded with zeros: what a
+/// `UsdPrimvarReader_*` reads.
+pub fn as_dvec4_array(v: &Value) -> Option<Vec<DVec4>> {
+    if let Some(a) = as_vec3_array(v) {
+        return Some(a.into_iter().map(|p| p.extend(0.0)).collect());
+    }
+    if let Some(a) = as_vec2_array(v) {
+        return Some(
+            a.into_iter()
+                .map(|p| DVec4::new(p.x, p.y, 0.0, 0.0))
+                .collect(),
+        );
+    }
+    if let Some(a) = as_f64_array(v)
+        .or_else(|| as_int_array(v).map(|a| a.into_iter().map(|x| x as f64).collect()))
+    {
+        return Some(
+            a.into_iter()
+                .map(|x| DVec4::new(x, 0.0, 0.0, 0.0))
+                .collect(),
+        );
+    }
+    Some(match v {
+        Value::Vec4hVec(a) => a
+            .iter()
+            .map(|p| DVec4::new(p.x.to_f64(), p.y.to_f64(), p.z.to_f64(), p.w.to_f64()))
+            .collect(),
+        Value::Vec4fVec(a) => a
+            .iter()
+            .map(|p| DVec4::new(p.x.into(), p.y.into(), p.z.into(), p.w.into()))
+            .collect(),
+        Value::Vec4dVec(a) => a.iter().map(|p| DVec4::new(p.x, p.y, p.z, p.w)).collect(),
+        _ => return None,
+    })
+}
+
 /// An array of 2-vectors of any precision (texture coordinates).
 pub fn as_vec2_array(v: &Value) -> Option<Vec<DVec2>> {
     Some(match v {

@@ -9,8 +9,8 @@ use crate::instancing::{ProtoWalk, Target};
 use crate::light::{is_unsupported_light_type, kind_of_type, read_light};
 use crate::material::read_material;
 use crate::mesh::{
-    Gprim, Mesh, Topology, expand_primvar, mesh_topology, mirror_corners, normals_to_world,
-    to_world,
+    CornerPrimvar, Gprim, Mesh, Topology, expand_primvar, mesh_topology, mirror_corners,
+    normals_to_world, to_world,
 };
 use crate::reader::Reader;
 use crate::tessellate::{self, Axis};
@@ -464,10 +464,33 @@ impl<'s> Walk<'s> {
                     .map(|c| mirror_corners(c, mirror));
             }
         }
+        // The primvars the bound material's primvar readers read.
+        let reads: Vec<String> = material
+            .map(|m| {
+                self.scene.materials[m]
+                    .primvar_names()
+                    .into_iter()
+                    .map(str::to_owned)
+                    .collect()
+            })
+            .unwrap_or_default();
+        let mut primvars = Vec::new();
+        for name in &reads {
+            let attr = format!("primvars:{name}");
+            if let Some(values) = crate::mesh::primvar_values(&self.r, prim, &attr)?
+                && let Some(c) =
+                    expand_primvar(&mut self.r, prim, &attr, values, "constant", &topo)?
+            {
+                primvars.push(CornerPrimvar {
+                    name: name.clone(),
+                    values: mirror_corners(c, mirror),
+                });
+            }
+        }
         // A subdivision surface keeps its control cage for refinement (`subdiv`); `triangles`
         // holds the cage's polygons meanwhile.
         let subdivision = if gprim == Gprim::Mesh {
-            crate::subdiv::read_cage(&mut self.r, prim, &topo, &world, st.as_deref())?
+            crate::subdiv::read_cage(&mut self.r, prim, &topo, &world, st.as_deref(), &reads)?
                 .map(std::sync::Arc::new)
         } else {
             None
@@ -505,6 +528,7 @@ impl<'s> Walk<'s> {
             normals,
             colors,
             uvs,
+            primvars,
             double_sided,
             material,
             light: None,
@@ -614,6 +638,7 @@ impl<'s> Walk<'s> {
             normals: Some(t.normals),
             colors: t.colors,
             uvs: None,
+            primvars: Vec::new(),
             double_sided: double_sided || t.double_sided,
             material,
             light: None,

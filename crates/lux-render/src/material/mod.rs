@@ -1,8 +1,10 @@
 //! Materials: what a ray sees where it hits geometry — position, facing normals and the BSDF
-//! ([`Bsdf`]). Today every surface is Lambertian ([`DiffuseBsdf`]) with the albedo of
-//! UsdPreviewSurface `diffuseColor` as a value or a `UsdUVTexture` (`material/texture.rs`),
-//! else the gprim's `primvars:displayColor`, else white — the white Lambertian of the
-//! reference renders; a `wavelength:reflectance` (LTESpectralAPI) replaces `diffuseColor`.
+//! ([`Bsdf`]): Lambertian ([`DiffuseBsdf`]) or the UsdPreviewSurface ([`PreviewBsdf`]), its
+//! inputs each a value, a `UsdUVTexture` (`material/texture.rs`) or a primvar of the gprim
+//! read by a `UsdPrimvarReader_*` (the hit's interpolated corner values, the reader's
+//! `fallback` where the gprim has none); without a material, the gprim's
+//! `primvars:displayColor`, else white — the white Lambertian of the reference renders; a
+//! `wavelength:reflectance` (LTESpectralAPI) replaces `diffuseColor`.
 //!
 //! An instanced hit (`Hit::instance`) shades with its prototype mesh's primvars and
 //! `doubleSided`, the material `mesh.material.or(instance.material)` (the prototype's own binding
@@ -21,34 +23,60 @@ use crate::RenderError;
 use crate::geometry::Hit;
 use crate::image_io::Texture;
 use crate::settings::SurfaceModel;
-use glam::{DMat3, DVec2, DVec3};
+use glam::{DMat3, DVec2, DVec3, DVec4};
 use lux_usd::{Input, Scene, SurfaceSpectral, TextureInput};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 use texture::{TextureShader, texture_shader};
 
-/// A prepared UsdPreviewSurface input: a constant (a float input in `x`) or a texture.
+/// A prepared UsdPreviewSurface input: a constant (a float input in `x`), a texture, or a
+/// primvar of the gprim (slot `slot` of the material's [`Shader::primvars`]).
 #[derive(Clone, Debug)]
 enum Param {
     Value(DVec3),
     Texture(TextureShader),
+    Primvar {
+        slot: usize,
+        /// The reader's output size: a one-component primvar (`_float`, `_int`) feeding a
+        /// colour gives all three channels its value.
+        components: usize,
+    },
+}
+
+/// The most primvars one material reads (one an input).
+const MAX_PRIMVARS: usize = 10;
+
+/// What shading inputs read at a hit: the texture coordinates, and the material's primvars
+/// there ([`Materials::lookup`]).
+#[derive(Clone, Copy, Debug)]
+struct Lookup {
+    st: DVec2,
+    primvars: [DVec4; MAX_PRIMVARS],
 }
 
 impl Param {
-    /// The input at texture coordinates `st`.
+    /// The input at a hit.
     #[inline]
-    fn eval(&self, st: DVec2) -> DVec3 {
+    fn eval(&self, at: &Lookup) -> DVec3 {
         match self {
             Param::Value(v) => *v,
-            Param::Texture(t) => t.eval(st),
+            Param::Texture(t) => t.eval(at.st),
+            Param::Primvar { slot, components } => {
+                let v = at.primvars[*slot];
+                if *components == 1 {
+                    DVec3::splat(v.x)
+                } else {
+                    v.truncate()
+                }
+            }
         }
     }
 
-    /// A float input at `st`.
+    /// A float input at a hit.
     #[inline]
-    fn eval1(&self, st: DVec2) -> f64 {
-        self.eval(st).x
+    fn eval1(&self, at: &Lookup) -> f64 {
+        self.eval(at).x
     }
 }
 
@@ -76,8 +104,11 @@ struct Shader {
     opacity: Option<Param>,
     /// `inputs:opacityThreshold`.
     threshold: f64,
-    /// `inputs:emissiveColor` from a texture (a constant emission is a mesh light instead).
-    emission: Option<TextureShader>,
+    /// `inputs:emissiveColor` from a texture or a primvar (a constant emission is a mesh
+    /// light instead).
+    emission: Option<Param>,
+    /// The primvars its primvar readers read, by slot: name and `inputs:fallback`.
+    primvars: Vec<(String, DVec4)>,
 }
 
 /// A BSDF sample: the incident direction, its density, and the weight `f·|cos θ|/pdf` it
@@ -218,7 +249,7 @@ fn plain_albedo(
         (Some(c), _) => c,
         (None, Some(m)) => match &m.diffuse {
             Param::Value(v) => *v,
-            Param::Texture(_) => return None,
+            Param::Texture(_) | Param::Primvar { .. } => return None,
         },
         (None, None) if mesh.colors.is_none() => DVec3::ONE,
         (None, None) => return None,
@@ -300,11 +331,26 @@ impl Materials {
             cache: HashMap::new(),
             warnings: Vec::new(),
             strict,
+            primvars: Vec::new(),
         };
         let mut materials = Vec::with_capacity(scene.materials.len());
         for m in &scene.materials {
             let path = m.path.as_str();
             let grey = lux_usd::material::DEFAULT_DIFFUSE;
+            // The primvars its readers read, by slot.
+            ld.primvars = m
+                .primvar_names()
+                .into_iter()
+                .take(MAX_PRIMVARS)
+                .map(|n| {
+                    let fallback = m
+                        .primvar_readers()
+                        .into_iter()
+                        .find(|(_, p)| p.name == n)
+                        .map_or(DVec4::ZERO, |(_, p)| p.fallback);
+                    (n.to_owned(), fallback)
+                })
+                .collect();
             // LTESpectralAPI: a spectral reflectance on the surface shader replaces diffuseColor
             // (one that lux-spectral refuses is a warning, and diffuseColor is used).
             let diffuse = match reflectance_albedo(path, &m.spectral, unit) {
@@ -317,12 +363,13 @@ impl Materials {
                     ld.colour(path, "diffuseColor", &m.diffuse, grey)?
                 }
             };
-            let emission = ld.texture(
-                path,
-                "emissiveColor",
-                DVec3::ZERO,
-                m.emissive_texture.as_deref(),
-            )?;
+            let emission = match (&m.emissive_primvar, m.emissive_texture.as_deref()) {
+                (Some(p), _) => Some(ld.primvar(p)),
+                (None, t) => ld
+                    .texture(path, "emissiveColor", DVec3::ZERO, t)?
+                    .map(Param::Texture),
+            };
+            let primvars = ld.primvars.clone();
             if surfaces == SurfaceModel::Lambert || !m.preview {
                 materials.push(Shader {
                     diffuse,
@@ -330,6 +377,7 @@ impl Materials {
                     opacity: None,
                     threshold: 0.0,
                     emission,
+                    primvars,
                 });
                 continue;
             }
@@ -354,7 +402,7 @@ impl Materials {
             let opaque = match &opacity {
                 Param::Value(v) if m.opacity_threshold > 0.0 => v.x >= m.opacity_threshold,
                 Param::Value(v) => v.x >= 1.0,
-                Param::Texture(_) => false,
+                Param::Texture(_) | Param::Primvar { .. } => false,
             };
             materials.push(Shader {
                 diffuse,
@@ -362,6 +410,7 @@ impl Materials {
                 opacity: (!opaque).then_some(opacity),
                 threshold: m.opacity_threshold,
                 emission,
+                primvars,
             });
         }
         let mut warnings = ld.warnings;
@@ -455,7 +504,7 @@ impl Materials {
         if hit.back && !scene.meshes[hit.mesh].double_sided {
             return DVec3::ZERO;
         }
-        let e = t.eval(Self::st(scene, hit));
+        let e = t.eval(&self.lookup(scene, hit));
         if e.is_finite() {
             e.max(DVec3::ZERO)
         } else {
@@ -485,6 +534,40 @@ impl Materials {
         }
     }
 
+    /// What the shading inputs of the hit's material read there: the texture coordinates and
+    /// its primvars ([`Shader::primvars`]), each interpolated over the triangle from the
+    /// mesh's corners — a primvar the gprim does not author is `displayColor` from the mesh's
+    /// colours (curves and points keep it there), else the reader's `fallback`.
+    #[inline]
+    fn lookup(&self, scene: &Scene, hit: &Hit) -> Lookup {
+        let mut at = Lookup {
+            st: Self::st(scene, hit),
+            primvars: [DVec4::ZERO; MAX_PRIMVARS],
+        };
+        let Some(shader) = self.material_of(scene, hit) else {
+            return at;
+        };
+        let mesh = &scene.meshes[hit.mesh];
+        let (b1, b2) = (hit.bary.x, hit.bary.y);
+        let b0 = 1.0 - b1 - b2;
+        for (slot, (name, fallback)) in shader.primvars.iter().enumerate() {
+            at.primvars[slot] = match mesh.primvars.iter().find(|p| &p.name == name) {
+                Some(p) => {
+                    let c = &p.values[hit.tri];
+                    b0 * c[0] + b1 * c[1] + b2 * c[2]
+                }
+                None => match (&mesh.colors, name.as_str()) {
+                    (Some(colors), "displayColor") => {
+                        let c = &colors[hit.tri];
+                        (b0 * c[0] + b1 * c[1] + b2 * c[2]).extend(0.0)
+                    }
+                    _ => *fallback,
+                },
+            };
+        }
+        at
+    }
+
     /// How much of a ray the surface at `hit` stops: 1 opaque, 0 fully transparent
     /// (UsdPreviewSurface `opacity`; with `opacityThreshold > 0` a mask: 0 below the threshold,
     /// else 1).
@@ -501,7 +584,7 @@ impl Materials {
         let Some(opacity) = &shader.opacity else {
             return 1.0;
         };
-        let o = opacity.eval1(Self::st(scene, hit));
+        let o = opacity.eval1(&self.lookup(scene, hit));
         let o = if o.is_finite() {
             o.clamp(0.0, 1.0)
         } else {
@@ -558,10 +641,11 @@ impl Materials {
             ns = -ns;
         }
         let shader = self.material_of(scene, hit);
-        let st = Self::st(scene, hit);
+        let at = self.lookup(scene, hit);
+        let st = at.st;
         let albedo = match (self.mesh_reflectance[hit.mesh], shader) {
             (Some(c), _) => c,
-            (None, Some(m)) => m.diffuse.eval(st),
+            (None, Some(m)) => m.diffuse.eval(&at),
             (None, None) => match &mesh.colors {
                 Some(c) => interp3(&c[hit.tri]),
                 None => DVec3::ONE,
@@ -602,12 +686,12 @@ impl Materials {
                 let params = PreviewParams {
                     diffuse_color: albedo,
                     use_specular_workflow: p.use_specular_workflow,
-                    specular_color: p.specular.eval(st),
-                    metallic: p.metallic.eval1(st),
-                    roughness: p.roughness.eval1(st),
-                    clearcoat: p.clearcoat.eval1(st),
-                    clearcoat_roughness: p.clearcoat_roughness.eval1(st),
-                    ior: p.ior.eval1(st),
+                    specular_color: p.specular.eval(&at),
+                    metallic: p.metallic.eval1(&at),
+                    roughness: p.roughness.eval1(&at),
+                    clearcoat: p.clearcoat.eval1(&at),
+                    clearcoat_roughness: p.clearcoat_roughness.eval1(&at),
+                    ior: p.ior.eval1(&at),
                 };
                 point(ns, Bsdf::Preview(PreviewBsdf::new(&params, ns, -d)))
             }
@@ -680,6 +764,8 @@ struct InputLoader {
     cache: HashMap<PathBuf, Arc<Texture>>,
     warnings: Vec<String>,
     strict: bool,
+    /// The primvars of the material being prepared, by slot (name, fallback).
+    primvars: Vec<(String, DVec4)>,
 }
 
 impl InputLoader {
@@ -714,6 +800,19 @@ impl InputLoader {
         match input {
             Input::Value(v) => Ok(Param::Value(*v)),
             Input::Texture(t) => self.shader(path, name, default, t),
+            Input::Primvar(p) => Ok(self.primvar(p)),
+        }
+    }
+
+    /// A primvar reader of the material being prepared: its slot.
+    fn primvar(&mut self, p: &lux_usd::PrimvarInput) -> Param {
+        match self.primvars.iter().position(|(n, _)| *n == p.name) {
+            Some(slot) => Param::Primvar {
+                slot,
+                components: p.components,
+            },
+            // Beyond MAX_PRIMVARS distinct primvars (more than the inputs there are).
+            None => Param::Value(p.fallback.truncate()),
         }
     }
 
@@ -728,6 +827,7 @@ impl InputLoader {
         match input {
             Input::Value(v) => Ok(Param::Value(DVec3::splat(*v))),
             Input::Texture(t) => self.shader(path, name, DVec3::splat(default), t),
+            Input::Primvar(p) => Ok(self.primvar(p)),
         }
     }
 
@@ -829,5 +929,72 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A `diffuseColor` read through a `UsdPrimvarReader_float3` is the primvar interpolated at
+    /// the hit (red, green, blue corners at barycentric (0.2, 0.3, 0.5): (0.2, 0.3, 0.5)), the reader's
+    /// `fallback` where the gprim has no such primvar, and the mesh's `displayColor` where the
+    /// reader reads `displayColor` (as curves and points keep it).
+    #[test]
+    fn primvar_readers_shade_with_the_primvar() {
+        let stage = |varname: &str, primvars: &str| {
+            format!(
+                r#"#usda 1.0
+def Material "M" {{
+    token outputs:surface.connect = </M/S.outputs:surface>
+    def Shader "S" {{
+        uniform token info:id = "UsdPreviewSurface"
+        color3f inputs:diffuseColor.connect = </M/C.outputs:result>
+        token outputs:surface
+    }}
+    def Shader "C" {{
+        uniform token info:id = "UsdPrimvarReader_float3"
+        token inputs:varname = "{varname}"
+        float3 inputs:fallback = (0.5, 0.25, 0.125)
+        float3 outputs:result
+    }}
+}}
+def Mesh "T" (prepend apiSchemas = ["MaterialBindingAPI"]) {{
+    rel material:binding = </M>
+    uniform token subdivisionScheme = "none"
+    int[] faceVertexCounts = [3]
+    int[] faceVertexIndices = [0, 1, 2]
+    point3f[] points = [(0, 0, 0), (1, 0, 0), (0, 0, -1)]
+    {primvars}
+}}
+"#
+            )
+        };
+        let colours = "color3f[] primvars:tint = [(1, 0, 0), (0, 1, 0), (0, 0, 1)] (interpolation = \"vertex\")";
+        let cases = [
+            (stage("tint", colours), DVec3::new(0.2, 0.3, 0.5)),
+            (stage("tint", ""), DVec3::new(0.5, 0.25, 0.125)),
+            (
+                stage(
+                    "displayColor",
+                    "color3f[] primvars:displayColor = [(0.75, 0.5, 0.25)] (interpolation = \"constant\")",
+                ),
+                DVec3::new(0.75, 0.5, 0.25),
+            ),
+        ];
+        for (text, want) in cases {
+            let s =
+                lux_usd::load_usda_str(&text, lux_usd::Time::Start, &Default::default()).unwrap();
+            let g = Geometry::new(&s);
+            let m = Materials::with_policy(&s, false, SurfaceModel::Lambert).unwrap();
+            // The point 0.3 of the way to corner 1 and 0.5 to corner 2: (0.3, 0, −0.5).
+            let d = DVec3::NEG_Y;
+            let hit = g
+                .intersect(&s, DVec3::new(0.3, 1.0, -0.5), d, 0.0, 10.0)
+                .unwrap();
+            let Bsdf::Diffuse(b) = m.at(&s, &hit, d).bsdf else {
+                panic!("not Lambertian")
+            };
+            f32_close(b.albedo, want);
+        }
+    }
+
+    fn f32_close(a: DVec3, b: DVec3) {
+        assert!((a - b).abs().max_element() < 1e-6, "{a} ≠ {b}");
     }
 }

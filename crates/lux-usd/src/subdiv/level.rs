@@ -296,6 +296,7 @@ impl Scene {
                     mesh.normals = Some(r.normals);
                     mesh.colors = r.colors;
                     mesh.uvs = r.uvs;
+                    mesh.primvars = r.primvars;
                     if let Some(li) = mesh.light
                         && let Some(light) = self.lights.get_mut(li)
                         && let LightShape::Mesh { triangles } = &mut light.shape

@@ -212,6 +212,9 @@ pub struct Cage {
     pub colors: Option<CagePrimvar>,
     /// The texture coordinates the bound material reads (xy), when authored.
     pub uvs: Option<CagePrimvar>,
+    /// The primvars the bound material's primvar readers read (`crate::CornerPrimvar` once
+    /// refined), by name.
+    pub primvars: Vec<(String, CagePrimvar)>,
 }
 
 impl Cage {
@@ -236,7 +239,12 @@ impl Cage {
             let n = n as usize;
             let range = start + 1..start + n;
             self.face_vertices[range.clone()].reverse();
-            for pv in [&mut self.colors, &mut self.uvs].into_iter().flatten() {
+            let named = self.primvars.iter_mut().map(|(_, p)| p);
+            for pv in [&mut self.colors, &mut self.uvs]
+                .into_iter()
+                .flatten()
+                .chain(named)
+            {
                 if pv.interpolation == Interpolation::FaceVarying {
                     pv.indices[range.clone()].reverse();
                 }

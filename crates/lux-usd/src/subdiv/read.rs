@@ -11,7 +11,8 @@ use glam::{DMat3, DMat4, DVec4};
 use openusd::usd::Prim;
 
 /// The cage of the `Mesh` prim `prim` whose faces `topo` holds (local points), placed by
-/// `world`; `st` names the texture-coordinate primvar the bound material reads. `Ok(None)`
+/// `world`; `st` names the texture-coordinate primvar the bound material reads, `reads` the
+/// primvars its primvar readers read. `Ok(None)`
 /// for `subdivisionScheme = "none"` and, with a warning naming the prim, for a mesh that cannot
 /// be refined as authored (an unknown scheme, invalid faces, non-triangles under Loop): it is
 /// then drawn as its polygons.
@@ -21,6 +22,7 @@ pub(crate) fn read_cage(
     topo: &Topology,
     world: &DMat4,
     st: Option<&str>,
+    reads: &[String],
 ) -> Result<Option<Cage>, LoadError> {
     let token = r.text(prim, "subdivisionScheme")?;
     let scheme = match Scheme::parse(token.as_deref()) {
@@ -126,6 +128,22 @@ pub(crate) fn read_cage(
             )?;
         }
     }
+    let mut primvars = Vec::new();
+    for name in reads {
+        let attr = format!("primvars:{name}");
+        if let Some(values) = crate::mesh::primvar_values(r, prim, &attr)?
+            && let Some(pv) = cage_primvar(
+                r,
+                prim,
+                &attr,
+                values,
+                "constant",
+                [faces.sizes.len(), n_points, fv_count],
+            )?
+        {
+            primvars.push((name.clone(), pv));
+        }
+    }
     let mut cage = Cage {
         scheme,
         boundary,
@@ -143,6 +161,7 @@ pub(crate) fn read_cage(
         corners,
         colors,
         uvs,
+        primvars,
     };
     let mirror = DMat3::from_mat4(*world).determinant() < 0.0;
     if faces.left_handed != mirror {

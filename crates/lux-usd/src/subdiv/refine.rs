@@ -47,6 +47,8 @@ pub struct Refined {
     pub colors: Option<Vec<[DVec3; 3]>>,
     /// Texture coordinates per triangle corner, when the cage has them.
     pub uvs: Option<Vec<[DVec2; 3]>>,
+    /// The cage's named primvars per triangle corner.
+    pub primvars: Vec<crate::CornerPrimvar>,
     /// Faces left out of the surface because they repeat a vertex (OpenSubdiv rejects them).
     pub dropped_faces: usize,
 }
@@ -93,8 +95,18 @@ struct Refiner<'a> {
     /// offset of its first corner.
     faces: Vec<(usize, usize)>,
     dropped: usize,
-    colors: Option<Channel<'a>>,
-    uvs: Option<Channel<'a>>,
+    /// Colours, texture coordinates, named primvars: what [`Refiner::roles`] says.
+    channels: Vec<Channel<'a>>,
+    roles: Vec<Role>,
+}
+
+/// What a refined channel becomes.
+#[derive(Clone, Copy, PartialEq)]
+enum Role {
+    Colors,
+    Uvs,
+    /// The cage's primvar at this index.
+    Named(usize),
 }
 
 /// Where a tessellation vertex lies, for sharing it between the faces that meet there.
@@ -113,19 +125,30 @@ struct Out {
     /// Limit normal per vertex (zero where the tangents are degenerate).
     normals: Vec<DVec3>,
     triangles: Vec<[u32; 3]>,
-    /// Whether the cage has colours and texture coordinates to refine.
-    with_colors: bool,
-    with_uvs: bool,
-    colors: Vec<[DVec4; 3]>,
-    uvs: Vec<[DVec4; 3]>,
+    /// Per channel, its values at each triangle's corners.
+    values: Vec<Vec<[DVec4; 3]>>,
 }
 
-/// One grid point of a face: its vertex and its primvar values there.
-#[derive(Clone, Copy, Default)]
-struct GridPoint {
-    vertex: u32,
-    color: DVec4,
-    uv: DVec4,
+/// The grid of a face (or n-gon sub-face) being tessellated: each point's vertex, and its
+/// channels' values (`channels` a point, point-major).
+struct Grid {
+    vertices: Vec<u32>,
+    values: Vec<DVec4>,
+    channels: usize,
+}
+
+impl Grid {
+    fn new(points: usize, channels: usize) -> Grid {
+        Grid {
+            vertices: vec![0; points],
+            values: vec![DVec4::ZERO; points * channels],
+            channels,
+        }
+    }
+
+    fn values_mut(&mut self, k: usize) -> &mut [DVec4] {
+        &mut self.values[k * self.channels..(k + 1) * self.channels]
+    }
 }
 
 impl<'a> Refiner<'a> {
@@ -174,23 +197,33 @@ impl<'a> Refiner<'a> {
         let weights: Vec<f32> = cage.creases.iter().map(|c| c.sharpness).collect();
         let corner_v: Vec<u32> = cage.corners.iter().map(|c| c.vertex).collect();
         let corner_w: Vec<f32> = cage.corners.iter().map(|c| c.sharpness).collect();
-        // Face-varying primvars: one channel each, indexed per corner of the faces kept.
-        let fvar_indices: Vec<(Option<&CagePrimvar>, Vec<u32>)> = [&cage.colors, &cage.uvs]
-            .into_iter()
-            .map(|pv| match pv {
-                Some(pv) if pv.interpolation == Interpolation::FaceVarying => {
-                    let ix = faces
-                        .iter()
-                        .flat_map(|fs| pv.indices[corners_of(fs)].iter().copied())
-                        .collect();
-                    (Some(pv), ix)
-                }
-                _ => (None, Vec::new()),
+        // The channels: colours, texture coordinates, the named primvars.
+        let mut sources: Vec<(Role, &'a CagePrimvar)> = Vec::new();
+        if let Some(c) = &cage.colors {
+            sources.push((Role::Colors, c));
+        }
+        if let Some(c) = &cage.uvs {
+            sources.push((Role::Uvs, c));
+        }
+        for (k, (_, c)) in cage.primvars.iter().enumerate() {
+            sources.push((Role::Named(k), c));
+        }
+        // Face-varying primvars: one OpenSubdiv channel each (in channel order), indexed per
+        // corner of the faces kept.
+        let fvar_indices: Vec<(&CagePrimvar, Vec<u32>)> = sources
+            .iter()
+            .filter(|(_, pv)| pv.interpolation == Interpolation::FaceVarying)
+            .map(|(_, pv)| {
+                let ix = faces
+                    .iter()
+                    .flat_map(|fs| pv.indices[corners_of(fs)].iter().copied())
+                    .collect();
+                (*pv, ix)
             })
             .collect();
         let descriptors: Vec<FVarChannelDescriptor<'_>> = fvar_indices
             .iter()
-            .filter_map(|(pv, ix)| pv.map(|pv| FVarChannelDescriptor::new(pv.values.len(), ix)))
+            .map(|(pv, ix)| FVarChannelDescriptor::new(pv.values.len(), ix))
             .collect();
         let descriptor = TopologyDescriptor::new(cage.points.len(), &sizes, &vertices)
             .with_creases(&pairs, &weights)
@@ -264,8 +297,8 @@ impl<'a> Refiner<'a> {
             points.extend(l);
         }
         let mut fvar_channel = 0usize;
-        let mut channel = |pv: &'a Option<CagePrimvar>| -> Option<Channel<'a>> {
-            let pv = pv.as_ref()?;
+        let mut channels = Vec::with_capacity(sources.len());
+        for (_, pv) in &sources {
             let mut c = Channel {
                 pv,
                 fvar: None,
@@ -293,10 +326,9 @@ impl<'a> Refiner<'a> {
                 }
                 _ => {}
             }
-            Some(c)
-        };
-        let colors = channel(&cage.colors);
-        let uvs = channel(&cage.uvs);
+            channels.push(c);
+        }
+        let roles = sources.iter().map(|(r, _)| *r).collect();
         Ok(Refiner {
             cage,
             n: 1 << level,
@@ -305,8 +337,8 @@ impl<'a> Refiner<'a> {
             centre,
             faces,
             dropped,
-            colors,
-            uvs,
+            channels,
+            roles,
         })
     }
 
@@ -314,8 +346,7 @@ impl<'a> Refiner<'a> {
         let map = PatchMap::new(&self.table);
         let triangles = self.cage.refined_triangles(self.n.trailing_zeros()) as usize;
         let mut out = Out {
-            with_colors: self.colors.is_some(),
-            with_uvs: self.uvs.is_some(),
+            values: vec![Vec::with_capacity(triangles); self.channels.len()],
             ..Out::default()
         };
         out.triangles.reserve(triangles);
@@ -399,8 +430,8 @@ impl<'a> Refiner<'a> {
         }
     }
 
-    /// The primvar values of grid point `(ptex, u, v)` of `face`; `bilinear` gives the weights
-    /// of the face's corners for `varying` data.
+    /// The channels' values at grid point `(ptex, u, v)` of `face`, into `out`;
+    /// `corner_weights` gives the weights of the face's corners for `varying` data.
     fn values(
         &self,
         map: &PatchMap<'_>,
@@ -408,19 +439,18 @@ impl<'a> Refiner<'a> {
         ptex: usize,
         (u, v): (f32, f32),
         corner_weights: &[(usize, f64)],
-    ) -> (DVec4, DVec4) {
-        let patch = if self.colors.as_ref().is_some_and(|c| c.needs_patch())
-            || self.uvs.as_ref().is_some_and(|c| c.needs_patch())
-        {
+        out: &mut [DVec4],
+    ) {
+        if self.channels.is_empty() {
+            return;
+        }
+        let patch = if self.channels.iter().any(Channel::needs_patch) {
             map.find_patch(ptex, u, v)
         } else {
             None
         };
-        let eval = |c: &Option<Channel<'_>>| -> DVec4 {
-            let Some(c) = c else {
-                return DVec4::ZERO;
-            };
-            match c.pv.interpolation {
+        for (c, slot) in self.channels.iter().zip(out) {
+            *slot = match c.pv.interpolation {
                 Interpolation::Constant => c.pv.at(0),
                 Interpolation::Uniform => c.pv.at(face.cage_face),
                 Interpolation::Varying => corner_weights
@@ -441,9 +471,8 @@ impl<'a> Refiner<'a> {
                     }
                     _ => DVec4::NAN,
                 },
-            }
-        };
-        (eval(&self.colors), eval(&self.uvs))
+            };
+        }
     }
 
     /// A quad face: one ptex face, `(u, v)` = (0, 0), (1, 0), (1, 1), (0, 1) at its corners.
@@ -456,7 +485,7 @@ impl<'a> Refiner<'a> {
     ) {
         let n = self.n;
         let ptex = face.first_ptex;
-        let mut grid = vec![GridPoint::default(); ((n + 1) * (n + 1)) as usize];
+        let mut grid = Grid::new(((n + 1) * (n + 1)) as usize, self.channels.len());
         for j in 0..=n {
             for i in 0..=n {
                 let (u, v) = (i as f32 / n as f32, j as f32 / n as f32);
@@ -479,9 +508,9 @@ impl<'a> Refiner<'a> {
                     (2, fu * fv),
                     (3, (1.0 - fu) * fv),
                 ];
-                let vertex = self.vertex(map, key, ptex, u, v, shared, out);
-                let (color, uv) = self.values(map, face, ptex, (u, v), &w);
-                grid[(j * (n + 1) + i) as usize] = GridPoint { vertex, color, uv };
+                let k = (j * (n + 1) + i) as usize;
+                grid.vertices[k] = self.vertex(map, key, ptex, u, v, shared, out);
+                self.values(map, face, ptex, (u, v), &w, grid.values_mut(k));
             }
         }
         quad_cells(&grid, n, out);
@@ -507,7 +536,7 @@ impl<'a> Refiner<'a> {
         for s in 0..k {
             let ptex = face.first_ptex + s;
             let (prev, next) = ((s + k - 1) % k, (s + 1) % k);
-            let mut grid = vec![GridPoint::default(); ((m + 1) * (m + 1)) as usize];
+            let mut grid = Grid::new(((m + 1) * (m + 1)) as usize, self.channels.len());
             for j in 0..=m {
                 for i in 0..=m {
                     let (u, v) = (i as f32 / m as f32, j as f32 / m as f32);
@@ -548,8 +577,9 @@ impl<'a> Refiner<'a> {
                     w[s].1 += w00 + 0.5 * (w10 + w01);
                     w[next].1 += 0.5 * w10;
                     w[prev].1 += 0.5 * w01;
-                    let (color, uv) = self.values(map, face, ptex, (u, v), &w);
-                    grid[(j * (m + 1) + i) as usize] = GridPoint { vertex, color, uv };
+                    let k = (j * (m + 1) + i) as usize;
+                    grid.vertices[k] = vertex;
+                    self.values(map, face, ptex, (u, v), &w, grid.values_mut(k));
                 }
             }
             quad_cells(&grid, m, out);
@@ -569,7 +599,7 @@ impl<'a> Refiner<'a> {
         let ptex = face.first_ptex;
         let row = |j: u32| -> usize { (j * (n + 1) - j * (j.saturating_sub(1)) / 2) as usize };
         let at = |i: u32, j: u32| -> usize { row(j) + i as usize };
-        let mut grid = vec![GridPoint::default(); ((n + 1) * (n + 2) / 2) as usize];
+        let mut grid = Grid::new(((n + 1) * (n + 2) / 2) as usize, self.channels.len());
         for j in 0..=n {
             for i in 0..=n - j {
                 let (u, v) = (i as f32 / n as f32, j as f32 / n as f32);
@@ -584,18 +614,17 @@ impl<'a> Refiner<'a> {
                 };
                 let (fu, fv) = (u as f64, v as f64);
                 let w = [(0, 1.0 - fu - fv), (1, fu), (2, fv)];
-                let vertex = self.vertex(map, key, ptex, u, v, shared, out);
-                let (color, uv) = self.values(map, face, ptex, (u, v), &w);
-                grid[at(i, j)] = GridPoint { vertex, color, uv };
+                let k = at(i, j);
+                grid.vertices[k] = self.vertex(map, key, ptex, u, v, shared, out);
+                self.values(map, face, ptex, (u, v), &w, grid.values_mut(k));
             }
         }
         for j in 0..n {
             for i in 0..n - j {
-                let (a, b, c) = (grid[at(i, j)], grid[at(i + 1, j)], grid[at(i, j + 1)]);
-                push_triangle([a, b, c], out);
+                let (a, b, c) = (at(i, j), at(i + 1, j), at(i, j + 1));
+                push_triangle(&grid, [a, b, c], out);
                 if i + j + 1 < n {
-                    let d = grid[at(i + 1, j + 1)];
-                    push_triangle([b, d, c], out);
+                    push_triangle(&grid, [b, at(i + 1, j + 1), c], out);
                 }
             }
         }
@@ -608,9 +637,7 @@ impl<'a> Refiner<'a> {
             positions,
             mut normals,
             triangles,
-            colors,
-            uvs,
-            ..
+            values,
         } = out;
         if normals.contains(&DVec3::ZERO) {
             let mut sum = vec![DVec3::ZERO; positions.len()];
@@ -631,16 +658,23 @@ impl<'a> Refiner<'a> {
             .iter()
             .map(|t| t.map(|i| normals[i as usize]))
             .collect();
+        let (mut colors, mut uvs, mut primvars) = (None, None, Vec::new());
+        for (role, v) in self.roles.iter().zip(values) {
+            match *role {
+                Role::Colors => colors = Some(v.iter().map(|c| c.map(|x| x.truncate())).collect()),
+                Role::Uvs => {
+                    uvs = Some(v.iter().map(|c| c.map(|x| DVec2::new(x.x, x.y))).collect())
+                }
+                Role::Named(k) => primvars.push(crate::CornerPrimvar {
+                    name: self.cage.primvars[k].0.clone(),
+                    values: v,
+                }),
+            }
+        }
         Refined {
-            colors: self
-                .colors
-                .as_ref()
-                .map(|_| colors.iter().map(|c| c.map(|v| v.truncate())).collect()),
-            uvs: self.uvs.as_ref().map(|_| {
-                uvs.iter()
-                    .map(|c| c.map(|v| DVec2::new(v.x, v.y)))
-                    .collect()
-            }),
+            colors,
+            uvs,
+            primvars,
             positions,
             normals: corner_normals,
             triangles,
@@ -690,32 +724,32 @@ fn combine(indices: &[u32], weights: &[f32], values: &[[f64; 4]]) -> DVec4 {
 
 /// The two triangles of every cell of an `(n + 1)²` grid (row-major, `u` along rows), split
 /// along the shorter diagonal.
-fn quad_cells(grid: &[GridPoint], n: u32, out: &mut Out) {
+fn quad_cells(grid: &Grid, n: u32, out: &mut Out) {
     let w = (n + 1) as usize;
     for j in 0..n as usize {
         for i in 0..n as usize {
-            let a = grid[j * w + i];
-            let b = grid[j * w + i + 1];
-            let c = grid[(j + 1) * w + i + 1];
-            let d = grid[(j + 1) * w + i];
-            let p = |g: GridPoint| out.positions[g.vertex as usize];
+            let (a, b, c, d) = (
+                j * w + i,
+                j * w + i + 1,
+                (j + 1) * w + i + 1,
+                (j + 1) * w + i,
+            );
+            let p = |k: usize| out.positions[grid.vertices[k] as usize];
             if p(a).distance_squared(p(c)) <= p(b).distance_squared(p(d)) {
-                push_triangle([a, b, c], out);
-                push_triangle([a, c, d], out);
+                push_triangle(grid, [a, b, c], out);
+                push_triangle(grid, [a, c, d], out);
             } else {
-                push_triangle([a, b, d], out);
-                push_triangle([b, c, d], out);
+                push_triangle(grid, [a, b, d], out);
+                push_triangle(grid, [b, c, d], out);
             }
         }
     }
 }
 
-fn push_triangle(g: [GridPoint; 3], out: &mut Out) {
-    out.triangles.push(g.map(|p| p.vertex));
-    if out.with_colors {
-        out.colors.push(g.map(|p| p.color));
-    }
-    if out.with_uvs {
-        out.uvs.push(g.map(|p| p.uv));
+/// The triangle of grid points `k`: its vertices and its channels' corner values.
+fn push_triangle(grid: &Grid, k: [usize; 3], out: &mut Out) {
+    out.triangles.push(k.map(|k| grid.vertices[k]));
+    for (c, values) in out.values.iter_mut().enumerate() {
+        values.push(k.map(|k| grid.values[k * grid.channels + c]));
     }
 }
