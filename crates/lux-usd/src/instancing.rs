@@ -302,6 +302,12 @@ impl Walk<'_> {
             binding: None,
             ..here.clone()
         };
+        // The instance's material first: the prototype's meshes without a binding of their
+        // own read the primvars it reads (walk.rs).
+        let material = match &here.binding {
+            Some(b) => Some(self.material(b)?),
+            None => None,
+        };
         let Some(pd) = self.walk_prototype(&proto, prim, false, &inherited, depth)? else {
             self.r.warn(
                 prim,
@@ -309,10 +315,6 @@ impl Walk<'_> {
                 format!("instance of prototype {proto} that contains itself; skipped"),
             );
             return Ok(());
-        };
-        let material = match &here.binding {
-            Some(b) => Some(self.material(b)?),
-            None => None,
         };
         let counts = self.protos.data[pd].counts.clone();
         let into = self.counts(here.target);

@@ -464,16 +464,22 @@ impl<'s> Walk<'s> {
                     .map(|c| mirror_corners(c, mirror));
             }
         }
-        // The primvars the bound material's primvar readers read.
-        let reads: Vec<String> = material
-            .map(|m| {
-                self.scene.materials[m]
-                    .primvar_names()
-                    .into_iter()
-                    .map(str::to_owned)
-                    .collect()
-            })
-            .unwrap_or_default();
+        // The primvars the bound material's primvar readers read; a prototype's mesh without
+        // a binding of its own may be drawn with an instance's material: those any material
+        // read so far reads (an instance's is read before its prototype is walked).
+        let mut reads: Vec<String> = Vec::new();
+        let materials: Vec<usize> = match material {
+            Some(m) => vec![m],
+            None if here.target != Target::World => (0..self.scene.materials.len()).collect(),
+            None => Vec::new(),
+        };
+        for m in materials {
+            for n in self.scene.materials[m].primvar_names() {
+                if !reads.iter().any(|r| r == n) {
+                    reads.push(n.to_owned());
+                }
+            }
+        }
         let mut primvars = Vec::new();
         for name in &reads {
             let attr = format!("primvars:{name}");

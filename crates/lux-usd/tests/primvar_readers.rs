@@ -173,3 +173,25 @@ fn subdivided_primvars_are_refined() {
         }
     }
 }
+
+/// A prototype's mesh without a binding of its own is drawn with its instance's material: it
+/// carries the primvars that material reads.
+#[test]
+fn prototype_meshes_carry_what_instance_materials_read() {
+    let text = stage("token inputs:varname = \"tint\"", "")
+        .replace(
+            "def Mesh \"Quad\" (prepend apiSchemas = [\"MaterialBindingAPI\"]) {\n    rel material:binding = </M>",
+            "class Xform \"Proto\" {\ndef Mesh \"Quad\" {",
+        )
+        .replace(
+            "    point3f[] points = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)]\n    \n}\n",
+            "    point3f[] points = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)]\n    color3f[] primvars:tint = [(1, 2, 3)] (interpolation = \"constant\")\n}\n}\ndef Xform \"I\" (instanceable = true prepend references = </Proto> prepend apiSchemas = [\"MaterialBindingAPI\"]) {\n    rel material:binding = </M>\n}\n",
+        );
+    let s = load_usda_str(&text, Time::Start, &LoadOptions::default()).unwrap();
+    assert_eq!(s.instances.len(), 1, "{text}");
+    let m = &s.meshes[0];
+    assert!(m.prototype.is_some() && m.material.is_none());
+    assert_eq!(s.instances[0].material, Some(0));
+    assert_eq!(m.primvars.len(), 1);
+    assert_eq!(m.primvars[0].values[0][0], DVec4::new(1.0, 2.0, 3.0, 0.0));
+}
