@@ -21,6 +21,7 @@ fn json_report_of_rect_frame_11() {
         json: true,
         strict: false,
         disable_camera_light: false,
+        subdiv_level: None,
     };
     let v: serde_json::Value = serde_json::from_str(&info::report(&args).unwrap()).unwrap();
     let l = &v["lights"][0];
@@ -41,6 +42,7 @@ fn missing_file_is_an_error_naming_it() {
         json: false,
         strict: false,
         disable_camera_light: false,
+        subdiv_level: None,
     };
     let e = info::report(&args).unwrap_err();
     assert!(e.contains("nope.usda") && e.contains("no such file"), "{e}");
@@ -54,6 +56,7 @@ fn physical_units_and_spectra_are_reported_with_their_converted_radiance() {
         json: true,
         strict: false,
         disable_camera_light: false,
+        subdiv_level: None,
     };
     let v: serde_json::Value = serde_json::from_str(&info::report(&args).unwrap()).unwrap();
     let light = |p: &str| {
@@ -103,6 +106,7 @@ fn light_and_shadow_links_are_listed_when_authored() {
         json,
         strict: false,
         disable_camera_light: false,
+        subdiv_level: None,
     };
     let text = info::report(&args(false)).unwrap();
     let block = |light: &str| {
@@ -178,6 +182,7 @@ def SphereLight "Key" (
         json: false,
         strict: false,
         disable_camera_light: false,
+        subdiv_level: None,
     })
     .unwrap();
     assert!(!text.contains("0.30000001"), "{text}");
@@ -208,6 +213,7 @@ fn json_report_gives_drawn_bounds_and_counts() {
             json: true,
             strict: false,
             disable_camera_light: false,
+            subdiv_level: None,
         };
         serde_json::from_str(&info::report(&args).unwrap()).unwrap()
     };

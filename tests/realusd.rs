@@ -232,6 +232,7 @@ fn lux_info_counts_what_usd_core_counts() {
             json: true,
             strict: false,
             disable_camera_light: false,
+            subdiv_level: None,
         };
         let report = info::report(&args).unwrap_or_else(|err| panic!("{}: {err}", e.file));
         let v: serde_json::Value = serde_json::from_str(&report).unwrap();

@@ -38,6 +38,10 @@ pub struct InfoArgs {
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
+    /// Refine subdivision surfaces at this level, 0 to 10 (default: as `lux render` in the
+    /// profile: by size on screen in spec, the cages' polygons in hdembree).
+    #[arg(long)]
+    pub subdiv_level: Option<u32>,
 }
 
 fn v3(v: glam::DVec3) -> Value {
@@ -423,16 +427,51 @@ pub fn report(args: &InfoArgs) -> Result<String, String> {
         .map_err(|e| e.to_string());
     // Subdivision surfaces as a render in that profile draws them (its rule for the render
     // camera at the default resolution), so that the counts and bounds are what is drawn.
+    let mut refined = Vec::new();
     if let Ok(p) = &profile {
-        let options = lux_render::render::RenderOptions::new(p.clone());
-        lux_render::settings::refine_subdivision(&mut scene, &options)
+        let mut options = lux_render::render::RenderOptions::new(p.clone());
+        options.subdiv_level = args.subdiv_level;
+        if let Some(l) = args.subdiv_level
+            && l > lux_usd::subdiv::MAX_LEVEL
+        {
+            return Err(format!(
+                "subdivision level {l}: expected 0 to {}",
+                lux_usd::subdiv::MAX_LEVEL
+            ));
+        }
+        refined = lux_render::settings::refine_subdivision(&mut scene, &options)
             .map_err(|e| e.to_string())?;
     }
     Ok(if args.json {
-        serde_json::to_string_pretty(&report_json(&scene, &profile, &defaults))
-            .map_err(|e| e.to_string())?
+        let mut j = report_json(&scene, &profile, &defaults);
+        j["refined"] = Value::Array(
+            refined
+                .iter()
+                .map(|r| {
+                    let m = &scene.meshes[r.mesh];
+                    json!({ "path": m.path, "level": r.level, "triangles": m.triangles.len() })
+                })
+                .collect(),
+        );
+        serde_json::to_string_pretty(&j).map_err(|e| e.to_string())?
     } else {
-        report_text(&scene, &profile, &defaults)
+        let mut t = report_text(&scene, &profile, &defaults);
+        if !refined.is_empty() {
+            let (lo, hi) = refined
+                .iter()
+                .fold((u32::MAX, 0), |(l, h), r| (l.min(r.level), h.max(r.level)));
+            let _ = writeln!(
+                t,
+                "subdivision: {} refined at level {}",
+                plural(refined.len(), "surface", "surfaces"),
+                if lo == hi {
+                    lo.to_string()
+                } else {
+                    format!("{lo} to {hi}")
+                }
+            );
+        }
+        t
     })
 }
 

@@ -448,14 +448,22 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let start = std::time::Instant::now();
     let refined = lux::render::settings::refine_subdivision(&mut scene, &options)
         .map_err(|e| e.to_string())?;
-    if refined > 0 {
+    if !refined.is_empty() {
+        let (lo, hi) = refined
+            .iter()
+            .fold((u32::MAX, 0), |(l, h), r| (l.min(r.level), h.max(r.level)));
         eprintln!(
-            "lux: {} refined in {:.3} s ({})",
+            "lux: {} refined at level {} in {:.3} s ({})",
             plural(
-                refined as u64,
+                refined.len() as u64,
                 "subdivision surface",
                 "subdivision surfaces"
             ),
+            if lo == hi {
+                lo.to_string()
+            } else {
+                format!("{lo} to {hi}")
+            },
             start.elapsed().as_secs_f64(),
             match options.subdiv_level {
                 Some(n) => format!("--subdiv-level {n}"),

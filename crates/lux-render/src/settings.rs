@@ -345,14 +345,15 @@ fn usd_camera<'s>(
 /// Refines `scene`'s subdivision surfaces as a render with `options` draws them
 /// ([`RenderOptions::level_rule`] for its camera and image width; `Scene::refine_subdivision`),
 /// in place: [`crate::render::Renderer::new`] does it on a copy of a scene that still holds
-/// cages, so a caller that owns its scene saves the copy by refining first. Returns the number
-/// of surfaces refined; the scene's warnings say what could not be refined as authored.
+/// cages, so a caller that owns its scene saves the copy by refining first. Returns the
+/// surfaces refined and their levels; the scene's warnings say what could not be refined as
+/// authored.
 pub fn refine_subdivision(
     scene: &mut Scene,
     options: &RenderOptions,
-) -> Result<usize, RenderError> {
+) -> Result<Vec<lux_usd::subdiv::Refinement>, RenderError> {
     if !scene.meshes.iter().any(|m| m.subdivision.is_some()) {
-        return Ok(0);
+        return Ok(Vec::new());
     }
     let camera = usd_camera(scene, options)?.clone();
     let width = options

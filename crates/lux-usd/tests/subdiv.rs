@@ -759,7 +759,7 @@ def Camera "Cam" {
         width: 960,
         max_level: 5,
     });
-    assert_eq!(refined, 1);
+    assert_eq!(refined, [lux_usd::subdiv::Refinement { mesh: 0, level: 4 }]);
     assert_eq!(s.meshes.len(), 1);
     assert_eq!(
         s.meshes[0].triangles.len(),

@@ -15,6 +15,15 @@ pub const MAX_LEVEL: u32 = 10;
 /// limit surface on screen.
 pub const TARGET_SAGITTA_PIXELS: f64 = 0.25;
 
+/// A subdivision surface [`Scene::refine_subdivision`] refined.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Refinement {
+    /// Index into `Scene::meshes`.
+    pub mesh: usize,
+    /// The level it was refined at.
+    pub level: u32,
+}
+
 /// How [`Scene::refine_subdivision`] picks each subdivision surface's level.
 #[derive(Clone, Copy, Debug)]
 pub enum LevelRule<'c> {
@@ -223,10 +232,10 @@ impl Scene {
     /// its instances needs), and drops the cages: level 0 keeps a cage's polygons. A level
     /// whose triangles would pass [`MAX_REFINED_TRIANGLES`] is lowered, and a cage OpenSubdiv
     /// cannot refine is drawn as its polygons, each with a warning naming the prim. A
-    /// `MeshLightAPI` light's emitting triangles follow its refined mesh. Returns the number of
-    /// meshes refined (also added to [`Scene::drawn`]).
-    pub fn refine_subdivision(&mut self, rule: &LevelRule<'_>) -> usize {
-        let mut refined = 0usize;
+    /// `MeshLightAPI` light's emitting triangles follow its refined mesh. Returns the meshes
+    /// refined and their levels (their number is also added to [`Scene::drawn`]).
+    pub fn refine_subdivision(&mut self, rule: &LevelRule<'_>) -> Vec<Refinement> {
+        let mut refined = Vec::new();
         let mut by_prototype: Vec<Vec<DMat4>> = vec![Vec::new(); self.prototypes.len()];
         if matches!(rule, LevelRule::Screen { .. }) {
             for i in &self.instances {
@@ -310,7 +319,7 @@ impl Scene {
                             })
                             .collect();
                     }
-                    refined += 1;
+                    refined.push(Refinement { mesh: mi, level });
                 }
                 Err(e) => self.warnings.push(Warning {
                     prim: path,
@@ -322,7 +331,7 @@ impl Scene {
                 }),
             }
         }
-        self.drawn.refined_meshes += refined;
+        self.drawn.refined_meshes += refined.len();
         refined
     }
 }

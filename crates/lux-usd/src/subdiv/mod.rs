@@ -28,7 +28,7 @@ mod level;
 mod read;
 mod refine;
 
-pub use level::{LevelRule, MAX_LEVEL, TARGET_SAGITTA_PIXELS, screen_level};
+pub use level::{LevelRule, MAX_LEVEL, Refinement, TARGET_SAGITTA_PIXELS, screen_level};
 pub(crate) use read::read_cage;
 pub use refine::{MAX_REFINED_TRIANGLES, Refined, refine};
 
