@@ -757,15 +757,12 @@ def Camera "Cam" {
     let refined = s.refine_subdivision(&LevelRule::Screen {
         camera: &camera,
         width: 960,
-        max_level: 5,
+        max_level: 4,
     });
+    // The near instance's level 5, capped at 4; refined once for both.
     assert_eq!(refined, [lux_usd::subdiv::Refinement { mesh: 0, level: 4 }]);
     assert_eq!(s.meshes.len(), 1);
-    assert_eq!(
-        s.meshes[0].triangles.len(),
-        6 * 2 * 4usize.pow(5),
-        "capped at 5"
-    );
+    assert_eq!(s.meshes[0].triangles.len(), 6 * 2 * 4usize.pow(4));
 }
 
 /// The screen rule refines where the surface bends: a flat sheet and a cube whose edges are
@@ -793,4 +790,58 @@ fn screen_rule_follows_the_bend_not_the_size() {
     // From the centre, every face is 1 away: 2 · (50 / 20.955 · 1920) / 1 · (π/2) / 2 =
     // 7197 → level ⌈log₄ 7197⌉ = 7.
     assert_eq!(level(&cube("")), 7);
+}
+
+/// `triangleSubdivisionRule = "smooth"` changes the limit surface of a mesh with triangles
+/// (OpenSubdiv's smooth-triangle weights) and not of a quad mesh.
+#[test]
+fn smooth_triangle_rule_acts_on_triangles_only() {
+    let pyramid = |rule: &str| {
+        format!(
+            r#"#usda 1.0
+def Mesh "Pyramid" {{
+    {rule}
+    int[] faceVertexCounts = [4, 3, 3, 3, 3]
+    int[] faceVertexIndices = [0, 3, 2, 1, 0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4]
+    point3f[] points = [(-1, 0, -1), (1, 0, -1), (1, 0, 1), (-1, 0, 1), (0, 1.5, 0)]
+}}
+"#
+        )
+    };
+    let smooth = "uniform token triangleSubdivisionRule = \"smooth\"";
+    let a = refined(&pyramid(""), 2);
+    let b = refined(&pyramid(smooth), 2);
+    let moved = a.meshes[0]
+        .positions
+        .iter()
+        .zip(&b.meshes[0].positions)
+        .map(|(p, q)| p.distance(*q))
+        .fold(0.0, f64::max);
+    assert!(moved > 1e-3, "the smooth rule moved no vertex ({moved})");
+    let a = refined(&cube(""), 2);
+    let b = refined(&cube(smooth), 2);
+    assert_eq!(a.meshes[0].positions, b.meshes[0].positions);
+}
+
+/// A `MeshLightAPI` subdivision surface emits from its limit surface: the light's triangles
+/// (light space) are the refined ones.
+#[test]
+fn mesh_lights_emit_from_the_refined_surface() {
+    let text = cube("").replace(
+        "def Mesh \"Cube\" {",
+        "def Mesh \"Cube\" (prepend apiSchemas = [\"MeshLightAPI\"]) {\n    double3 xformOp:translate = (0, 5, 0)\n    uniform token[] xformOpOrder = [\"xformOp:translate\"]",
+    );
+    let s = refined(&text, 2);
+    let m = &s.meshes[0];
+    let light = &s.lights[m.light.expect("a mesh light")];
+    let lux_math::LightShape::Mesh { triangles } = &light.shape else {
+        panic!("not a mesh light")
+    };
+    assert_eq!(triangles.len(), m.triangles.len());
+    for (t, tri) in triangles.iter().zip(&m.triangles) {
+        for (p, &i) in t.iter().zip(tri) {
+            let world = light.light_to_world.transform_point3(*p);
+            assert!(world.distance(m.positions[i as usize]) < 1e-9);
+        }
+    }
 }
