@@ -479,3 +479,114 @@ fn usdrecord_defaults_and_camera_names() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["frame"], 3.0);
 }
+
+/// `lux info --json` reports the world box of what is drawn — posed, refined, curves and
+/// points included — and how many of each: a skinned arm (usd-core's `UsdSkel.BakeSkinning`
+/// and `BBoxCache` give (−0.5, −0.5, 0)..(0.5, 0.5, 4) at time 1, `SOURCES.md` of the skel test
+/// data; its limit surface inside that box in spec), a default-scheme cube refined by the spec
+/// profile (its face centres, the limit points 68/81 out, bound it), OpenUSD's basicDrawing
+/// and instancing test (curves and points drawn).
+#[test]
+fn json_report_gives_drawn_bounds_and_counts() {
+    let report = |path: PathBuf, frame: Option<f64>| -> serde_json::Value {
+        let args = info::InfoArgs {
+            scene: path,
+            frame,
+            json: true,
+            strict: false,
+            disable_camera_light: false,
+            subdiv_level: None,
+        };
+        serde_json::from_str(&info::report(&args).unwrap()).unwrap()
+    };
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    // (the published package leaves this suite out: it reads data beside it)
+    let arm_path = root.join("crates/lux-usd/tests/data/skel/openusd/pxr/usdImaging/usdImagingGL/testenv/testUsdImagingGLUsdSkel/arm.usda");
+    let v3 = |v: &serde_json::Value| -> Vec<f64> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let close = |got: Vec<f64>, want: [f64; 3]| {
+        for (g, w) in got.iter().zip(want) {
+            assert!((g - w).abs() < 1e-5 * 4.0, "{got:?} vs {want:?}");
+        }
+    };
+    // The arm is a subdivision surface: in the hdembree profile (its polygons, as usd-core
+    // bounds its points) the box is usd-core's; in spec its limit surface lies inside it.
+    let dir = std::env::temp_dir().join(format!("lux-info-bounds-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let hdembree = dir.join("arm_hdembree.usda");
+    std::fs::write(
+        &hdembree,
+        format!(
+            "#usda 1.0\n(\n    subLayers = [@{}@]\n)\ndef RenderSettings \"Settings\" {{\n    uniform token lux:conformanceProfile = \"hdembree\"\n}}\n",
+            arm_path.display()
+        ),
+    )
+    .unwrap();
+    let arm = report(hdembree, Some(1.0));
+    assert_eq!(arm["profile"]["name"], "hdembree", "{}", arm["profile"]);
+    assert_eq!(arm["counts"]["posed_meshes"], 1);
+    assert_eq!(arm["counts"]["refined_meshes"], 0);
+    close(v3(&arm["bounds"]["min"]), [-0.5, -0.5, 0.0]);
+    close(v3(&arm["bounds"]["max"]), [0.5, 0.5, 4.0]);
+    let arm = report(arm_path, Some(1.0));
+    assert_eq!(arm["counts"]["posed_meshes"], 1);
+    assert_eq!(arm["counts"]["refined_meshes"], 1);
+    let (lo, hi) = (v3(&arm["bounds"]["min"]), v3(&arm["bounds"]["max"]));
+    for k in 0..3 {
+        assert!(lo[k] >= [-0.5, -0.5, 0.0][k] - 1e-9 && hi[k] <= [0.5, 0.5, 4.0][k] + 1e-9);
+    }
+    // A cube left at the default scheme, with a camera 10 away.
+    let cube = dir.join("cube.usda");
+    std::fs::write(
+        &cube,
+        r#"#usda 1.0
+def Mesh "Cube" {
+    int[] faceVertexCounts = [4, 4, 4, 4, 4, 4]
+    int[] faceVertexIndices = [0, 1, 3, 2, 2, 3, 5, 4, 4, 5, 7, 6, 6, 7, 1, 0, 1, 7, 5, 3, 6, 0, 2, 4]
+    point3f[] points = [(-1, -1, 1), (1, -1, 1), (-1, 1, 1), (1, 1, 1), (-1, 1, -1), (1, 1, -1), (-1, -1, -1), (1, -1, -1)]
+}
+def Camera "Cam" {
+    double3 xformOp:translate = (0, 0, 10)
+    uniform token[] xformOpOrder = ["xformOp:translate"]
+}
+"#,
+    )
+    .unwrap();
+    let c = report(cube, None);
+    assert_eq!(c["counts"]["refined_meshes"], 1);
+    let limit = 68.0 / 81.0;
+    close(v3(&c["bounds"]["min"]), [-limit; 3]);
+    close(v3(&c["bounds"]["max"]), [limit; 3]);
+    let drawing = report(
+        root.join("tests/data/realusd/openusd/pxr/usdImaging/usdImagingGL/testenv/testUsdImagingGLBasicLighting/basicDrawing.usda"),
+        None,
+    );
+    let counts = &drawing["counts"];
+    assert_eq!(counts["curves"], 3, "{counts}");
+    assert!(
+        counts["not_drawn"].as_object().unwrap().is_empty(),
+        "{counts}"
+    );
+    // OpenUSD's instancing test: 7 meshes (default scheme) refined, 1 curve and 2 points
+    // prims drawn through the instance, the Volume not drawn.
+    let inst = report(
+        root.join("tests/data/realusd/openusd/pxr/usdImaging/usdImagingGL/testenv/testUsdImagingGLInstancing/instance.usda"),
+        None,
+    );
+    let counts = &inst["counts"];
+    assert_eq!(
+        [
+            &counts["refined_meshes"],
+            &counts["curves"],
+            &counts["points"]
+        ],
+        [7, 1, 2],
+        "{counts}"
+    );
+    assert_eq!(counts["not_drawn"]["Volume"], 1);
+}
