@@ -118,18 +118,7 @@ pub fn read_points(
         None => None,
     }
     .unwrap_or(CurvePrimvar::constant(FALLBACK_WIDTH));
-    let colors = match r.vec3_array(prim, "primvars:displayColor")? {
-        Some(c) if !c.is_empty() => primvar::read(
-            r,
-            prim,
-            "primvars:displayColor",
-            c,
-            Interpolation::Constant,
-            sizes,
-            "ignored",
-        )?,
-        _ => None,
-    };
+    let colors = primvar::display_color(r, prim, sizes)?;
     for name in ["primvars:normals", "normals"] {
         if r.vec3_array(prim, name)?.is_some_and(|n| !n.is_empty()) {
             r.warn(

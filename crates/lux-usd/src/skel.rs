@@ -1,4 +1,4 @@
-//! UsdSkel posing: a skinned gprim (a `Mesh` or implicit surface bound to a `Skeleton` under a
+//! UsdSkel posing: a skinned gprim (a `Mesh`, curves, points or an implicit surface bound to a
 //! `SkelRoot`) drawn at the load time as usd-core's `UsdSkelBakeSkinning` poses it.
 //!
 //! What is read, and how UsdSkel (26.11) resolves it:

@@ -148,6 +148,14 @@ impl<'s> Walk<'s> {
         Ok(())
     }
 
+    /// The root path of the prototype being walked (`None` in the world).
+    fn prototype_root(&self, target: Target) -> Option<String> {
+        match target {
+            Target::World => None,
+            Target::Proto(pd) => Some(self.protos.data[pd].path.clone()),
+        }
+    }
+
     /// The gprim counts of the current target (the world, or the prototype being walked).
     pub(crate) fn counts(&mut self, target: Target) -> &mut GprimCounts {
         match target {
@@ -380,10 +388,7 @@ impl<'s> Walk<'s> {
         };
         // UsdSkel: a skinned gprim's points are posed (in its skeleton's space, `pose.to_target`).
         let pose = if here.skel_scope {
-            let root = match here.target {
-                Target::World => None,
-                Target::Proto(pd) => Some(self.protos.data[pd].path.clone()),
-            };
+            let root = self.prototype_root(here.target);
             crate::skel::pose(
                 &mut self.r,
                 prim,
@@ -573,10 +578,7 @@ impl<'s> Walk<'s> {
             face_count: 0,
             faces: None,
         };
-        let root = match here.target {
-            Target::World => None,
-            Target::Proto(pd) => Some(self.protos.data[pd].path.clone()),
-        };
+        let root = self.prototype_root(here.target);
         let pose = crate::skel::pose(
             &mut self.r,
             prim,

@@ -217,18 +217,7 @@ fn read_primvars(r: &mut Reader<'_>, prim: &Prim, sizes: Sizes) -> Result<Primva
         .unwrap_or(CurvePrimvar::constant(FALLBACK_WIDTH)),
         None => CurvePrimvar::constant(FALLBACK_WIDTH),
     };
-    let colors = match r.vec3_array(prim, "primvars:displayColor")? {
-        Some(c) if !c.is_empty() => primvar::read(
-            r,
-            prim,
-            "primvars:displayColor",
-            c,
-            Interpolation::Constant,
-            sizes,
-            "ignored",
-        )?,
-        _ => None,
-    };
+    let colors = primvar::display_color(r, prim, sizes)?;
     let mut normals = None;
     for (name, interp) in [
         ("primvars:normals", Interpolation::Constant),

@@ -120,6 +120,27 @@ impl<T: Copy> CurvePrimvar<T> {
     }
 }
 
+/// `primvars:displayColor` of a curves or points prim (constant when its interpolation is
+/// unauthored), or `None` (unauthored, empty, or — with a warning — inconsistent).
+pub fn display_color(
+    r: &mut Reader<'_>,
+    prim: &Prim,
+    sizes: Sizes,
+) -> Result<Option<CurvePrimvar<glam::DVec3>>, LoadError> {
+    match r.vec3_array(prim, "primvars:displayColor")? {
+        Some(c) if !c.is_empty() => read(
+            r,
+            prim,
+            "primvars:displayColor",
+            c,
+            Interpolation::Constant,
+            sizes,
+            "ignored",
+        ),
+        _ => Ok(None),
+    }
+}
+
 /// Reads the `interpolation` (default `default_interp`) and `:indices` of the authored
 /// `values` of `name` and checks them against `sizes` ([`CurvePrimvar::new`]). When they do not
 /// fit, a warning naming the prim and the primvar ends with `fallback` (what is drawn instead)
