@@ -1,9 +1,11 @@
 //! # lux
 //!
 //! UsdLux lighting as precisely specified: light units, `normalize`, shaping, IES profiles,
-//! physical light units and spectra, as a set of small crates re-exported here.
+//! physical light units and spectra, and the exact irradiance of area lights, as a set of small
+//! crates re-exported here.
 
 pub use lux_ies as ies;
+pub use lux_irradiance as irradiance;
 pub use lux_math as math;
 pub use lux_render as render;
 pub use lux_sample as sample;

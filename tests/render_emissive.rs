@@ -37,7 +37,7 @@ fn scene(emissive: DVec3) -> (Scene, Vec<DVec3>) {
 #[test]
 fn emissive_quad_lights_the_floor_as_its_closed_form_says() {
     let (s, corners) = scene(DVec3::new(2.0, 1.0, 0.5));
-    let pi = lux::sample::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
+    let pi = lux::irradiance::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
     let mut o = options(Profile::Spec, 4096, [1, 1]);
     o.integrator = IntegratorKind::Direct;
     let r = Renderer::new(&s, o).unwrap();
@@ -90,7 +90,7 @@ fn mesh_light(mode: lux::usd::MaterialSyncMode, material: bool) -> (Scene, f64) 
     l.material_sync_mode = mode;
     s.meshes[q].light = Some(s.lights.len());
     s.lights.push(l);
-    let pi = lux::sample::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
+    let pi = lux::irradiance::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
     (s, pi / PI)
 }
 
@@ -186,7 +186,7 @@ fn textured_emission_is_found_by_bsdf_rays() {
         source_color_space: lux::usd::SourceColorSpace::Auto,
         output: "rgb".to_owned(),
     }));
-    let pi = lux::sample::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
+    let pi = lux::irradiance::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
     let spp = 1 << 16;
     let mut o = options(Profile::Spec, spp, [1, 1]);
     o.integrator = IntegratorKind::Direct;
@@ -219,7 +219,7 @@ fn a_single_sided_emitter_lights_only_its_front_side() {
     let (mut s, corners) = scene(DVec3::new(2.0, 1.0, 0.5));
     let q = s.meshes.len() - 1;
     s.meshes[q].double_sided = false;
-    let pi = lux::sample::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
+    let pi = lux::irradiance::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
     let floor = |s: &Scene| {
         let mut o = options(Profile::Spec, 4096, [1, 1]);
         o.integrator = IntegratorKind::Direct;
@@ -259,7 +259,7 @@ fn an_emitter_far_from_the_origin_lights_as_near_it() {
         }
         s.cameras[0] = common::probe_camera(shift, 0.0);
         let corners: Vec<DVec3> = corners.iter().map(|c| *c + off).collect();
-        let pi = lux::sample::projected::polygon(off, DVec3::Y, &corners);
+        let pi = lux::irradiance::projected::polygon(off, DVec3::Y, &corners);
         let mut o = options(Profile::Spec, 4096, [1, 1]);
         o.integrator = IntegratorKind::Direct;
         let v = Renderer::new(&s, o).unwrap().pixel_value(0, 0);

@@ -450,7 +450,7 @@ fn probe(s: &Scene, x: f64, z: f64) -> (DVec3, DVec3) {
 fn closed_form(e: &Emitter, x: f64, z: f64) -> DVec3 {
     let p = DVec3::new(x, 0.0, z);
     let lit = e.double_sided || e.front.dot(p - e.corners[0]) > 0.0;
-    let pi = lux::sample::projected::polygon(p, DVec3::Y, &e.corners);
+    let pi = lux::irradiance::projected::polygon(p, DVec3::Y, &e.corners);
     if lit {
         e.emissive * pi / PI
     } else {

@@ -3,7 +3,7 @@
 //! to the cosine-weighted solid angle (its projected cap), so the estimate is exact at any
 //! sample count where it is unoccluded; occluded, light-only estimation converges to the exact
 //! shadowed irradiance and to the MIS estimate (one light chosen by power, light and BSDF
-//! sampling). Expected values are closed forms (`lux_sample::projected`, Snyder's formula).
+//! sampling). Expected values are closed forms (`lux_irradiance::projected`, Snyder's formula).
 //!
 //! Scenes are built in code (`common`): a white Lambertian floor probed at one point.
 
@@ -79,7 +79,7 @@ fn unoccluded_spheres_are_exact_at_a_few_samples() {
     let pi_proj = (cos_t * y.acos() - x * st_y) * sin2 + (st_y / x).atan();
     close(
         pi_proj,
-        lux::sample::projected::sphere(DVec3::ZERO, DVec3::Y, c, rad).unwrap(),
+        lux::irradiance::projected::sphere(DVec3::ZERO, DVec3::Y, c, rad).unwrap(),
         1e-12,
         "projected::sphere vs Snyder",
     );
@@ -123,7 +123,7 @@ fn lights_nothing_can_block_take_their_closed_form_without_shadow_rays() {
             width: w,
             height: h,
         };
-        let pi = lux::sample::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
+        let pi = lux::irradiance::projected::polygon(DVec3::ZERO, DVec3::Y, &corners);
         (lit(path, shape, xf), pi)
     };
     let disk = |path: &str, xf: DMat4, radius: f64| {
@@ -131,7 +131,7 @@ fn lights_nothing_can_block_take_their_closed_form_without_shadow_rays() {
             xf.transform_point3(DVec3::ZERO),
             xf.transform_vector3(DVec3::NEG_Z),
         );
-        let pi = lux::sample::projected::disk(DVec3::ZERO, DVec3::Y, centre, axis, radius);
+        let pi = lux::irradiance::projected::disk(DVec3::ZERO, DVec3::Y, centre, axis, radius);
         (lit(path, LightShape::Disk { radius }, xf), pi.unwrap())
     };
     let c = DVec3::new(0.8, 1.1, -0.4);
@@ -333,7 +333,7 @@ fn occluded_lights_converge_to_the_exact_shadowed_irradiance() {
         }
         shadow = out;
     }
-    let proj = |v: &[DVec3]| lux::sample::projected::polygon(DVec3::ZERO, DVec3::Y, v);
+    let proj = |v: &[DVec3]| lux::irradiance::projected::polygon(DVec3::ZERO, DVec3::Y, v);
     let exact = 4.0 * (proj(&corners) - proj(&shadow)) / PI;
     close(alone, exact, 2e-3, "light sampling alone");
     close(mis, exact, 2e-3, "MIS");
@@ -504,7 +504,7 @@ fn sphere_rect_and_disk_penumbrae_are_exact_where_few_triangles_block() {
     // A disk of radius 0.3 there, facing the point.
     let mut disk = Light::with_defaults("/Disk", LightShape::Disk { radius: 0.3 }, aimed(c, -c));
     disk.params.intensity = 2.0;
-    let disk_projected = lux::sample::projected::disk(
+    let disk_projected = lux::irradiance::projected::disk(
         DVec3::ZERO,
         DVec3::Y,
         c,
@@ -539,8 +539,8 @@ fn sphere_rect_and_disk_penumbrae_are_exact_where_few_triangles_block() {
         let (img, stats) = Renderer::new(s, o).unwrap().render(&|_| {});
         (img.pixels[0][0] as f64, stats.shadow_rays)
     };
-    let projected = lux::sample::projected::sphere(DVec3::ZERO, DVec3::Y, c, 0.3).unwrap();
-    let rect_projected = lux::sample::projected::polygon(DVec3::ZERO, DVec3::Y, &rect_corners);
+    let projected = lux::irradiance::projected::sphere(DVec3::ZERO, DVec3::Y, c, 0.3).unwrap();
+    let rect_projected = lux::irradiance::projected::polygon(DVec3::ZERO, DVec3::Y, &rect_corners);
     // A long card reaching past the plane of the sphere's nearest point (in front of the
     // sphere along every ray that meets both, but not proven so), and one rising through the
     // rect's or disk's plane beside it.
@@ -623,7 +623,7 @@ fn sphere_rect_and_disk_penumbrae_are_exact_where_few_triangles_block() {
                 sampled > 0.03 * unshadowed && sampled < 0.9 * unshadowed,
                 "{what}: a penumbra ({sampled} of {unshadowed})"
             );
-            // (4σ: the comparisons resolve about 1 %; lux_sample::hidden's tests check the
+            // (4σ: the comparisons resolve about 1 %; lux_irradiance::hidden's tests check the
             // closed forms themselves to 2·10⁻⁶)
             assert!(
                 se_s < 3e-3 * sampled && se_m < 3e-3 * mis,

@@ -295,7 +295,7 @@ impl DiskLight {
     /// The world disk — centre, unit normal (the local ±Z axis), radius `s · inputs:radius` —
     /// when the transform is a similarity of scale s (rotation, uniform scale, translation);
     /// `None` under a non-uniform scale or shear, where it is an ellipse. What
-    /// [`crate::projected::disk`] takes.
+    /// `lux_irradiance::projected::disk` takes.
     pub fn world_disk(&self) -> Option<(DVec3, DVec3, f64)> {
         if !self.xf.is_similarity() {
             return None;

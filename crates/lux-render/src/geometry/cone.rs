@@ -186,10 +186,10 @@ impl ShadowCone {
     /// True when the triangle `v` certainly misses the cone grown by `margin`: that set lies
     /// in the cone of the same angle whose apex is `margin / sin α` behind (every surface line
     /// moved out by `margin`), which the triangle misses when its projection from that apex
-    /// misses the cone's cap of directions ([`lux_sample::hidden::cap_misses_polygon`]).
+    /// misses the cone's cap of directions ([`lux_irradiance::hidden::cap_misses_polygon`]).
     fn misses_triangle(&self, v: &[DVec3; 3]) -> bool {
         let apex = self.apex - self.axis * (self.margin / self.sin_a);
-        lux_sample::hidden::cap_misses_polygon(apex, self.axis, self.cos_a, v)
+        lux_irradiance::hidden::cap_misses_polygon(apex, self.axis, self.cos_a, v)
     }
 }
 

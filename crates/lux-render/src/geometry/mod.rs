@@ -276,7 +276,7 @@ pub struct Geometry {
     shadow: Option<Blas>,
     /// Per mesh, with `shadow`: the convex outline whose fan stands for it there (corners
     /// rounded as the BVH's triangles are), when it has at most
-    /// [`lux_sample::hidden::MAX_CORNERS`] corners ([`Geometry::blocker_card`]).
+    /// [`lux_irradiance::hidden::MAX_CORNERS`] corners ([`Geometry::blocker_card`]).
     cards: Vec<Option<Card>>,
     /// Instanced prototypes and their placements.
     instances: Option<Instances>,
@@ -289,7 +289,7 @@ pub struct Geometry {
 #[derive(Clone, Copy, Debug)]
 struct Card {
     len: u8,
-    corners: [DVec3; lux_sample::hidden::MAX_CORNERS],
+    corners: [DVec3; lux_irradiance::hidden::MAX_CORNERS],
 }
 
 /// `max(1, max |coordinate|)`-relative offset that clears the `f32` rounding of the BVH
@@ -436,8 +436,8 @@ impl Geometry {
                     // (the fan's corners c₀, c₁ … c_k: each triangle's second corner, then the
                     // last one's third, rounded to f32 as the BVH stores them)
                     let k = fan.len() + 2;
-                    if k <= lux_sample::hidden::MAX_CORNERS {
-                        let mut corners = [DVec3::ZERO; lux_sample::hidden::MAX_CORNERS];
+                    if k <= lux_irradiance::hidden::MAX_CORNERS {
+                        let mut corners = [DVec3::ZERO; lux_irradiance::hidden::MAX_CORNERS];
                         corners[0] = fan[0][0];
                         for (i, t) in fan.iter().enumerate() {
                             corners[i + 1] = t[1];

@@ -4,7 +4,7 @@
 //! projected solid angle of the part of the light its shadow rays reach. When every triangle
 //! that can block those rays is known and few (the point's patch of surface,
 //! integrator/patches.rs), that part has a closed form: the light's Π less what each triangle
-//! hides of it (`lux_sample::hidden`: of a sphere's cap, a rect's parallelogram, a disk), provided
+//! hides of it (`lux_irradiance::hidden`: of a sphere's cap, a rect's parallelogram, a disk), provided
 //! the triangles lie in front of the light (every ray through them meets them before the
 //! light) and their projections do not overlap (nothing hidden twice). Then the penumbra is
 //! exact: no light sample, no shadow ray, no noise. (A sphere drawn from its projected cap
@@ -15,7 +15,7 @@ use crate::geometry::{FewTriangles, Geometry};
 use crate::light::LightFrom;
 use crate::material::SurfacePoint;
 use glam::DVec3;
-use lux_sample::hidden;
+use lux_irradiance::hidden;
 
 /// The exact penumbra of the light `from` at the Lambertian point `sp` past the triangles `few`
 /// (every triangle that can stop its shadow rays: [`Geometry::blockers_in`] of a region holding
@@ -57,7 +57,7 @@ pub fn disk_visible(
     few: &FewTriangles,
 ) -> Option<f64> {
     let (centre, normal, radius) = disk;
-    let pi = lux_sample::projected::disk(sp.p, sp.ns, centre, normal, radius)?;
+    let pi = lux_irradiance::projected::disk(sp.p, sp.ns, centre, normal, radius)?;
     let side = normal.dot(sp.p - centre);
     if !(pi > 0.0 && side != 0.0) {
         return None;
@@ -82,7 +82,7 @@ pub fn rect_visible(
     corners: &[DVec3; 4],
     few: &FewTriangles,
 ) -> Option<f64> {
-    let pi = lux_sample::projected::polygon(sp.p, sp.ns, corners);
+    let pi = lux_irradiance::projected::polygon(sp.p, sp.ns, corners);
     let normal = (corners[1] - corners[0]).cross(corners[3] - corners[0]);
     let side = normal.dot(sp.p - corners[0]);
     if !(pi > 0.0 && side != 0.0) {

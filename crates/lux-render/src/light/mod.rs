@@ -339,7 +339,7 @@ impl LightFrom<'_> {
 
     /// The light's unshadowed cosine-weighted integral at the receiver `(p, n)`,
     /// `∫ L cos θ dω = L·Π` (radiance times the projected solid angle,
-    /// [`lux_sample::projected`]): what its light-only estimator averages to where nothing
+    /// [`lux_irradiance::projected`]): what its light-only estimator averages to where nothing
     /// blocks it. For the sphere, Π of the projected cap its samples are drawn from (each
     /// sample returns exactly `L·Π`). `None` where [`LightFrom::shadow_cone`] is.
     #[inline]
@@ -358,12 +358,12 @@ impl LightFrom<'_> {
                 let corners = l.world_corners();
                 let (centre, _) = l.bounding_sphere();
                 let le = l.le(DVec3::ZERO, toward(centre), Seen::Lit);
-                Some(le * lux_sample::projected::polygon(p, n, &corners))
+                Some(le * lux_irradiance::projected::polygon(p, n, &corners))
             }
             LightFrom::Disk(l, _) if l.uniform_area() => {
                 let (centre, axis, radius) = l.world_disk()?;
                 let le = l.le(DVec3::ZERO, toward(centre), Seen::Lit);
-                Some(le * lux_sample::projected::disk(p, n, centre, axis, radius)?)
+                Some(le * lux_irradiance::projected::disk(p, n, centre, axis, radius)?)
             }
             _ => None,
         }
@@ -538,7 +538,7 @@ impl Light {
     /// A rect, disk or sphere light of uniform radiance (no ShapingAPI, no texture): one whose
     /// lux-sample technique follows the cosine-weighted solid angle it subtends, so that the
     /// direct integrator estimates it by light sampling alone (its unshadowed irradiance, the
-    /// projected solid angle of [`lux_sample::projected`] times its radiance, is what those
+    /// projected solid angle of [`lux_irradiance::projected`] times its radiance, is what those
     /// samples average to).
     #[inline]
     pub fn uniform_area(&self) -> bool {

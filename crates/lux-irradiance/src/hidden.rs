@@ -608,10 +608,16 @@ mod tests {
         b1 >= 0.0 && b2 >= 0.0 && b1 + b2 <= 1.0 && t > 0.0
     }
 
-    /// A deterministic stream of numbers in [0, 1).
+    /// A deterministic stream of numbers in [0, 1) (SplitMix64, Steele et al. 2014).
     fn stream(seed: u64) -> impl FnMut() -> f64 {
-        let mut rng = crate::SplitMix64::new(seed);
-        move || rng.next_f64()
+        let mut state = seed;
+        move || {
+            state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            ((z ^ (z >> 31)) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+        }
     }
 
     #[test]
