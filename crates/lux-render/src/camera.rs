@@ -13,7 +13,7 @@
 //! Pixel (x, y) covers `[x, x+1) × [y, y+1)` with y = 0 the **top** row; a sample at continuous
 //! coordinates (x + jx, y + jy) maps linearly onto the window (box pixel filter).
 
-use crate::geometry::RayFrustum;
+use crate::visibility::RayFrustum;
 use glam::{DMat4, DVec3, DVec4};
 use lux_usd::Projection;
 
@@ -240,6 +240,7 @@ pub fn pixel_window(w: u32, h: u32, ndc: DVec4) -> [u32; 4] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::visibility::TestShadows;
     use glam::DVec2;
     use lux_usd::Camera as UsdCamera;
 
@@ -271,9 +272,8 @@ mod tests {
     /// stay short (the culling works), and rays from outside a tile miss what it keeps.
     #[test]
     fn a_tiles_triangles_are_every_triangle_its_rays_hit() {
-        use crate::geometry::Geometry;
-        use crate::geometry::cone::tests::{floor, mesh};
         use crate::geometry::tests::scene_with;
+        use crate::visibility::cone::tests::{floor, mesh};
         use lux_sample::SplitMix64;
         let mut rng = SplitMix64::new(7);
         let mut u = move || rng.next_f64();
@@ -297,7 +297,7 @@ mod tests {
             t.push([3 * i, 3 * i + 1, 3 * i + 2]);
         }
         let scene = scene_with(vec![floor(), card, mesh("/bits", v, t)]);
-        let g = Geometry::new(&scene);
+        let g = TestShadows::new(&scene);
         let total = g.triangle_count();
         let (lo, hi) = g.world_bounds().unwrap();
         let extent = lo.abs().max(hi.abs()).max_element();

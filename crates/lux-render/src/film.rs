@@ -11,9 +11,10 @@
 
 use crate::camera::Camera;
 use crate::image_io::ImageRgba;
-use crate::integrator::{CameraRay, ClearPatches, Integrator, TileRays};
+use crate::integrator::{CameraRay, Integrator, TileRays};
 use crate::sampler::{Dim, SampleStream};
 use crate::settings::AdaptiveSampling;
+use crate::visibility::ClearPatches;
 use glam::{DVec3, DVec4};
 use rayon::prelude::*;
 use std::sync::Mutex;

@@ -52,6 +52,7 @@ pub mod physical;
 pub mod render;
 pub mod sampler;
 pub mod settings;
+pub mod visibility;
 
 use std::path::PathBuf;
 

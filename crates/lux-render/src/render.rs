@@ -24,6 +24,8 @@ pub struct Renderer<'s> {
     /// What refining the subdivision surfaces of the copy replaced or left out.
     refine_warnings: Vec<String>,
     geometry: Geometry,
+    /// The shadow rays' BVH of flat cards' outlines (exact visibility).
+    shadow_bvh: crate::visibility::ShadowBvh,
     lights: LightSet,
     materials: Materials,
     camera: Camera,
@@ -64,6 +66,7 @@ impl<'s> Renderer<'s> {
         )?;
         let materials = Materials::with_policy(scene_ref, options.strict, options.surfaces)?;
         let geometry = Geometry::with_lights(scene_ref, &lights.lights);
+        let shadow_bvh = crate::visibility::ShadowBvh::new(scene_ref, &geometry);
         let film = Film {
             width: resolved.camera.width,
             height: resolved.camera.height,
@@ -79,6 +82,7 @@ impl<'s> Renderer<'s> {
             scene,
             refine_warnings,
             geometry,
+            shadow_bvh,
             lights,
             materials,
             camera: resolved.camera,
@@ -147,6 +151,7 @@ impl<'s> Renderer<'s> {
         let world = World {
             scene: &self.scene,
             geometry: &self.geometry,
+            shadows: self.shadow_bvh.view(&self.geometry),
             lights: &self.lights,
             materials: &self.materials,
             transparent: self.materials.any_transparent(),

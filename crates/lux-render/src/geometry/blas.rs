@@ -5,7 +5,7 @@
 //! mesh and triangle so that hits are re-intersected in `f64` against the scene's own vertices.
 
 use super::MAX_TRIANGLES;
-use super::ShadowRegion;
+use super::Region;
 use glam::DVec3;
 use lux_usd::Scene;
 use obvhs::BvhBuildParams;
@@ -17,7 +17,7 @@ use std::time::Duration;
 
 /// One triangle's provenance: which mesh, which triangle of it, and its culling flag.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct PrimRef {
+pub(crate) struct PrimRef {
     /// Index into `Scene::meshes`.
     pub mesh: u32,
     /// Triangle index within the mesh (in [`super::Geometry`]'s shadow BVH, for a planar mesh
@@ -28,7 +28,7 @@ pub(super) struct PrimRef {
 }
 
 /// The triangles of mesh `mi` of `scene` whose indices are in range, with their provenance.
-pub(super) fn mesh_triangles(
+pub(crate) fn mesh_triangles(
     scene: &Scene,
     mi: usize,
 ) -> impl Iterator<Item = (PrimRef, [DVec3; 3])> + '_ {
@@ -47,7 +47,7 @@ pub(super) fn mesh_triangles(
 }
 
 /// Triangles of some meshes, in their meshes' common space, and their BVH.
-pub(super) struct Blas {
+pub(crate) struct Blas {
     bvh: CwBvh,
     /// Triangles in BVH primitive order (`f32`, for traversal).
     tris: Vec<Triangle>,
@@ -130,13 +130,13 @@ impl Blas {
 
     /// The BVH's nodes (tests of node-level queries).
     #[cfg(test)]
-    pub(super) fn nodes(&self) -> &[obvhs::cwbvh::node::CwBvhNode] {
+    pub(crate) fn nodes(&self) -> &[obvhs::cwbvh::node::CwBvhNode] {
         &self.bvh.nodes
     }
 
     /// The `f32` triangles in BVH order (tests).
     #[cfg(test)]
-    pub(super) fn triangles(&self) -> &[Triangle] {
+    pub(crate) fn triangles(&self) -> &[Triangle] {
         &self.tris
     }
 
@@ -204,7 +204,7 @@ impl Blas {
     /// traversal order, given to `take` until it returns true: the triangle it did.
     pub fn region_triangles(
         &self,
-        region: &impl ShadowRegion,
+        region: &impl Region,
         casts: &impl Fn(usize) -> bool,
         mut take: impl FnMut(u32) -> bool,
     ) -> Option<u32> {
@@ -225,23 +225,19 @@ impl Blas {
     /// True when no triangle of a mesh that `casts` (by `Scene::meshes` index) can stop a
     /// shadow ray inside `cone` (conservative: false when unsure); stops at the first
     /// triangle that might.
-    pub fn cone_clear(&self, cone: &impl ShadowRegion, casts: &impl Fn(usize) -> bool) -> bool {
+    pub fn cone_clear(&self, cone: &impl Region, casts: &impl Fn(usize) -> bool) -> bool {
         self.cone_blocker(cone, casts).is_none()
     }
 
     /// The first triangle (index into the BVH's triangles) of a mesh that `casts` which
     /// `cone` does not rule out; `None` when it rules out every one ([`Blas::cone_clear`]).
-    pub fn cone_blocker(
-        &self,
-        cone: &impl ShadowRegion,
-        casts: &impl Fn(usize) -> bool,
-    ) -> Option<u32> {
+    pub fn cone_blocker(&self, cone: &impl Region, casts: &impl Fn(usize) -> bool) -> Option<u32> {
         self.region_triangles(cone, casts, |_| true)
     }
 
     /// Whether `cone` rules out triangle `id` (an index into the BVH's triangles).
     #[inline]
-    pub fn culls(&self, cone: &impl ShadowRegion, id: u32) -> bool {
+    pub fn culls(&self, cone: &impl Region, id: u32) -> bool {
         self.tris
             .get(id as usize)
             .is_none_or(|t| cone.culls_triangle(t))

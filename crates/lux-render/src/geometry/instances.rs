@@ -22,7 +22,7 @@
 //! `(M⁻ᵀn)·d = n·(M⁻¹d) = n·d'`.
 
 use super::blas::Blas;
-use super::{Hit, ShadowRegion, exact_hit, offset_scale};
+use super::{Hit, Region, exact_hit, offset_scale};
 use glam::{DAffine3, DMat3, DVec3, Vec3, Vec3A};
 use lux_usd::Scene;
 use obvhs::BvhBuildParams;
@@ -81,7 +81,7 @@ impl Placement {
 /// A hit found in an instance: which placement, which primitive of its prototype's BVH, and
 /// the `f32` ray parameter.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct InstanceHit {
+pub(crate) struct InstanceHit {
     placement: u32,
     prim: u32,
     /// `f32` distance found by the traversal.
@@ -89,9 +89,9 @@ pub(super) struct InstanceHit {
 }
 
 /// The instances of a scene and the prototypes they draw.
-pub(super) struct Instances {
+pub(crate) struct Instances {
     /// Top-level BVH over the placements' world boxes.
-    pub(super) tlas: CwBvh,
+    pub(crate) tlas: CwBvh,
     /// Placements in top-level BVH primitive order.
     placements: Vec<Placement>,
     /// One BVH per drawn prototype, in prototype space.
@@ -302,10 +302,10 @@ impl Instances {
     /// Whether some instance may block a ray of `region` (conservative: `false` only when none
     /// can). An instance whose (padded, `f32`) world box meets the region is searched inside
     /// when it is a similarity (`Placement::similar`): the region mapped to prototype space
-    /// ([`ShadowRegion::to_prototype`], its margin grown by 1e-5 of the prototype's and the
+    /// ([`Region::to_prototype`], its margin grown by 1e-5 of the prototype's and the
     /// mapped translation's scale, for the `f32` prototype triangles and the `f32` mapping of
     /// shadow rays), tested against the prototype's triangles; any other counts as a blocker.
-    pub fn may_block<R: ShadowRegion>(&self, region: &R) -> bool {
+    pub fn may_block<R: Region>(&self, region: &R) -> bool {
         super::region_search(&self.tlas, region, |k| {
             let pl = &self.placements[k];
             if !pl.similar {

@@ -134,13 +134,13 @@ impl LightShapes {
         self.all.len()
     }
 
-    /// True when no ray inside `frustum` can meet a light that `visible` keeps: each one's box
-    /// ([`Light::surface_box`]) lies wholly outside it. False (unsure) beyond
-    /// [`LINEAR_LIGHTS`] such lights, which are not looked at.
+    /// True when no ray of a group can meet a light that `visible` keeps: each one's box
+    /// ([`Light::surface_box`]) is one the group `misses` (a region wholly outside it). False
+    /// (unsure) beyond [`LINEAR_LIGHTS`] such lights, which are not looked at.
     pub fn none_in(
         &self,
         lights: &[Light],
-        frustum: &super::RayFrustum,
+        misses: impl Fn(DVec3, DVec3) -> bool,
         visible: impl Fn(&Light) -> bool,
     ) -> bool {
         let mut seen = 0;
@@ -150,9 +150,7 @@ impl LightShapes {
                 return true;
             }
             seen += 1;
-            seen <= LINEAR_LIGHTS
-                && l.surface_box()
-                    .is_some_and(|(lo, hi)| frustum.misses_box(lo, hi))
+            seen <= LINEAR_LIGHTS && l.surface_box().is_some_and(|(lo, hi)| misses(lo, hi))
         })
     }
 

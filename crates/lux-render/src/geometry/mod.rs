@@ -29,201 +29,28 @@
 //! occludes shadow rays from both sides, so a one-sided wall still casts a shadow.
 
 mod blas;
-pub(crate) mod cone;
-mod frustum;
 mod instances;
 mod lights;
-mod planar;
-pub(crate) mod pyramid;
+mod region;
 
 use crate::light::{Light, LightHit};
-use blas::Blas;
-pub use cone::{ConeSearch, INSTANCED, RayEnds, ShadowCone};
-pub use frustum::RayFrustum;
-use glam::{DVec2, DVec3, UVec2, Vec3A, Vec4};
-use instances::Instances;
+pub(crate) use blas::{Blas, PrimRef, mesh_triangles};
+use glam::{DVec2, DVec3, Vec3A};
+pub(crate) use instances::Instances;
 pub(crate) use instances::drawable_transform;
 pub use lights::LINEAR_LIGHTS;
-use lights::LightShapes;
+pub(crate) use lights::LightShapes;
 use lux_usd::Scene;
 use obvhs::ray::{Ray, RayHit};
-pub use pyramid::ShadowPyramid;
+pub use region::Region;
+pub(crate) use region::{
+    above_all, child_boxes, child_mask, farthest_along, in_node_frame, outside_a_plane,
+    region_search,
+};
 
 /// Largest triangle count the renderer stores (indices are `u32`): world triangles plus each
 /// instanced prototype's triangles once.
 pub const MAX_TRIANGLES: usize = 1 << 28;
-
-/// A region holding every shadow ray of a light from a receiver ([`ShadowCone`],
-/// [`ShadowPyramid`]), tested conservatively against the BVH: what it drops meets none of the
-/// rays.
-pub trait ShadowRegion {
-    /// A direction into the region (the BVH's traversal order).
-    fn axis(&self) -> DVec3;
-    /// True when the triangle cannot stop a ray of the region.
-    fn culls_triangle(&self, t: &obvhs::triangle::Triangle) -> bool;
-    /// The CWBVH hit mask of the node's children the region may reach (what
-    /// `CwBvhNode::intersect_ray` returns for a ray), in the traversal order of `oct_inv4`.
-    fn node_mask(&self, node: &obvhs::cwbvh::node::CwBvhNode, oct_inv4: u32) -> u32;
-    /// The region in the space of an instance's prototype, `x' = Qᵀ·(x − t) / s` (`qt` = Qᵀ,
-    /// `Q` orthogonal, `s > 0`: a similarity), its margin grown by `extra` (prototype units):
-    /// distances scale by `1/s`, directions turn by `Qᵀ`, angles stay.
-    fn to_prototype(&self, qt: &glam::DMat3, t: DVec3, s: f64, extra: f64) -> Self
-    where
-        Self: Sized;
-}
-
-/// The least and most ray-origin offset ([`offset_scale`]) over the points within `spread` of
-/// `q` (a patch of [`ShadowCone::patch`] or [`ShadowPyramid::patch`]); `None` for a negative or
-/// non-finite spread.
-fn patch_offsets(q: DVec3, spread: f64) -> Option<[f64; 2]> {
-    if !(spread >= 0.0 && spread.is_finite()) {
-        return None;
-    }
-    let m = q.abs().max_element();
-    Some([
-        offset_scale(DVec3::splat((m - spread).max(0.0))),
-        offset_scale(DVec3::splat(m + spread)),
-    ])
-}
-
-/// The quantized boxes of children `4·half … 4·half + 3` of a CWBVH node, one lane each:
-/// `(min, max)` per axis, in the node's frame (`x = origin + e ⊙ q`, `q ∈ [0, 255]³`).
-#[inline]
-fn child_boxes(node: &obvhs::cwbvh::node::CwBvhNode, half: usize) -> ([Vec4; 3], [Vec4; 3]) {
-    let lane = |b: &[u8; 8]| {
-        let o = 4 * half;
-        Vec4::new(
-            b[o] as f32,
-            b[o + 1] as f32,
-            b[o + 2] as f32,
-            b[o + 3] as f32,
-        )
-    };
-    (
-        [
-            lane(&node.child_min_x),
-            lane(&node.child_min_y),
-            lane(&node.child_min_z),
-        ],
-        [
-            lane(&node.child_max_x),
-            lane(&node.child_max_y),
-            lane(&node.child_max_z),
-        ],
-    )
-}
-
-/// The largest `n·q` over each of four quantized boxes (`n` in the node's frame): per axis
-/// the max or min corner by `n`'s sign.
-#[inline]
-fn farthest_along((lo, hi): &([Vec4; 3], [Vec4; 3]), n: [f32; 3]) -> Vec4 {
-    let side = |k: usize| if n[k] >= 0.0 { hi[k] } else { lo[k] } * n[k];
-    side(0) + side(1) + side(2)
-}
-
-/// The plane `n·x = d` (world space) in the quantized frame of `node` (`x = origin + e ⊙ q`):
-/// the normal scaled by the extent, and its value at the node's origin less `d`.
-#[inline(always)]
-fn in_node_frame(node: &obvhs::cwbvh::node::CwBvhNode, n: DVec3, d: f64) -> ([f32; 3], f32) {
-    let n = n.as_vec3a();
-    (
-        (n * node.compute_extent()).to_array(),
-        n.dot(Vec3A::from(node.p)) - d as f32,
-    )
-}
-
-/// Bits (child order) of the children of `node` that lie wholly below none of the `tests`:
-/// each a plane in the node's frame ([`in_node_frame`]) and the value every point of a box
-/// must stay under, by the box's corner farthest along the normal, to be below it.
-#[inline(always)]
-fn above_all<const N: usize>(
-    node: &obvhs::cwbvh::node::CwBvhNode,
-    tests: &[(([f32; 3], f32), f32); N],
-) -> u32 {
-    let mut keep = 0u32;
-    for half in 0..2 {
-        let boxes = child_boxes(node, half);
-        let mut out = glam::BVec4A::splat(false);
-        for &((n, d0), below) in tests {
-            out |= (farthest_along(&boxes, n) + Vec4::splat(d0)).cmplt(Vec4::splat(below));
-        }
-        keep |= ((!out.bitmask()) & 0xf) << (4 * half);
-    }
-    keep
-}
-
-/// Whether the triangle lies wholly outside one of the half-spaces `n·x ≥ d` of `planes` by
-/// more than `margin` (in `f64`, from its stored `f32` corners).
-#[inline]
-fn outside_a_plane(planes: &[(DVec3, f64)], margin: f64, t: &obvhs::triangle::Triangle) -> bool {
-    let v = [t.v0, t.v1, t.v2].map(|x: Vec3A| x.as_dvec3());
-    planes
-        .iter()
-        .any(|&(n, d)| v.iter().all(|&x| n.dot(x) - d < -margin))
-}
-
-/// The CWBVH hit mask (in the traversal order of `oct_inv4`) of the node's non-empty children
-/// whose bit is set in `keep` and that `drop` does not drop.
-#[inline]
-fn child_mask(
-    node: &obvhs::cwbvh::node::CwBvhNode,
-    oct_inv4: u32,
-    keep: u32,
-    drop: impl Fn(usize) -> bool,
-) -> u32 {
-    let (child_bits8, bit_index8) = node.get_child_and_index_bits(oct_inv4);
-    let mut mask = 0;
-    for child in 0..8 {
-        if keep & (1 << child) != 0 && !node.is_child_empty(child) && !drop(child) {
-            mask |= obvhs::cwbvh::node::extract_byte64(child_bits8, child)
-                << obvhs::cwbvh::node::extract_byte64(bit_index8, child);
-        }
-    }
-    mask
-}
-
-/// The first primitive of `bvh` in a leaf that `region` may reach (its node test) and that
-/// `keep` accepts, `None` when there is none: the traversal shared by the shadow-region
-/// searches of triangles ([`Blas::cone_blocker`]) and of instance boxes
-/// (`Instances::may_block`).
-#[inline(always)]
-fn region_search(
-    bvh: &obvhs::cwbvh::CwBvh,
-    region: &impl ShadowRegion,
-    mut keep: impl FnMut(usize) -> bool,
-) -> Option<u32> {
-    let mut state = bvh.new_traversal(region.axis().as_vec3a());
-    let mut node;
-    let mut found = None;
-    'outer: {
-        obvhs::traverse!(bvh, node, state, region.node_mask(node, state.oct_inv4), {
-            let id = state.primitive_id as usize;
-            if keep(id) {
-                found = Some(id as u32);
-                break 'outer;
-            }
-        });
-    }
-    found
-}
-
-/// A few triangles of the BVH shadow rays query ([`Geometry::blockers_in`]): all that can stop
-/// a shadow ray inside some region.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct FewTriangles {
-    len: u8,
-    ids: [u32; FewTriangles::CAP],
-}
-
-impl FewTriangles {
-    /// Most triangles held: a shadow ray testing more costs about what the BVH's traversal does.
-    pub const CAP: usize = 6;
-
-    /// The triangles (indices into the shadow rays' BVH).
-    pub fn ids(&self) -> &[u32] {
-        &self.ids[..self.len as usize]
-    }
-}
 
 /// A closest hit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -270,26 +97,15 @@ pub struct Occluder {
 pub struct Geometry {
     /// The world-space meshes (`Mesh::prototype == None`).
     world: Option<Blas>,
-    /// What shadow rays test instead of `world` when planar tilings of a convex polygon
-    /// (`geometry/planar.rs`) make most of it: those meshes as their outlines' fan triangles,
-    /// the others as in `world` ([`Geometry::shadow_blas`]). `None` otherwise.
-    shadow: Option<Blas>,
-    /// Per mesh, with `shadow`: the convex outline whose fan stands for it there (corners
-    /// rounded as the BVH's triangles are), when it has at most
-    /// [`lux_irradiance::hidden::MAX_CORNERS`] corners ([`Geometry::blocker_card`]).
-    cards: Vec<Option<Card>>,
     /// Instanced prototypes and their placements.
     instances: Option<Instances>,
     /// The analytic area lights.
     lights: LightShapes,
 }
 
-/// A planar mesh's convex outline in the shadow BVH (`geometry/planar.rs`): its corners in
-/// order, as its fan triangles hold them.
-#[derive(Clone, Copy, Debug)]
-struct Card {
-    len: u8,
-    corners: [DVec3; lux_irradiance::hidden::MAX_CORNERS],
+/// The indices of the world-space meshes of `scene` (those not in a prototype), in order.
+pub(crate) fn world_meshes(scene: &Scene) -> impl Iterator<Item = usize> + Clone + '_ {
+    (0..scene.meshes.len()).filter(|&i| scene.meshes[i].prototype.is_none())
 }
 
 /// `max(1, max |coordinate|)`-relative offset that clears the `f32` rounding of the BVH
@@ -393,95 +209,28 @@ impl Geometry {
     /// which must then be given the same slice.
     pub fn with_lights(scene: &Scene, lights: &[Light]) -> Geometry {
         let mut stored = 0;
-        let world_meshes =
-            || (0..scene.meshes.len()).filter(|&i| scene.meshes[i].prototype.is_none());
-        let world = Blas::build(scene, world_meshes(), &mut stored);
-        // (not when the world stopped at MAX_TRIANGLES: shadow rays would see what it left out)
-        let mut cards = vec![None; scene.meshes.len()];
-        let shadow = world
-            .as_ref()
-            .filter(|_| stored < MAX_TRIANGLES)
-            .and_then(|w| Self::shadow_blas(scene, world_meshes(), w.len(), &mut cards));
-        if shadow.is_none() {
-            cards.clear();
-        }
+        let world = Blas::build(scene, world_meshes(scene), &mut stored);
         let instances = Instances::build(scene, &mut stored);
         Geometry {
-            shadow,
-            cards,
             world,
             instances,
             lights: LightShapes::new(lights),
         }
     }
 
-    /// The shadow BVH of [`Geometry::shadow`]: the meshes `meshes` (the world BVH's, of
-    /// `world_len` triangles), each planar tiling of a convex polygon as its outline's fan
-    /// (`planar::tiled_hull`). Only when it holds at most a quarter of the world's triangles:
-    /// it repeats the other meshes' triangles, so its memory stays under a quarter of the
-    /// world BVH's, and it is built only where it saves most of the shadow rays' work.
-    fn shadow_blas(
-        scene: &Scene,
-        meshes: impl Iterator<Item = usize>,
-        world_len: usize,
-        cards: &mut [Option<Card>],
-    ) -> Option<Blas> {
-        let mut replaced = false;
-        let mut items = Vec::new();
-        for mi in meshes {
-            let m = &scene.meshes[mi];
-            match planar::tiled_hull(&m.positions, &m.triangles) {
-                Some(fan) => {
-                    replaced = true;
-                    // (the fan's corners c₀, c₁ … c_k: each triangle's second corner, then the
-                    // last one's third, rounded to f32 as the BVH stores them)
-                    let k = fan.len() + 2;
-                    if k <= lux_irradiance::hidden::MAX_CORNERS {
-                        let mut corners = [DVec3::ZERO; lux_irradiance::hidden::MAX_CORNERS];
-                        corners[0] = fan[0][0];
-                        for (i, t) in fan.iter().enumerate() {
-                            corners[i + 1] = t[1];
-                        }
-                        corners[k - 1] = fan[fan.len() - 1][2];
-                        for c in &mut corners[..k] {
-                            *c = c.as_vec3().as_dvec3();
-                        }
-                        cards[mi] = Some(Card {
-                            len: k as u8,
-                            corners,
-                        });
-                    }
-                    items.extend(fan.into_iter().enumerate().map(|(k, t)| {
-                        let prim = blas::PrimRef {
-                            mesh: mi as u32,
-                            tri: k as u32,
-                            double_sided: m.double_sided,
-                        };
-                        (prim, t)
-                    }));
-                }
-                None => items.extend(blas::mesh_triangles(scene, mi)),
-            }
-        }
-        // (its own count: these triangles stand for the world's, already counted)
-        (replaced && 4 * items.len() <= world_len)
-            .then(|| Blas::from_triangles(items.into_iter(), &mut 0))
-            .flatten()
+    /// The world-space meshes' triangles and BVH.
+    pub(crate) fn world(&self) -> Option<&Blas> {
+        self.world.as_ref()
     }
 
-    /// The convex outline (its mesh, its corners in order) whose fan holds the triangle `id` of
-    /// the BVH shadow rays test ([`Geometry::blocker_vertices`]), when that triangle stands
-    /// for a planar mesh there (`geometry/planar.rs`).
-    pub fn blocker_card(&self, id: u32) -> Option<(u32, &[DVec3])> {
-        let mesh = self.shadow.as_ref()?.prims.get(id as usize)?.mesh;
-        let card = self.cards.get(mesh as usize)?.as_ref()?;
-        Some((mesh, &card.corners[..card.len as usize]))
+    /// The instanced prototypes and their placements.
+    pub(crate) fn instances(&self) -> Option<&Instances> {
+        self.instances.as_ref()
     }
 
-    /// What shadow rays test: the shadow BVH, else the world's.
-    #[inline]
-    fn blockers(&self) -> Option<&Blas> {
-        self.shadow.as_ref().or(self.world.as_ref())
+    /// The analytic area lights' shapes.
+    pub(crate) fn light_shapes(&self) -> &LightShapes {
+        &self.lights
     }
 
     /// Number of analytic area lights indexed.
@@ -504,19 +253,6 @@ impl Geometry {
     ) -> Option<(usize, LightHit)> {
         self.lights
             .closest(lights, origin, dir, tmin, tmax, visible)
-    }
-
-    /// True when no ray inside `frustum` can meet an analytic light that `visible` keeps (what
-    /// [`Geometry::closest_light`] finds): each one's box lies wholly outside it
-    /// ([`RayFrustum::misses_box`]); false (unsure) with more than [`LINEAR_LIGHTS`] of them.
-    /// `lights` is the slice the geometry was built with.
-    pub fn no_light_in(
-        &self,
-        lights: &[Light],
-        frustum: &RayFrustum,
-        visible: impl Fn(&Light) -> bool,
-    ) -> bool {
-        self.lights.none_in(lights, frustum, visible)
     }
 
     /// Calls `f` with every analytic light crossing `origin + t·dir`, `t ∈ (tmin, tmax)`, and
@@ -561,7 +297,6 @@ impl Geometry {
     /// Bytes held by the BVHs, their triangles and the instance placements.
     pub fn heap_bytes(&self) -> usize {
         self.world.as_ref().map_or(0, Blas::heap_bytes)
-            + self.shadow.as_ref().map_or(0, Blas::heap_bytes)
             + self.instances.as_ref().map_or(0, Instances::heap_bytes)
     }
 
@@ -580,7 +315,7 @@ impl Geometry {
             .reduce(|(l0, h0), (l1, h1)| (l0.min(l1), h0.max(h1)))
     }
 
-    fn ray(origin: DVec3, dir: DVec3, tmin: f64, tmax: f64) -> Option<Ray> {
+    pub(crate) fn ray(origin: DVec3, dir: DVec3, tmin: f64, tmax: f64) -> Option<Ray> {
         let o = origin.as_vec3();
         let d = dir.as_vec3();
         if !(o.is_finite() && d.is_finite()) || d == glam::Vec3::ZERO {
@@ -676,46 +411,15 @@ impl Geometry {
         }
     }
 
-    /// The world triangles a ray inside `frustum` may hit (their BVH indices, in the order
-    /// the BVH's traversal along its axis meets them), for [`Geometry::intersect_among`]; `None`
-    /// when there are more than `cap`, or the scene has instances (their rays take the BVH).
-    pub fn triangles_in(&self, frustum: &RayFrustum, cap: usize) -> Option<Box<[u32]>> {
-        if self.instances.is_some() {
-            return None;
-        }
-        let world = self.world.as_ref()?;
-        let mut ids = Vec::new();
-        let over = world.region_triangles(frustum, &|_| true, |id| {
-            ids.push(id);
-            ids.len() > cap
-        });
-        over.is_none().then(|| ids.into_boxed_slice())
-    }
-
-    /// [`Geometry::intersect`] of a ray among the world triangles `ids` alone: the same hit
-    /// when they hold every triangle the ray can reach ([`Geometry::triangles_in`] of a frustum
-    /// holding the ray), back faces of single-sided meshes skipped.
-    #[inline]
-    pub fn intersect_among(
-        &self,
-        scene: &Scene,
-        ids: &[u32],
-        origin: DVec3,
-        dir: DVec3,
-        tmin: f64,
-        tmax: f64,
-    ) -> Option<Hit> {
-        let ray = Self::ray(origin, dir, tmin, tmax)?;
-        let world = self.world.as_ref()?;
-        let mut hit = RayHit::none();
-        world
-            .closest_among(ids, ray, &mut hit)
-            .then(|| Self::world_hit(world, scene, hit, origin, dir))
-    }
-
     /// The exact hit of the world BVH's traversal hit `hit`.
     #[inline]
-    fn world_hit(world: &Blas, scene: &Scene, hit: RayHit, origin: DVec3, dir: DVec3) -> Hit {
+    pub(crate) fn world_hit(
+        world: &Blas,
+        scene: &Scene,
+        hit: RayHit,
+        origin: DVec3,
+        dir: DVec3,
+    ) -> Hit {
         let pr = world.prims[hit.primitive_id as usize];
         let mesh = &scene.meshes[pr.mesh as usize];
         let [ia, ib, ic] = mesh.triangles[pr.tri as usize];
@@ -742,25 +446,38 @@ impl Geometry {
     /// the occluder distance of `ShadowAPI`'s shadow distance and falloff (the `f32` traversal
     /// distance; for an instance, found in prototype space with the same parameter `t`).
     pub fn first_occluder(&self, origin: DVec3, dir: DVec3, tmin: f64, tmax: f64) -> Option<f64> {
+        self.first_occluder_through(self.world.as_ref(), origin, dir, tmin, tmax)
+    }
+
+    /// [`Geometry::first_occluder`] with `blockers` standing for the world meshes (a BVH of
+    /// the same surfaces: `crate::visibility`'s of flat cards' outlines).
+    pub(crate) fn first_occluder_through(
+        &self,
+        blockers: Option<&Blas>,
+        origin: DVec3,
+        dir: DVec3,
+        tmin: f64,
+        tmax: f64,
+    ) -> Option<f64> {
         let ray = Self::ray(origin, dir, tmin, tmax)?;
         if let Some(inst) = &self.instances {
-            return self.first_occluder_instanced(inst, ray, origin, dir);
+            return Self::first_occluder_instanced(blockers, inst, ray, origin, dir);
         }
         let mut hit = RayHit::none();
-        (self.blockers()?.nearest(ray, &mut hit)).then_some(hit.t as f64)
+        (blockers?.nearest(ray, &mut hit)).then_some(hit.t as f64)
     }
 
     /// [`Geometry::first_occluder`] with instances.
     #[inline(never)]
     fn first_occluder_instanced(
-        &self,
+        blockers: Option<&Blas>,
         inst: &Instances,
         ray: Ray,
         origin: DVec3,
         dir: DVec3,
     ) -> Option<f64> {
         let mut hit = RayHit::none();
-        let found = self.blockers().is_some_and(|w| w.nearest(ray, &mut hit));
+        let found = blockers.is_some_and(|w| w.nearest(ray, &mut hit));
         let mut r = ray;
         if found {
             r.tmax = hit.t;
@@ -781,9 +498,21 @@ impl Geometry {
         tmin: f64,
         tmax: f64,
     ) -> Option<Occluder> {
+        self.first_occluder_at_through(self.world.as_ref(), origin, dir, tmin, tmax)
+    }
+
+    /// [`Geometry::first_occluder_at`] through `blockers` ([`Geometry::first_occluder_through`]).
+    pub(crate) fn first_occluder_at_through(
+        &self,
+        blockers: Option<&Blas>,
+        origin: DVec3,
+        dir: DVec3,
+        tmin: f64,
+        tmax: f64,
+    ) -> Option<Occluder> {
         let ray = Self::ray(origin, dir, tmin, tmax)?;
         let mut hit = RayHit::none();
-        let world = self.blockers().filter(|w| w.nearest(ray, &mut hit));
+        let world = blockers.filter(|w| w.nearest(ray, &mut hit));
         let mut r = ray;
         if world.is_some() {
             r.tmax = hit.t;
@@ -805,87 +534,15 @@ impl Geometry {
         })
     }
 
-    /// True when no triangle of a mesh that `casts` (a `Scene::meshes` index: what a light's
-    /// shadow linking keeps) can stop a shadow ray inside `cone` ([`ShadowCone`]) — searched in
-    /// the BVH shadow rays test (a planar tiling as its outline: fewer, larger triangles, which
-    /// a cone drops by its exact triangle test where their bounding spheres reach it) — and no
-    /// instance's world box meets it (instances are not searched inside, and are taken to cast
-    /// every light's shadow); false when unsure.
-    pub fn cone_clear(&self, cone: &impl ShadowRegion, casts: &impl Fn(usize) -> bool) -> bool {
-        self.blockers().is_none_or(|w| w.cone_clear(cone, casts))
-            && self.instances.as_ref().is_none_or(|i| !i.may_block(cone))
+    /// True when any triangle (either side) lies on `origin + t·dir`, `t ∈ (tmin, tmax)`.
+    pub fn occluded(&self, origin: DVec3, dir: DVec3, tmin: f64, tmax: f64) -> bool {
+        self.occluded_through(self.world.as_ref(), origin, dir, tmin, tmax)
     }
 
-    /// What can stop the shadow rays inside `cone` ([`ShadowCone`]) among the triangles of
-    /// meshes that `casts`: nothing, or the first triangle of the shadow rays' BVH found that
-    /// `cone` does not rule out, else [`INSTANCED`] when an instance's world box meets it
-    /// ([`ConeSearch`]).
-    pub fn cone_search(
+    /// [`Geometry::occluded`] through `blockers` ([`Geometry::first_occluder_through`]).
+    pub(crate) fn occluded_through(
         &self,
-        cone: &impl ShadowRegion,
-        casts: &impl Fn(usize) -> bool,
-    ) -> ConeSearch {
-        match self.blockers().and_then(|w| w.cone_blocker(cone, casts)) {
-            Some(id) => ConeSearch::Blocked(id),
-            None if self.instances.as_ref().is_some_and(|i| i.may_block(cone)) => {
-                ConeSearch::Blocked(INSTANCED)
-            }
-            None => ConeSearch::Clear,
-        }
-    }
-
-    /// Whether `cone` rules out the blocker `id` of a [`ConeSearch::Blocked`]: a triangle of
-    /// the shadow rays' BVH, or for [`INSTANCED`] every instance's box.
-    #[inline]
-    pub fn culls(&self, cone: &impl ShadowRegion, id: u32) -> bool {
-        if id == INSTANCED {
-            return self.instances.as_ref().is_none_or(|i| !i.may_block(cone));
-        }
-        self.blockers().is_none_or(|w| w.culls(cone, id))
-    }
-
-    /// The vertices of the triangle `id` of a [`FewTriangles`] ([`Geometry::blockers_in`]), as
-    /// shadow rays meet it.
-    #[inline]
-    pub fn blocker_vertices(&self, id: u32) -> Option<[DVec3; 3]> {
-        self.blockers()?.vertices(id)
-    }
-
-    /// Every triangle of a mesh that `casts` which can stop a shadow ray inside `region`, among
-    /// those shadow rays query (the outlines of flat cards where built: `geometry/planar.rs`), for
-    /// [`Geometry::occluded_among`]; `None` when more than [`FewTriangles::CAP`], or with
-    /// instances.
-    pub fn blockers_in(
-        &self,
-        region: &impl ShadowRegion,
-        casts: &impl Fn(usize) -> bool,
-    ) -> Option<FewTriangles> {
-        if self.instances.is_some() {
-            return None;
-        }
-        let b = self.blockers()?;
-        let mut few = FewTriangles {
-            len: 0,
-            ids: [0; FewTriangles::CAP],
-        };
-        let over = b.region_triangles(region, casts, |id| {
-            if few.len as usize == FewTriangles::CAP {
-                return true;
-            }
-            few.ids[few.len as usize] = id;
-            few.len += 1;
-            false
-        });
-        over.is_none().then_some(few)
-    }
-
-    /// [`Geometry::occluded`] among the triangles `few` alone: the same answer for a ray inside
-    /// the region they were found for ([`Geometry::blockers_in`]), when it was searched for
-    /// every mesh that can block it.
-    #[inline]
-    pub fn occluded_among(
-        &self,
-        few: &FewTriangles,
+        blockers: Option<&Blas>,
         origin: DVec3,
         dir: DVec3,
         tmin: f64,
@@ -894,24 +551,22 @@ impl Geometry {
         let Some(ray) = Self::ray(origin, dir, tmin, tmax) else {
             return false;
         };
-        self.blockers().is_some_and(|b| b.any_among(few.ids(), ray))
-    }
-
-    /// True when any triangle (either side) lies on `origin + t·dir`, `t ∈ (tmin, tmax)`.
-    pub fn occluded(&self, origin: DVec3, dir: DVec3, tmin: f64, tmax: f64) -> bool {
-        let Some(ray) = Self::ray(origin, dir, tmin, tmax) else {
-            return false;
-        };
         if let Some(inst) = &self.instances {
-            return self.occluded_instanced(inst, ray, origin, dir);
+            return Self::occluded_instanced(blockers, inst, ray, origin, dir);
         }
-        self.blockers().is_some_and(|w| w.any(ray))
+        blockers.is_some_and(|w| w.any(ray))
     }
 
     /// [`Geometry::occluded`] with instances: the world BVH, then the instances.
     #[inline(never)]
-    fn occluded_instanced(&self, inst: &Instances, ray: Ray, origin: DVec3, dir: DVec3) -> bool {
-        self.blockers().is_some_and(|w| w.any(ray)) || inst.any(origin, dir, ray)
+    fn occluded_instanced(
+        blockers: Option<&Blas>,
+        inst: &Instances,
+        ray: Ray,
+        origin: DVec3,
+        dir: DVec3,
+    ) -> bool {
+        blockers.is_some_and(|w| w.any(ray)) || inst.any(origin, dir, ray)
     }
 }
 
@@ -1004,329 +659,6 @@ pub(crate) mod tests {
     /// planar): the shadow BVH holds the two cards as 2 triangles each and the strip as it is,
     /// and answers 20,000 shadow rays (from the floor, from above, grazing, through the card's
     /// edges) as the world BVH does, with the same first occluder's mesh and distance.
-    #[test]
-    fn shadow_bvh_of_planar_tilings_answers_as_the_meshes() {
-        let grid = |path: &str, n: u32, map: &dyn Fn(f64, f64) -> DVec3| {
-            let mut p = Vec::new();
-            for j in 0..=n {
-                for i in 0..=n {
-                    p.push(map(i as f64 / n as f64, j as f64 / n as f64));
-                }
-            }
-            let at = |i: u32, j: u32| j * (n + 1) + i;
-            let mut t = Vec::new();
-            for j in 0..n {
-                for i in 0..n {
-                    t.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-                    t.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-                }
-            }
-            Mesh::new(path, p, t)
-        };
-        let floor = grid("/floor", 9, &|u, v| {
-            DVec3::new(10.0 * u - 5.0, 0.0, 10.0 * v - 5.0)
-        });
-        let card = grid("/card", 9, &|u, v| {
-            DVec3::new(u - 0.5, 1.0 + 0.3 * v, 0.8 * v - 0.4)
-        });
-        let strip = grid("/strip", 6, &|u, v| {
-            DVec3::new(2.0 + u, 0.5 + 0.4 * (3.0 * u).sin(), v - 0.5)
-        });
-        let scene = scene_with(vec![floor, card, strip]);
-        let g = Geometry::new(&scene);
-        let (world, shadow) = (g.world.as_ref().unwrap(), g.shadow.as_ref().unwrap());
-        assert_eq!(world.len(), 162 + 162 + 72);
-        assert_eq!(shadow.len(), 2 + 2 + 72);
-        // Each outline triangle names its card: the rectangle's four corners in order (as the
-        // BVH rounds them); the strip's own triangles name none.
-        let mut cards = [0usize; 3];
-        for id in 0..shadow.len() as u32 {
-            let tri = g.blocker_vertices(id).unwrap();
-            match g.blocker_card(id) {
-                Some((mesh, corners)) => {
-                    cards[mesh as usize] += 1;
-                    assert_eq!(corners.len(), 4);
-                    assert!(
-                        tri.iter().all(|v| corners.contains(v)),
-                        "{tri:?} {corners:?}"
-                    );
-                    let at = |u: f64, v: f64| {
-                        let p = if mesh == 0 {
-                            DVec3::new(10.0 * u - 5.0, 0.0, 10.0 * v - 5.0)
-                        } else {
-                            DVec3::new(u - 0.5, 1.0 + 0.3 * v, 0.8 * v - 0.4)
-                        };
-                        p.as_vec3().as_dvec3()
-                    };
-                    let square = [at(0.0, 0.0), at(1.0, 0.0), at(1.0, 1.0), at(0.0, 1.0)];
-                    let k = corners.iter().position(|c| *c == square[0]).unwrap();
-                    let turn: Vec<DVec3> = (0..4).map(|i| corners[(k + i) % 4]).collect();
-                    let back: Vec<DVec3> = (0..4).map(|i| corners[(k + 4 - i) % 4]).collect();
-                    assert!(turn == square || back == square, "{corners:?}");
-                }
-                None => cards[2] += 1,
-            }
-        }
-        assert_eq!(cards, [2, 2, 72]);
-        let mut rng = lux_sample::SplitMix64::new(5);
-        let mut u = || rng.next_f64();
-        let (mut hits, mut misses) = (0, 0);
-        for i in 0..20_000 {
-            let (o, d) = match i % 4 {
-                // From the floor towards the card's region.
-                0 => {
-                    let o = DVec3::new(6.0 * u() - 3.0, 0.0, 6.0 * u() - 3.0);
-                    let o = o + DVec3::Y * offset_scale(o);
-                    (
-                        o,
-                        (DVec3::new(u() - 0.5, 1.2, 0.8 * u() - 0.4) - o).normalize(),
-                    )
-                }
-                // From above, down through everything.
-                1 => (
-                    DVec3::new(8.0 * u() - 4.0, 4.0, 8.0 * u() - 4.0),
-                    DVec3::new(u() - 0.5, -1.0, u() - 0.5).normalize(),
-                ),
-                // Grazing over the floor.
-                2 => (
-                    DVec3::new(-6.0, 1e-3 + 0.01 * u(), 6.0 * u() - 3.0),
-                    DVec3::new(1.0, 0.02 * (u() - 0.5), 0.3 * (u() - 0.5)).normalize(),
-                ),
-                // Aimed at the card's edges and grid lines.
-                _ => {
-                    let k = (9.0 * u()).round() / 9.0;
-                    let target = DVec3::new(k - 0.5, 1.0 + 0.3 * u(), 0.8 * u() - 0.4);
-                    let o = DVec3::new(2.0 * u() - 1.0, 3.0, 2.0 * u() - 1.0);
-                    (o, (target - o).normalize())
-                }
-            };
-            let ray = Geometry::ray(o, d, 0.0, 50.0).unwrap();
-            let (mut a, mut b) = (RayHit::none(), RayHit::none());
-            let (wa, wb) = (world.nearest(ray, &mut a), shadow.nearest(ray, &mut b));
-            assert_eq!(
-                world.any(ray),
-                shadow.any(ray),
-                "ray {i} from {o} along {d}"
-            );
-            assert_eq!(wa, wb, "ray {i}");
-            if wa {
-                hits += 1;
-                let (ma, mb) = (
-                    world.prims[a.primitive_id as usize],
-                    shadow.prims[b.primitive_id as usize],
-                );
-                assert_eq!(ma.mesh, mb.mesh, "ray {i}");
-                assert!(
-                    (a.t - b.t).abs() <= 1e-5 * a.t.max(1.0),
-                    "ray {i}: {} vs {}",
-                    a.t,
-                    b.t
-                );
-            } else {
-                misses += 1;
-            }
-        }
-        assert!(
-            hits > 5_000 && misses > 2_000,
-            "{hits} hits, {misses} misses"
-        );
-        // The queries go to the shadow BVH (off the fans' diagonals, which `f32` ray-triangle
-        // tests, like any shared edge, may let an exactly aimed ray through).
-        assert!(std::ptr::eq(g.blockers().unwrap(), shadow));
-        let o = DVec3::new(0.1, 3.0, 0.07);
-        assert_eq!(
-            g.first_occluder_at(o, DVec3::NEG_Y, 0.0, 10.0)
-                .map(|h| h.mesh),
-            Some(1)
-        );
-        assert!(g.occluded(o, DVec3::NEG_Y, 0.0, 10.0));
-        // No shadow BVH without planar tilings, nor where they are a small part (the card and
-        // three strips: 2 + 216 of 378 triangles, more than a quarter).
-        let g = Geometry::new(&scene_with(vec![scene.meshes[2].clone()]));
-        assert!(
-            g.shadow.is_none() && std::ptr::eq(g.blockers().unwrap(), g.world.as_ref().unwrap())
-        );
-        let mostly_strips = [1, 2, 2, 2].map(|i| scene.meshes[i].clone()).to_vec();
-        assert!(Geometry::new(&scene_with(mostly_strips)).shadow.is_none());
-    }
-
-    /// A subdivided horizontal card (162 triangles at y = 0.5: the BVH nodes holding only its
-    /// triangles are flat, their quantization step along y as small as 2⁻⁷⁴) blocks the cone
-    /// and the pyramid from the floor under it to a light above, alone in a BVH or over the
-    /// floor; beside it, the regions are clear. (The cone's node test once squared the
-    /// quantized distance before scaling it back, which overflowed `f32` in such nodes: the
-    /// card was culled, and light went through it.)
-    #[test]
-    fn flat_nodes_of_a_horizontal_card_block_the_regions_they_meet() {
-        let mut pos = Vec::new();
-        let mut tri = Vec::new();
-        for j in 0..=9u32 {
-            for i in 0..=9u32 {
-                pos.push(DVec3::new(
-                    -0.5 + i as f64 / 9.0,
-                    0.5,
-                    -0.5 + j as f64 / 9.0,
-                ));
-            }
-        }
-        for j in 0..9u32 {
-            for i in 0..9u32 {
-                let a = j * 10 + i;
-                tri.push([a, a + 1, a + 11]);
-                tri.push([a, a + 11, a + 10]);
-            }
-        }
-        let card = Mesh::new("/card", pos, tri);
-        for scene in [
-            scene_with(vec![card.clone()]),
-            scene_with(vec![cone::tests::floor(), card]),
-        ] {
-            let g = Geometry::new(&scene);
-            let region = |x: f64| {
-                let p = DVec3::new(x, 0.0, 0.1);
-                let offset = offset_scale(p);
-                let light = DVec3::new(x, 1.5, 0.1);
-                let corners = pyramid::tests::rect(light, -DVec3::Y, DVec3::X, (0.2, 0.2));
-                (
-                    ShadowCone::new(p, DVec3::Y, offset, light, 0.2, RayEnds::NearSide).unwrap(),
-                    ShadowPyramid::new(p, DVec3::Y, offset, &corners).unwrap(),
-                )
-            };
-            let (cone, pyramid) = region(0.0);
-            assert!(matches!(
-                g.cone_search(&cone, &|_| true),
-                ConeSearch::Blocked(_)
-            ));
-            assert!(matches!(
-                g.cone_search(&pyramid, &|_| true),
-                ConeSearch::Blocked(_)
-            ));
-            let (cone, pyramid) = region(3.0);
-            assert_eq!(g.cone_search(&cone, &|_| true), ConeSearch::Clear);
-            assert_eq!(g.cone_search(&pyramid, &|_| true), ConeSearch::Clear);
-        }
-    }
-
-    /// Instanced blockers under similarities (rotated, mirrored, scaled 0.3–3, moved) and under
-    /// a stretch: wherever the search of the instances says nothing can block a light (a cone
-    /// of a point and of a patch, a rect's pyramid), no shadow ray from the point (traced in
-    /// `f64` against the instance's world triangles) is blocked; and searching inside the
-    /// similar instances finds clear regions the instances' boxes alone would not.
-    #[test]
-    fn instance_searches_inside_similar_prototypes_are_sound() {
-        use glam::{DMat4, DQuat};
-        use lux_usd::{Instance, Prototype};
-        let mut rng = lux_sample::SplitMix64::new(17);
-        let mut u = move || rng.next_f64();
-        let (mut clear, mut inside_only, mut blocked) = (0, 0, 0);
-        for case in 0..60 {
-            // A thin tilted card as the prototype (its box is much larger than it).
-            let proto = Mesh {
-                prototype: Some(0),
-                ..Mesh::new(
-                    "/card",
-                    vec![
-                        DVec3::new(-0.3, -0.2, -0.2),
-                        DVec3::new(0.3, -0.2, -0.2),
-                        DVec3::new(0.3, 0.2, 0.2),
-                        DVec3::new(-0.3, 0.2, 0.2),
-                    ],
-                    vec![[0, 1, 2], [0, 2, 3]],
-                )
-            };
-            let q = DQuat::from_axis_angle(
-                DVec3::new(u() - 0.5, u() - 0.5, u() - 0.5).normalize(),
-                6.3 * u(),
-            );
-            let s = 0.3 + 2.7 * u();
-            let mirror = if case % 3 == 0 { -1.0 } else { 1.0 };
-            let stretch = if case % 10 == 9 {
-                DVec3::new(1.0, 0.4, 1.0)
-            } else {
-                DVec3::ONE
-            };
-            let at = DVec3::new(1.2 * (u() - 0.5), 0.6 + 0.8 * u(), 1.2 * (u() - 0.5));
-            let m = DMat4::from_scale_rotation_translation(
-                DVec3::new(mirror * s, s, s) * stretch / s.max(1.0),
-                q,
-                at,
-            );
-            let mut scene = scene_with(vec![cone::tests::floor(), proto.clone()]);
-            scene.prototypes.push(Prototype {
-                path: "/P".into(),
-                meshes: vec![1],
-            });
-            scene.instances.push(Instance {
-                path: "/I".into(),
-                prototype: 0,
-                to_world: m,
-                material: None,
-            });
-            let g = Geometry::new(&scene);
-            let inst = g.instances.as_ref().unwrap();
-            let world_tris: Vec<[DVec3; 3]> = proto
-                .triangles
-                .iter()
-                .map(|t| t.map(|i| m.transform_point3(proto.positions[i as usize])))
-                .collect();
-            let hits = |o: DVec3, w: DVec3, tmax: f64| {
-                world_tris.iter().any(|&[a, b, c]| {
-                    let (e1, e2) = (b - a, c - a);
-                    let p = w.cross(e2);
-                    let det = e1.dot(p);
-                    let tv = o - a;
-                    let (b1, qv) = (tv.dot(p) / det, tv.cross(e1));
-                    let (b2, t) = (w.dot(qv) / det, e2.dot(qv) / det);
-                    b1 >= -1e-9 && b2 >= -1e-9 && b1 + b2 <= 1.0 + 1e-9 && t > 0.0 && t < tmax
-                })
-            };
-            for k in 0..12 {
-                let p = DVec3::new(2.4 * (u() - 0.5), 0.0, 2.4 * (u() - 0.5));
-                let light = DVec3::new(2.0 * (u() - 0.5), 2.2 + u(), 2.0 * (u() - 0.5));
-                let radius = 0.1 + 0.3 * u();
-                let offset = offset_scale(p);
-                let spread = if k % 2 == 0 { 0.0 } else { 0.1 };
-                let Some(cone) = (if spread == 0.0 {
-                    ShadowCone::new(p, DVec3::Y, offset, light, radius, RayEnds::NearSide)
-                } else {
-                    ShadowCone::patch(p, DVec3::Y, spread, light, radius, RayEnds::NearSide)
-                }) else {
-                    continue;
-                };
-                let corners = pyramid::tests::rect(light, -DVec3::Y, DVec3::X, (radius, radius));
-                let pyramid = ShadowPyramid::new(p, DVec3::Y, offset, &corners).unwrap();
-                let boxed = region_search(&inst.tlas, &cone, |_| true).is_some();
-                for (free, rays) in [
-                    (
-                        !inst.may_block(&cone),
-                        cone::tests::segments(p, light, radius, 400, false),
-                    ),
-                    (
-                        !inst.may_block(&pyramid),
-                        pyramid::tests::segments(p, &corners, 400),
-                    ),
-                ] {
-                    if free {
-                        clear += 1;
-                        for (o, w, t) in rays {
-                            assert!(
-                                !hits(o, w, t),
-                                "case {case}: clear region, blocked ray from {o}"
-                            );
-                        }
-                    } else {
-                        blocked += 1;
-                    }
-                }
-                inside_only += (boxed && !inst.may_block(&cone)) as u32;
-            }
-        }
-        assert!(
-            clear > 200 && blocked > 50 && inside_only > 20,
-            "{clear} clear, {blocked} blocked, {inside_only} clear only inside"
-        );
-    }
-
     /// The exact hit's normal is `normalize(±(b − a) × (c − a))` and its barycentrics use
     /// `1/|n|²`, bit for bit, with the squared length computed once for both.
     #[test]

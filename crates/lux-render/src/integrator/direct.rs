@@ -21,14 +21,15 @@
 //! are estimated by light sampling alone: a BSDF ray stops at the first occluder, which is not
 //! what their shadow says.
 
-use super::{CameraRay, World, closest, penumbra, power_heuristic, visibility};
+use super::{CameraRay, World, closest, power_heuristic, shadow_ray};
 use crate::film::Counters;
-use crate::geometry::{ConeSearch, FewTriangles, Hit, ShadowRegion};
+use crate::geometry::{Hit, Region};
 use crate::geometry::{shadow_ray_to, shadow_tmax};
 use crate::light::{LiSample, Light, LightBase, Seen};
 use crate::material::{Bsdf, SurfacePoint};
 use crate::sampler::{Dim, SampleStream};
 use crate::settings::SamplingMode;
+use crate::visibility::{ConeSearch, FewTriangles, penumbra};
 use glam::DVec3;
 use lux_sample::{Reference, Strategy};
 
@@ -49,14 +50,14 @@ pub(super) enum CameraVertex {
 fn clear_from(
     w: &World,
     base: &LightBase,
-    region: &impl ShadowRegion,
+    region: &impl Region,
     patch: ConeSearch,
     casts: &impl Fn(usize) -> bool,
 ) -> bool {
     !base.shadow.enable
         || match patch {
-            ConeSearch::Blocked(id) if !w.geometry.culls(region, id) => false,
-            _ => w.geometry.cone_clear(region, casts),
+            ConeSearch::Blocked(id) if !w.shadows.culls(region, id) => false,
+            _ => w.shadows.cone_clear(region, casts),
         }
 }
 
@@ -137,7 +138,7 @@ impl<'a> DirectIntegrator<'a> {
         let hit = match &c.tile.triangles {
             // (only without transparency: Integrator::tile_rays)
             Some(ids) => w
-                .geometry
+                .shadows
                 .intersect_among(w.scene, ids, ray.o, ray.d, ray.tmin, ray.tmax),
             None => closest(w, ray.o, ray.d, ray.tmin, ray.tmax, false),
         };
@@ -250,7 +251,7 @@ impl<'a> DirectIntegrator<'a> {
             let base = l.base();
             // (the patch's few blockers: `visibility` tests them for plain shadows without
             // transparency)
-            let Some(vis) = visibility(w, base, (origin, dir, tmax), among, c) else {
+            let Some(vis) = shadow_ray(w, base, (origin, dir, tmax), among, c) else {
                 return DVec3::ZERO;
             };
             let pdf = pmf * ls.pdf;
@@ -311,7 +312,7 @@ impl<'a> DirectIntegrator<'a> {
                                 let corners = from.shadow_corners();
                                 let corners = corners.as_ref();
                                 c.patches
-                                    .search(w.scene, w.geometry, sp, li, ball, corners, &casts)
+                                    .search(w.scene, &w.shadows, sp, li, ball, corners, &casts)
                             }
                             _ => (ConeSearch::Unsearched, None),
                         };
@@ -321,7 +322,7 @@ impl<'a> DirectIntegrator<'a> {
                         let exact = || {
                             few.as_ref()
                                 .filter(|_| !w.transparent && base.black_shadows())
-                                .and_then(|few| penumbra::visible(w.geometry, from, sp, few))
+                                .and_then(|few| penumbra::visible(&w.shadows, from, sp, few))
                         };
                         // The direction the closed form's BSDF is evaluated in (the ball's
                         // centre: a Lambertian f is the same in every direction), and the

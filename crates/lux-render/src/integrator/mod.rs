@@ -7,19 +7,18 @@
 //! heuristic of multiple importance sampling.
 
 mod direct;
-mod patches;
 mod path;
-mod penumbra;
+mod shadow;
 mod trace;
 
 pub use direct::DirectIntegrator;
-pub use patches::ClearPatches;
 pub use path::{PathIntegrator, ROULETTE_DEPTH};
+pub use shadow::{first_shadow_occluder, shadow_ray};
 pub use trace::closest;
 
 use crate::film::Counters;
-use crate::geometry::{FewTriangles, Geometry};
-use crate::light::{LightBase, LightSet};
+use crate::geometry::Geometry;
+use crate::light::LightSet;
 use crate::material::Materials;
 use crate::sampler::SampleStream;
 use glam::DVec3;
@@ -33,6 +32,8 @@ pub struct World<'a> {
     pub scene: &'a Scene,
     /// Triangles, instances and the analytic lights' BVH.
     pub geometry: &'a Geometry,
+    /// The shadow rays' BVH of flat cards' outlines and the searches of shadow regions.
+    pub shadows: crate::visibility::Shadows<'a>,
     /// The lights and their selection.
     pub lights: &'a LightSet,
     /// Surfaces' BSDFs.
@@ -102,12 +103,15 @@ impl Integrator<'_> {
         let Some(frustum) = camera.frustum(rect, lo.abs().max(hi.abs()).max_element()) else {
             return TileRays::default();
         };
-        let triangles = w.geometry.triangles_in(&frustum, TILE_TRIANGLES);
+        let triangles = w.shadows.triangles_in(&frustum, TILE_TRIANGLES);
         let lights = &w.lights.lights;
         let empty = triangles.as_ref().is_some_and(|t| t.is_empty())
             && w.lights.background.is_empty()
-            && w.geometry
-                .no_light_in(lights, &frustum, |l| l.base().camera_visible);
+            && w.geometry.light_shapes().none_in(
+                lights,
+                |lo, hi| frustum.misses_box(lo, hi),
+                |l| l.base().camera_visible,
+            );
         TileRays { triangles, empty }
     }
 
@@ -130,66 +134,6 @@ pub fn power_heuristic(a: f64, b: f64) -> f64 {
         return 1.0;
     }
     if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
-}
-
-/// Transmission of a shadow ray from `origin` along `dir` up to `tmax` towards the light
-/// `l` (`ShadowAPI`): `None` when fully blocked, else the RGB multiplier (1 unoccluded;
-/// `lux_math::shadowed` of the occluder's `shadow_strength` otherwise). Shadows disabled: no
-/// ray is traced. Through surfaces with UsdPreviewSurface `opacity` the multiplier is
-/// `T = ∏(1 − oᵢ)` (`trace.rs`); with `ShadowAPI` inputs, `T + (1 − T)·shadowed` where
-/// `shadowed` is the ShadowAPI multiplier at the first surface of opacity > 0.
-/// Occluders outside the light's `collection:shadowLink` cast no shadow
-/// ([`crate::light::first_shadow_occluder`]). `among`: every triangle that can stop the ray
-/// ([`Geometry::blockers_in`] of a region holding it), which plain shadows test alone.
-#[inline]
-pub fn visibility(
-    world: &World,
-    l: &LightBase,
-    (origin, dir, tmax): (DVec3, DVec3, f64),
-    among: Option<&FewTriangles>,
-    c: &mut Counters,
-) -> Option<DVec3> {
-    if !l.shadow.enable {
-        return Some(DVec3::ONE);
-    }
-    c.rays += 1;
-    c.shadow += 1;
-    let geometry = world.geometry;
-    if world.transparent {
-        let (tr, first) = trace::transmission(world, origin, dir, tmax, |h| {
-            l.casts_shadow(h.mesh, h.instance)
-        });
-        let Some(t) = first else {
-            return Some(DVec3::ONE);
-        };
-        c.blocked += 1;
-        if l.plain_shadows() {
-            return (tr > 0.0).then_some(DVec3::splat(tr));
-        }
-        let sh = &l.shadow;
-        let s = lux_math::shadow_strength(t, sh.distance, sh.falloff, sh.falloff_gamma);
-        // What passes the surfaces, plus the ShadowAPI's light where they stop it.
-        let tr = tr.clamp(0.0, 1.0);
-        let m = DVec3::splat(tr) + (1.0 - tr) * lux_math::shadowed(s, sh.color);
-        return (m != DVec3::ZERO).then_some(m);
-    }
-    if l.plain_shadows() {
-        let blocked = match among {
-            Some(few) => geometry.occluded_among(few, origin, dir, 0.0, tmax),
-            None => geometry.occluded(origin, dir, 0.0, tmax),
-        };
-        c.blocked += blocked as u64;
-        return (!blocked).then_some(DVec3::ONE);
-    }
-    // Shadow linking: occluders outside the light's shadowLink are passed through.
-    let Some(t) = crate::light::first_shadow_occluder(geometry, l, origin, dir, tmax) else {
-        return Some(DVec3::ONE);
-    };
-    c.blocked += 1;
-    let sh = &l.shadow;
-    let s = lux_math::shadow_strength(t, sh.distance, sh.falloff, sh.falloff_gamma);
-    let m = lux_math::shadowed(s, sh.color);
-    (m != DVec3::ZERO).then_some(m)
 }
 
 #[cfg(test)]

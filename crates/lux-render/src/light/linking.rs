@@ -20,8 +20,6 @@
 //! without linking.
 
 use super::LightBase;
-use crate::geometry::{Geometry, offset_scale};
-use glam::DVec3;
 use lux_usd::{Linking, Membership, Scene};
 use std::collections::HashSet;
 use std::sync::Arc;
@@ -159,40 +157,10 @@ impl LightBase {
     }
 }
 
-/// Distance to the first occluder on `origin + t·dir`, `t ∈ (0, tmax)`, that casts the
-/// shadows of `l`: [`Geometry::first_occluder`] without a shadowLink; with one, occluders
-/// outside it are passed through (the ray cast again from [`offset_scale`] past each, in
-/// order, deterministically); after [`MAX_PASS_THROUGH`] of them the ray counts as blocked
-/// there.
-#[inline]
-pub fn first_shadow_occluder(
-    geometry: &Geometry,
-    l: &LightBase,
-    origin: DVec3,
-    dir: DVec3,
-    tmax: f64,
-) -> Option<f64> {
-    let Some(set) = &l.links.shadow else {
-        return geometry.first_occluder(origin, dir, 0.0, tmax);
-    };
-    let mut tmin = 0.0;
-    for _ in 0..MAX_PASS_THROUGH {
-        let o = geometry.first_occluder_at(origin, dir, tmin, tmax)?;
-        if set.contains(o.mesh, o.instance) {
-            return Some(o.t);
-        }
-        tmin = o.t + offset_scale(origin + o.t * dir);
-        if tmin >= tmax {
-            return None;
-        }
-    }
-    Some(tmin)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::DMat4;
+    use glam::{DMat4, DVec3};
     use lux_usd::{Instance, Mesh, Prototype, Rule};
 
     fn tri(path: &str, y: f64) -> Mesh {
@@ -245,30 +213,5 @@ mod tests {
         assert_eq!(s.instances, vec![ALL, SOME, SOME]);
         let links = LightLinks::new(&scene, &Linking::default());
         assert_eq!(links, LightLinks::default());
-    }
-
-    #[test]
-    fn shadow_rays_pass_through_unlinked_occluders() {
-        let mut scene = Scene::empty("t.usda");
-        scene.meshes = vec![tri("/a", 1.0), tri("/b", 2.0), tri("/c", 3.0)];
-        let g = Geometry::new(&scene);
-        let mut l = LightBase::new(
-            "/L",
-            lux_sample::LightTransform::IDENTITY,
-            lux_shaping::Shaping::identity(),
-            lux_usd::ShadowInputs::default(),
-        );
-        let o = DVec3::new(0.0, 0.0, 0.0);
-        let t = |l: &LightBase, tmax: f64| first_shadow_occluder(&g, l, o, DVec3::Y, tmax);
-        assert!((t(&l, 10.0).unwrap() - 1.0).abs() < 1e-6);
-        l.links.shadow = Some(Arc::new(GeomSet::new(
-            &scene,
-            &rules(&[("/c", Rule::ExpandPrims)]),
-        )));
-        assert!(l.links.shadow.is_some() && !l.plain_shadows());
-        assert!((t(&l, 10.0).unwrap() - 3.0).abs() < 1e-6);
-        assert_eq!(t(&l, 2.5), None);
-        l.links.shadow = Some(Arc::new(GeomSet::new(&scene, &rules(&[]))));
-        assert_eq!(t(&l, 10.0), None);
     }
 }

@@ -63,14 +63,14 @@ pub use cylinder::CylinderLight;
 pub use disk::DiskLight;
 pub use distant::DistantLight;
 pub use dome::DomeLight;
-pub use linking::{GeomSet, LightLinks, MAX_PASS_THROUGH, first_shadow_occluder};
+pub use linking::{GeomSet, LightLinks, MAX_PASS_THROUGH};
 pub use mesh::MeshLight;
 pub use rect::RectLight;
 pub use set::{AUTO_ALL_LIGHTS, LightOptions, LightSelection, LightSet};
 pub use sphere::SphereLight;
 
-use crate::geometry::{RayEnds, ShadowCone, ShadowPyramid};
 use crate::image_io::Texture;
+use crate::visibility::{RayEnds, ShadowCone, ShadowPyramid};
 use glam::{DMat3, DVec3};
 use lux_math::LightKind;
 use lux_sample::{EmissionCone, LightBounds, LightSample, LightTransform, Reference, Strategy};
@@ -111,7 +111,12 @@ pub struct LightBase {
 impl LightBase {
     /// A light at `xf` emitting nothing yet (radiance and power are set once the kind is
     /// built).
-    fn new(path: &str, xf: LightTransform, shaping: Shaping, shadow: ShadowInputs) -> LightBase {
+    pub(crate) fn new(
+        path: &str,
+        xf: LightTransform,
+        shaping: Shaping,
+        shadow: ShadowInputs,
+    ) -> LightBase {
         LightBase {
             path: path.to_owned(),
             radiance: DVec3::ZERO,

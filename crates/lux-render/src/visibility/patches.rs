@@ -16,7 +16,7 @@
 //! image does not depend on which tile or thread asks first, or whether the answer was
 //! remembered.
 
-use crate::geometry::{ConeSearch, FewTriangles, Geometry, RayEnds, ShadowCone, ShadowPyramid};
+use super::{ConeSearch, FewTriangles, RayEnds, ShadowCone, ShadowPyramid, Shadows};
 use crate::material::SurfacePoint;
 use glam::DVec3;
 use lux_usd::Scene;
@@ -57,7 +57,7 @@ impl Key {
 }
 
 /// A patch's answer: whether something may block it and, when so, every triangle that might
-/// when there are few ([`Geometry::blockers_in`]).
+/// when there are few ([`Shadows::blockers_in`]).
 type Answer = (ConeSearch, Option<FewTriangles>);
 
 /// A worker's remembered patch answers.
@@ -75,13 +75,13 @@ impl ClearPatches {
     /// [`ConeSearch::Unsearched`] for points on instances and out-of-range coordinates, which
     /// are not searched here.
     /// With it, for a patch that may be blocked, the few triangles of the shadow rays' BVH
-    /// that can block any of its rays ([`Geometry::blockers_in`]; `None` when more): a shadow
-    /// ray from the point tests those alone ([`Geometry::occluded_among`]).
+    /// that can block any of its rays ([`Shadows::blockers_in`]; `None` when more): a shadow
+    /// ray from the point tests those alone ([`Shadows::occluded_among`]).
     #[allow(clippy::too_many_arguments)]
     pub fn search(
         &mut self,
         scene: &Scene,
-        geometry: &Geometry,
+        shadows: &Shadows,
         sp: &SurfacePoint,
         light: usize,
         (centre, radius, ends): (DVec3, f64, RayEnds),
@@ -140,13 +140,13 @@ impl ClearPatches {
         };
         let b = match corners {
             Some(c) => ShadowPyramid::patch(q, sp.ng, spread, c).map(|pyramid| {
-                search(geometry.cone_search(&pyramid, casts), &|| {
-                    geometry.blockers_in(&pyramid, casts)
+                search(shadows.cone_search(&pyramid, casts), &|| {
+                    shadows.blockers_in(&pyramid, casts)
                 })
             }),
             None => ShadowCone::patch(q, sp.ng, spread, centre, radius, ends).map(|cone| {
-                search(geometry.cone_search(&cone, casts), &|| {
-                    geometry.blockers_in(&cone, casts)
+                search(shadows.cone_search(&cone, casts), &|| {
+                    shadows.blockers_in(&cone, casts)
                 })
             }),
         }
@@ -159,9 +159,10 @@ impl ClearPatches {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::cone::tests::{floor, segments, square};
     use crate::geometry::tests::scene_with;
     use crate::material::{Bsdf, DiffuseBsdf};
+    use crate::visibility::TestShadows;
+    use crate::visibility::cone::tests::{floor, segments, square};
 
     /// A point of the floor of `cone::tests::floor` (unit quads over [−5, 5]², two triangles
     /// each), seen from above.
@@ -188,15 +189,17 @@ mod tests {
         // A light of radius 0.4 above a floor with a small square between them.
         let ball = (DVec3::new(0.3, 1.5, -0.2), 0.4, RayEnds::NearSide);
         let scene = scene_with(vec![floor(), square(DVec3::new(0.0, 0.5, 0.0), 0.15)]);
-        let g = Geometry::new(&scene);
+        let g = TestShadows::new(&scene);
         let mut kept = ClearPatches::default();
         let (mut clear, mut blocked) = (0, 0);
         for i in 0..48 {
             for j in 0..48 {
                 let sp = floor_point(-1.6 + i as f64 * 0.071, -1.7 + j as f64 * 0.069);
-                let remembered = kept.search(&scene, &g, &sp, 0, ball, None, &|_| true).0;
+                let remembered = kept
+                    .search(&scene, &g.shadows(), &sp, 0, ball, None, &|_| true)
+                    .0;
                 let fresh = ClearPatches::default()
-                    .search(&scene, &g, &sp, 0, ball, None, &|_| true)
+                    .search(&scene, &g.shadows(), &sp, 0, ball, None, &|_| true)
                     .0;
                 assert_eq!(remembered, fresh, "at {}", sp.p);
                 match fresh {
@@ -221,17 +224,19 @@ mod tests {
         // Shadow linking that leaves the square out: every patch is clear.
         let sp = floor_point(0.2, -0.1);
         let linked = ClearPatches::default()
-            .search(&scene, &g, &sp, 0, ball, None, &|m| m != 1)
+            .search(&scene, &g.shadows(), &sp, 0, ball, None, &|m| m != 1)
             .0;
         assert_eq!(linked, ConeSearch::Clear);
         // The light's index is part of the key: another light's answer is not reused.
         let mut m = ClearPatches::default();
         assert_ne!(
-            m.search(&scene, &g, &sp, 0, ball, None, &|_| true).0,
+            m.search(&scene, &g.shadows(), &sp, 0, ball, None, &|_| true)
+                .0,
             ConeSearch::Clear
         );
         assert_eq!(
-            m.search(&scene, &g, &sp, 1, ball, None, &|m| m != 1).0,
+            m.search(&scene, &g.shadows(), &sp, 1, ball, None, &|m| m != 1)
+                .0,
             ConeSearch::Clear
         );
     }
@@ -242,8 +247,8 @@ mod tests {
     /// scattered triangles, some patches with few enough of them, some not.
     #[test]
     fn a_blocked_patchs_few_triangles_answer_its_shadow_rays() {
-        use crate::geometry::cone::tests::mesh;
-        use crate::geometry::pyramid::tests::{rect, segments as rect_segments};
+        use crate::visibility::cone::tests::mesh;
+        use crate::visibility::pyramid::tests::{rect, segments as rect_segments};
         use lux_sample::SplitMix64;
         let mut rng = SplitMix64::new(3);
         let mut u = move || rng.next_f64();
@@ -261,7 +266,7 @@ mod tests {
             square(DVec3::new(0.0, 0.5, 0.0), 0.15),
             mesh("/bits", v, t),
         ]);
-        let g = Geometry::new(&scene);
+        let g = TestShadows::new(&scene);
         let centre = DVec3::new(0.3, 1.5, -0.2);
         let corners = rect(centre, DVec3::Y, DVec3::X, (0.5, 0.4));
         for with_rect in [false, true] {
@@ -276,10 +281,18 @@ mod tests {
             for i in 0..40 {
                 for j in 0..40 {
                     let sp = floor_point(-2.0 + i as f64 * 0.1, -2.1 + j as f64 * 0.103);
-                    let (b, ids) = kept.search(&scene, &g, &sp, 0, ball, r, &|_| true);
+                    let (b, ids) = kept.search(&scene, &g.shadows(), &sp, 0, ball, r, &|_| true);
                     assert_eq!(
                         (b, ids),
-                        ClearPatches::default().search(&scene, &g, &sp, 0, ball, r, &|_| true)
+                        ClearPatches::default().search(
+                            &scene,
+                            &g.shadows(),
+                            &sp,
+                            0,
+                            ball,
+                            r,
+                            &|_| true
+                        )
                     );
                     let Some(ids) = ids else {
                         many += matches!(b, ConeSearch::Blocked(_)) as u32;
@@ -309,7 +322,7 @@ mod tests {
 
     #[test]
     fn rect_patches_search_the_pyramid_and_are_sound() {
-        use crate::geometry::pyramid::tests::{rect, segments as rect_segments};
+        use crate::visibility::pyramid::tests::{rect, segments as rect_segments};
         // A wide rect 1.2 above the floor (its ball reaches the floor: only the pyramid
         // holds), a small square under it.
         let corners = rect(DVec3::new(0.1, 1.2, 0.0), DVec3::Y, DVec3::X, (1.2, 0.9));
@@ -319,16 +332,18 @@ mod tests {
             RayEnds::Anywhere,
         );
         let scene = scene_with(vec![floor(), square(DVec3::new(0.0, 0.6, 0.0), 0.05)]);
-        let g = Geometry::new(&scene);
+        let g = TestShadows::new(&scene);
         let mut kept = ClearPatches::default();
         let (mut clear, mut blocked) = (0, 0);
         for i in 0..40 {
             for j in 0..40 {
                 let sp = floor_point(-4.0 + i as f64 * 0.2, -3.9 + j as f64 * 0.197);
                 let r = Some(&corners);
-                let remembered = kept.search(&scene, &g, &sp, 0, ball, r, &|_| true).0;
+                let remembered = kept
+                    .search(&scene, &g.shadows(), &sp, 0, ball, r, &|_| true)
+                    .0;
                 let fresh = ClearPatches::default()
-                    .search(&scene, &g, &sp, 0, ball, r, &|_| true)
+                    .search(&scene, &g.shadows(), &sp, 0, ball, r, &|_| true)
                     .0;
                 assert_eq!(remembered, fresh, "at {}", sp.p);
                 match fresh {

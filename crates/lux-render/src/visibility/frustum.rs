@@ -9,7 +9,7 @@
 //! covers the `f32` rounding of the traversal's rays) cannot be hit by any ray of the tile; the
 //! BVH's boxes are tested the same way ([`ShadowRegion::node_mask`]).
 
-use super::ShadowRegion;
+use crate::geometry::Region as ShadowRegion;
 use glam::DVec3;
 use obvhs::cwbvh::node::CwBvhNode;
 use obvhs::triangle::Triangle;
@@ -92,17 +92,25 @@ impl ShadowRegion for RayFrustum {
     /// True when the triangle lies wholly outside one of the four sides.
     #[inline]
     fn culls_triangle(&self, t: &Triangle) -> bool {
-        super::outside_a_plane(&self.planes, self.margin, t)
+        crate::geometry::outside_a_plane(&self.planes, self.margin, t)
     }
 
     /// The CWBVH hit mask of the node's children the frustum may reach (as the pyramid's,
     /// [`super::ShadowPyramid`], without its floor).
     #[inline(always)]
     fn node_mask(&self, node: &CwBvhNode, oct_inv4: u32) -> u32 {
-        let tests = self
-            .planes
-            .map(|(n, d)| (super::in_node_frame(node, n, d), -self.margin as f32));
-        super::child_mask(node, oct_inv4, super::above_all(node, &tests), |_| false)
+        let tests = self.planes.map(|(n, d)| {
+            (
+                crate::geometry::in_node_frame(node, n, d),
+                -self.margin as f32,
+            )
+        });
+        crate::geometry::child_mask(
+            node,
+            oct_inv4,
+            crate::geometry::above_all(node, &tests),
+            |_| false,
+        )
     }
 
     fn to_prototype(&self, qt: &glam::DMat3, t: DVec3, s: f64, extra: f64) -> RayFrustum {

@@ -11,20 +11,20 @@
 //! returns `L·Π` or nothing per sample, so its only noise was the fraction of blocked samples;
 //! a rect's and a disk's samples add their samplers' own noise.)
 
-use crate::geometry::{FewTriangles, Geometry};
+use super::{FewTriangles, Shadows};
 use crate::light::LightFrom;
 use crate::material::SurfacePoint;
 use glam::DVec3;
 use lux_irradiance::hidden;
 
 /// The exact penumbra of the light `from` at the Lambertian point `sp` past the triangles `few`
-/// (every triangle that can stop its shadow rays: [`Geometry::blockers_in`] of a region holding
+/// (every triangle that can stop its shadow rays: [`Shadows::blockers_in`] of a region holding
 /// them): the direction its BSDF is evaluated in (towards the light's centre; a Lambertian f is
 /// the same everywhere) and the fraction of its closed form ([`LightFrom::unshadowed`]) that
 /// passes. `None` (sample it instead) for other lights and where [`sphere_visible`],
 /// [`rect_visible`] or [`disk_visible`] is.
 pub fn visible(
-    g: &Geometry,
+    g: &Shadows,
     from: &LightFrom,
     sp: &SurfacePoint,
     few: &FewTriangles,
@@ -51,7 +51,7 @@ pub fn visible(
 /// lies wholly on the point's side of the disk's plane, and no two of them overlap as seen from
 /// the point ([`hidden::apart`]).
 pub fn disk_visible(
-    g: &Geometry,
+    g: &Shadows,
     sp: &SurfacePoint,
     disk: (DVec3, DVec3, f64),
     few: &FewTriangles,
@@ -77,7 +77,7 @@ pub fn disk_visible(
 /// of the light's plane (before the light along every ray), and no two of them overlap as seen
 /// from the point ([`hidden::apart`]).
 pub fn rect_visible(
-    g: &Geometry,
+    g: &Shadows,
     sp: &SurfacePoint,
     corners: &[DVec3; 4],
     few: &FewTriangles,
@@ -96,7 +96,7 @@ pub fn rect_visible(
 
 /// The fraction of a uniform sphere light's unshadowed integral that reaches the point `sp`
 /// past the triangles `few` (every triangle that can stop its shadow rays:
-/// [`Geometry::blockers_in`] of a region holding them): `1 − Σ Hᵢ / Π` with Hᵢ what blocker i (a
+/// [`Shadows::blockers_in`] of a region holding them): `1 − Σ Hᵢ / Π` with Hᵢ what blocker i (a
 /// triangle or a card's outline: [`past`]) hides of the cap ([`hidden::cap_polygon`]), Π the
 /// cap's projected solid angle from `sp.p`
 /// with the shading normal (`pi`), the sphere of world centre `centre` and radius `radius`;
@@ -108,7 +108,7 @@ pub fn rect_visible(
 /// point of the sphere along every ray), and no two of them overlap as seen from the point
 /// ([`hidden::apart`]).
 pub fn sphere_visible(
-    g: &Geometry,
+    g: &Shadows,
     sp: &SurfacePoint,
     (centre, radius, pi): (DVec3, f64, f64),
     few: &FewTriangles,
@@ -143,7 +143,7 @@ pub fn sphere_visible(
 /// in one convex polygon rather than several triangles and the test that they do not overlap.
 /// An outline not wholly before the light falls back to its triangles.
 fn past(
-    g: &Geometry,
+    g: &Shadows,
     p: DVec3,
     few: &FewTriangles,
     pi: f64,

@@ -20,7 +20,7 @@
 //! δ keeps them clear of), wholly behind the apex or beyond the far plane, or when its
 //! bounding sphere misses the cone by a margin that covers the `f32` rounding of the traversal.
 
-use super::ShadowRegion;
+use crate::geometry::Region as ShadowRegion;
 use glam::{DVec3, Vec3A, Vec4};
 use obvhs::cwbvh::node::CwBvhNode;
 use obvhs::triangle::Triangle;
@@ -267,9 +267,9 @@ impl ShadowRegion for ShadowCone {
         // Four children at a time, one lane each.
         let mut keep = 0u32;
         for half in 0..2 {
-            let boxes = super::child_boxes(node, half);
+            let boxes = crate::geometry::child_boxes(node, half);
             let (lo, hi) = boxes;
-            let far_along = |n: [f32; 3]| super::farthest_along(&boxes, n);
+            let far_along = |n: [f32; 3]| crate::geometry::farthest_along(&boxes, n);
             let rise = far_along([nx, ny, nz]) + rise0;
             let reach = far_along([ax, ay, az]) + along0;
             let back = along0 - far_along([-ax, -ay, -az]);
@@ -286,7 +286,7 @@ impl ShadowRegion for ShadowCone {
                 | back.cmpgt(Vec4::splat(far + margin));
             keep |= ((!out.bitmask()) & 0xf) << (4 * half);
         }
-        super::child_mask(node, oct_inv4, keep, |child| {
+        crate::geometry::child_mask(node, oct_inv4, keep, |child| {
             let b = node.child_aabb(child);
             let centre = 0.5 * (b.min + b.max);
             self.misses_sphere(centre.as_dvec3(), 0.5 * (b.max - b.min).length() as f64)
@@ -297,8 +297,8 @@ impl ShadowRegion for ShadowCone {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::geometry::Geometry;
     use crate::geometry::tests::scene_with;
+    use crate::visibility::TestShadows;
     use lux_usd::Mesh;
     use obvhs::cwbvh::node::extract_byte64;
     use proptest::prelude::*;
@@ -353,16 +353,16 @@ pub(crate) mod tests {
     fn a_bare_floor_is_clear_and_a_blocker_in_the_cone_is_not() {
         let (centre, radius) = (DVec3::new(0.0, 2.0, 0.0), 0.5);
         let p = DVec3::new(0.3, 0.0, -0.2);
-        let bare = Geometry::new(&scene_with(vec![floor()]));
+        let bare = TestShadows::new(&scene_with(vec![floor()]));
         assert!(bare.cone_clear(&cone_from(p, centre, radius), &|_| true));
-        let blocked_in = |g: &Geometry| {
+        let blocked_in = |g: &TestShadows| {
             segments(p, centre, radius, 2000, false)
                 .into_iter()
                 .any(|(o, w, tmax)| g.occluded(o, w, 0.0, tmax))
         };
         assert!(!blocked_in(&bare));
         // A small square halfway up, above p: in the cone.
-        let blocked = Geometry::new(&scene_with(vec![
+        let blocked = TestShadows::new(&scene_with(vec![
             floor(),
             square(DVec3::new(0.2, 1.0, -0.1), 0.1),
         ]));
@@ -371,13 +371,13 @@ pub(crate) mod tests {
         // Clear again for a light whose shadow linking leaves the square (mesh 1) out.
         assert!(blocked.cone_clear(&cone_from(p, centre, radius), &|m| m != 1));
         // The same square 2 units to the side: outside the cone, clear again.
-        let beside = Geometry::new(&scene_with(vec![
+        let beside = TestShadows::new(&scene_with(vec![
             floor(),
             square(DVec3::new(2.2, 1.0, -0.1), 0.1),
         ]));
         assert!(beside.cone_clear(&cone_from(p, centre, radius), &|_| true));
         // Above the light: beyond the far plane.
-        let above = Geometry::new(&scene_with(vec![
+        let above = TestShadows::new(&scene_with(vec![
             floor(),
             square(DVec3::new(0.0, 3.0, 0.0), 2.0),
         ]));
@@ -390,7 +390,7 @@ pub(crate) mod tests {
         let (p, edge) = (DVec3::ZERO, DVec3::new(0.5, 0.0, 0.0));
         // A small square on the way from the patch's edge point to the light, outside the
         // cone from its centre (at height 0.2 that cone is 0.03 wide around x = 0).
-        let g = Geometry::new(&scene_with(vec![
+        let g = TestShadows::new(&scene_with(vec![
             floor(),
             square(DVec3::new(0.45, 0.2, 0.0), 0.02),
         ]));
@@ -407,7 +407,7 @@ pub(crate) mod tests {
         assert!(!g.cone_clear(&patch(0.5), &|_| true));
         // A patch that stops short of the square's shadow is clear, and so is the bare floor.
         assert!(g.cone_clear(&patch(0.1), &|_| true));
-        let bare = Geometry::new(&scene_with(vec![floor()]));
+        let bare = TestShadows::new(&scene_with(vec![floor()]));
         assert!(bare.cone_clear(&patch(0.5), &|_| true));
         // No patch cone once the grown ball reaches the horizon.
         assert!(ShadowCone::patch(p, DVec3::Y, 1.8, centre, radius, RayEnds::NearSide).is_none());
@@ -495,7 +495,7 @@ pub(crate) mod tests {
         centre: DVec3,
         radius: f64,
         blockers: &[Blocker],
-    ) -> Geometry {
+    ) -> TestShadows {
         let mut meshes = vec![floor()];
         for (i, &(psi, k, phi, t, s, (ox, oy, oz))) in blockers.iter().enumerate() {
             let psi = psi * std::f64::consts::TAU;
@@ -516,7 +516,7 @@ pub(crate) mod tests {
             let tri = vec![c + u * s, c - u * s + b * s, c - u * s - b * s];
             meshes.push(mesh(&format!("/t{i}"), tri, vec![[0, 1, 2]]));
         }
-        Geometry::new(&scene_with(meshes))
+        TestShadows::new(&scene_with(meshes))
     }
 
     /// A receiver on the floor (or the patch of floor within `spread` of it), a light above
@@ -533,7 +533,7 @@ pub(crate) mod tests {
 
     impl RimCase {
         /// The cone (`None` when the light is not above the horizon) and the scene.
-        fn build(&self) -> Option<(ShadowCone, Geometry)> {
+        fn build(&self) -> Option<(ShadowCone, TestShadows)> {
             let offset = crate::geometry::offset_scale(self.p);
             let ends = if self.whole_ball {
                 RayEnds::Anywhere
@@ -684,11 +684,11 @@ pub(crate) mod tests {
     /// it drops, meets none of the segments `segs` (slab test in `f64`; the renderer's `f32`
     /// triangle test).
     pub(crate) fn drops_only_what_no_ray_meets(
-        g: &Geometry,
+        g: &TestShadows,
         region: &impl ShadowRegion,
         segs: &[(DVec3, DVec3, f64)],
     ) -> Result<(), TestCaseError> {
-        let world = g.world.as_ref().unwrap();
+        let world = g.world().unwrap();
         for node in world.nodes() {
             // Identity octant: bit i of the mask's high byte stands for inner child i.
             let mask = region.node_mask(node, 0);
@@ -763,7 +763,7 @@ pub(crate) mod tests {
     #[test]
     fn clear_is_found_where_the_floor_alone_is_below() {
         // Over a grid of receivers and lights, a floor without blockers is always clear.
-        let g = Geometry::new(&scene_with(vec![floor()]));
+        let g = TestShadows::new(&scene_with(vec![floor()]));
         let mut n = 0;
         for i in 0..7 {
             for j in 0..7 {

@@ -11,7 +11,7 @@
 //! ([`ShadowCone`](super::ShadowCone)), the pyramid is there whenever the rect itself lies above
 //! the receiver's tangent plane, however large and near the rect is.
 
-use super::ShadowRegion;
+use crate::geometry::Region as ShadowRegion;
 use glam::DVec3;
 use obvhs::cwbvh::node::CwBvhNode;
 use obvhs::triangle::Triangle;
@@ -123,7 +123,7 @@ impl ShadowRegion for ShadowPyramid {
         [t.v0, t.v1, t.v2]
             .iter()
             .all(|x| self.ng.dot(x.as_dvec3()) - up < self.floor)
-            || super::outside_a_plane(&self.planes, self.margin, t)
+            || crate::geometry::outside_a_plane(&self.planes, self.margin, t)
     }
 
     /// The CWBVH hit mask of the node's children the pyramid may reach, in the traversal
@@ -144,7 +144,7 @@ impl ShadowRegion for ShadowPyramid {
 
     #[inline(always)]
     fn node_mask(&self, node: &CwBvhNode, oct_inv4: u32) -> u32 {
-        let frame = |n: DVec3, d: f64| super::in_node_frame(node, n, d);
+        let frame = |n: DVec3, d: f64| crate::geometry::in_node_frame(node, n, d);
         let side = |i: usize| {
             (
                 frame(self.planes[i].0, self.planes[i].1),
@@ -153,16 +153,21 @@ impl ShadowRegion for ShadowPyramid {
         };
         let floor = (frame(self.ng, self.ng.dot(self.apex)), self.floor as f32);
         let tests = [floor, side(0), side(1), side(2), side(3), side(4)];
-        super::child_mask(node, oct_inv4, super::above_all(node, &tests), |_| false)
+        crate::geometry::child_mask(
+            node,
+            oct_inv4,
+            crate::geometry::above_all(node, &tests),
+            |_| false,
+        )
     }
 }
 
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::geometry::Geometry;
-    use crate::geometry::cone::tests::{drops_only_what_no_ray_meets, floor, mesh, square};
     use crate::geometry::tests::scene_with;
+    use crate::visibility::TestShadows;
+    use crate::visibility::cone::tests::{drops_only_what_no_ray_meets, floor, mesh, square};
     use proptest::prelude::*;
 
     /// A rect of half-sizes `(a, b)` centred at `c`, its sides along `u` and `u × n`
@@ -215,7 +220,7 @@ pub(crate) mod tests {
         let (c, r) = (DVec3::new(0.2, 0.4, -0.1), 1.5f64.hypot(1.0));
         let offset = crate::geometry::offset_scale(p);
         assert!(
-            crate::geometry::ShadowCone::new(
+            crate::visibility::ShadowCone::new(
                 p,
                 DVec3::Y,
                 offset,
@@ -226,7 +231,7 @@ pub(crate) mod tests {
             .is_none()
         );
         let pyramid = pyramid_from(p, &corners).unwrap();
-        let bare = Geometry::new(&scene_with(vec![floor()]));
+        let bare = TestShadows::new(&scene_with(vec![floor()]));
         assert!(bare.cone_clear(&pyramid, &|_| true));
         // A small square under the rect, between it and p: blocked; beside the pyramid or
         // above the rect: clear.
@@ -235,7 +240,7 @@ pub(crate) mod tests {
             (DVec3::new(2.5, 0.2, 0.0), true),
             (DVec3::new(0.25, 0.6, 0.0), true),
         ] {
-            let g = Geometry::new(&scene_with(vec![floor(), square(at, 0.05)]));
+            let g = TestShadows::new(&scene_with(vec![floor(), square(at, 0.05)]));
             assert_eq!(g.cone_clear(&pyramid, &|_| true), clear, "square at {at}");
             let blocked = segments(p, &corners, 400)
                 .into_iter()
@@ -304,7 +309,7 @@ pub(crate) mod tests {
                 .collect()
         }
 
-        fn scene(&self) -> Geometry {
+        fn scene(&self) -> TestShadows {
             let centre = self.corners.iter().sum::<DVec3>() * 0.25;
             let mut meshes = vec![floor()];
             for (i, &(psi, s, k, f, h, (ux, uy, uz))) in self.blockers.iter().enumerate() {
@@ -322,7 +327,7 @@ pub(crate) mod tests {
                     vec![[0, 1, 2]],
                 ));
             }
-            Geometry::new(&scene_with(meshes))
+            TestShadows::new(&scene_with(meshes))
         }
     }
 
