@@ -13,7 +13,6 @@
 //! Pixel (x, y) covers `[x, x+1) × [y, y+1)` with y = 0 the **top** row; a sample at continuous
 //! coordinates (x + jx, y + jy) maps linearly onto the window (box pixel filter).
 
-use crate::visibility::RayFrustum;
 use glam::{DMat4, DVec3, DVec4};
 use lux_usd::Projection;
 
@@ -171,11 +170,12 @@ impl Camera {
 }
 
 impl Camera {
-    /// The region every ray through pixels `[x0, y0, x1, y1)` stays in
-    /// ([`RayFrustum`]; the pixel rectangle's corners on the film, which [`Camera::ray`] maps
-    /// linearly to directions from the eye, or to origins of parallel rays), for geometry
-    /// whose coordinates are at most `extent` in magnitude. `None` for an empty rectangle.
-    pub fn frustum(&self, [x0, y0, x1, y1]: [u32; 4], extent: f64) -> Option<RayFrustum> {
+    /// The rays through the corners of pixels `[x0, y0, x1, y1)` (top left, top right, bottom
+    /// right, bottom left) and through its centre, as `(origin, direction)` with unnormalised
+    /// directions: [`Camera::ray`] maps the film linearly to directions from the eye, or to
+    /// origins of parallel rays, so every ray through the rectangle lies between them. `None`
+    /// for an empty rectangle.
+    pub fn rect_rays(&self, [x0, y0, x1, y1]: [u32; 4]) -> Option<RectRays> {
         if x0 >= x1 || y0 >= y1 {
             return None;
         }
@@ -199,17 +199,21 @@ impl Camera {
                 (self.eye, m.transform_vector3(f + DVec3::NEG_Z))
             }
         };
-        let rays = corners.map(ray);
-        // Bounds every coordinate and distance between the rays' origins (the corners' span
-        // them all) and the geometry.
-        let scale = 2.0
-            * (extent
-                + rays
-                    .iter()
-                    .map(|r| r.0.abs().max_element())
-                    .fold(0.0, f64::max));
-        RayFrustum::new(rays.map(|r| r.0), rays.map(|r| r.1), ray(centre), scale)
+        Some(RectRays {
+            corners: corners.map(ray),
+            centre: ray(centre),
+        })
     }
+}
+
+/// The rays bounding a rectangle of pixels ([`Camera::rect_rays`]).
+#[derive(Clone, Copy, Debug)]
+pub struct RectRays {
+    /// `(origin, direction)` through the corners: top left, top right, bottom right, bottom
+    /// left.
+    pub corners: [(DVec3, DVec3); 4],
+    /// `(origin, direction)` through the centre.
+    pub centre: (DVec3, DVec3),
 }
 
 /// The pixels whose centres lie in the NDC window `(xmin, ymin, xmax, ymax)` (y up), as
@@ -238,13 +242,12 @@ pub fn pixel_window(w: u32, h: u32, ndc: DVec4) -> [u32; 4] {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
-    use crate::visibility::TestShadows;
     use glam::DVec2;
     use lux_usd::Camera as UsdCamera;
 
-    fn luxtest_camera() -> UsdCamera {
+    pub(crate) fn luxtest_camera() -> UsdCamera {
         // The luxtest camera: 30 units above the origin looking down −Y, focal 0.5, square
         // aperture 0.20955 (rows (1,0,0), (0,0,−1), (0,1,0), translation (0,30,0)).
         UsdCamera {
@@ -263,155 +266,6 @@ mod tests {
             focus_distance: 0.0,
             exposure: Default::default(),
         }
-    }
-
-    /// Every ray through a tile of pixels hits, among the triangles the tile's frustum keeps,
-    /// what it hits in the whole BVH: a floor grid, a tilted single-sided card seen from both
-    /// sides and scattered small triangles (some behind the camera), through perspective and
-    /// orthographic cameras turned off their axes, in 16-pixel tiles and in odd ones. The lists
-    /// stay short (the culling works), and rays from outside a tile miss what it keeps.
-    #[test]
-    fn a_tiles_triangles_are_every_triangle_its_rays_hit() {
-        use crate::geometry::tests::scene_with;
-        use crate::visibility::cone::tests::{floor, mesh};
-        use lux_sample::SplitMix64;
-        let mut rng = SplitMix64::new(7);
-        let mut u = move || rng.next_f64();
-        let mut card = mesh(
-            "/card",
-            vec![
-                DVec3::new(-1.0, 0.5, -1.0),
-                DVec3::new(1.0, 1.5, -1.0),
-                DVec3::new(1.0, 1.5, 1.0),
-                DVec3::new(-1.0, 0.5, 1.0),
-            ],
-            vec![[0, 1, 2], [0, 2, 3]],
-        );
-        card.double_sided = false;
-        let (mut v, mut t) = (Vec::new(), Vec::new());
-        for i in 0..300u32 {
-            let c = DVec3::new(16.0 * u() - 8.0, 40.0 * u() - 5.0, 16.0 * u() - 8.0);
-            for _ in 0..3 {
-                v.push(c + DVec3::new(u() - 0.5, u() - 0.5, u() - 0.5) * 0.6);
-            }
-            t.push([3 * i, 3 * i + 1, 3 * i + 2]);
-        }
-        let scene = scene_with(vec![floor(), card, mesh("/bits", v, t)]);
-        let g = TestShadows::new(&scene);
-        let total = g.triangle_count();
-        let (lo, hi) = g.world_bounds().unwrap();
-        let extent = lo.abs().max(hi.abs()).max_element();
-        let turn = DMat4::from_rotation_z(0.3) * DMat4::from_rotation_x(-0.4);
-        for ortho in [false, true] {
-            let mut c = luxtest_camera();
-            c.camera_to_world = turn * c.camera_to_world;
-            if ortho {
-                c.projection = Projection::Orthographic;
-                c.horizontal_aperture = 120.0;
-                c.vertical_aperture = 120.0;
-            }
-            let cam = Camera::new(&c, [64, 48], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).unwrap();
-            let (mut kept, mut tiles, mut outside) = (0, 0, 0);
-            for (tw, th) in [(16, 16), (5, 7)] {
-                for y0 in (0..48).step_by(th) {
-                    for x0 in (0..64).step_by(tw) {
-                        let rect = [x0, y0, (x0 + tw as u32).min(64), (y0 + th as u32).min(48)];
-                        let f = cam.frustum(rect, extent).unwrap();
-                        let ids = g.triangles_in(&f, usize::MAX).unwrap();
-                        kept += ids.len();
-                        tiles += 1;
-                        let [x0, y0, x1, y1] = rect.map(f64::from);
-                        let mut missed = 0u32;
-                        for k in 0..64 {
-                            // (the corners too)
-                            let (px, py) = match k {
-                                0 => (x0, y0),
-                                1 => (x1, y1),
-                                _ => (x0 + (x1 - x0) * u(), y0 + (y1 - y0) * u()),
-                            };
-                            let (o, d, tmin, tmax) = cam.ray(px, py);
-                            let all = g.intersect(&scene, o, d, tmin, tmax);
-                            let among = g.intersect_among(&scene, &ids, o, d, tmin, tmax);
-                            assert_eq!(among, all, "ortho {ortho} tile {rect:?} at ({px}, {py})");
-                            // A ray from beside the tile: what it hits is not always kept.
-                            let (o, d, tmin, tmax) = cam.ray(px + 2.0 * (x1 - x0) + 1.0, py);
-                            let all = g.intersect(&scene, o, d, tmin, tmax);
-                            missed += (all.is_some()
-                                && g.intersect_among(&scene, &ids, o, d, tmin, tmax) != all)
-                                as u32;
-                        }
-                        outside += missed;
-                    }
-                }
-            }
-            assert!(
-                kept < tiles * total / 10,
-                "ortho {ortho}: {kept} kept in {tiles} tiles of {total}"
-            );
-            assert!(
-                outside > 50,
-                "ortho {ortho}: {outside} rays beside the tiles missed"
-            );
-        }
-    }
-
-    /// A box a tile's frustum misses ([`RayFrustum::misses_box`]) meets none of the tile's rays
-    /// (a slab test along 64 rays through the tile, its corners among them), for boxes of
-    /// every size around a camera turned off its axes; both answers occur, and boxes straddling
-    /// the tile's sides are kept.
-    #[test]
-    fn boxes_a_frustum_misses_meet_none_of_its_rays() {
-        use lux_sample::SplitMix64;
-        let mut rng = SplitMix64::new(9);
-        let mut u = move || rng.next_f64();
-        let mut c = luxtest_camera();
-        c.camera_to_world =
-            DMat4::from_rotation_z(0.3) * DMat4::from_rotation_x(-0.4) * c.camera_to_world;
-        let cam = Camera::new(&c, [64, 48], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).unwrap();
-        let (mut missed, mut kept, mut met) = (0, 0, 0);
-        for k in 0..3000 {
-            let (x0, y0) = ((u() * 56.0) as u32, (u() * 40.0) as u32);
-            let rect = [
-                x0,
-                y0,
-                x0 + 1 + (u() * 7.0) as u32,
-                y0 + 1 + (u() * 7.0) as u32,
-            ];
-            let f = cam.frustum(rect, 40.0).unwrap();
-            // Boxes around points on rays through and near the tile, 2 to 40 from the camera.
-            let [x0, y0, x1, y1] = rect.map(f64::from);
-            let (o, d, _, _) = cam.ray(
-                x0 - 4.0 + (x1 - x0 + 8.0) * u(),
-                y0 - 4.0 + (y1 - y0 + 8.0) * u(),
-            );
-            let centre = o + d * (2.0 + 38.0 * u());
-            let half = DVec3::new(u(), u(), u()) * if k % 3 == 0 { 1.0 } else { 0.1 };
-            let (lo, hi) = (centre - half, centre + half);
-            let hits = (0..64).any(|k| {
-                let (px, py) = match k {
-                    0 => (x0, y0),
-                    1 => (x1, y0),
-                    2 => (x1, y1),
-                    3 => (x0, y1),
-                    _ => (x0 + (x1 - x0) * u(), y0 + (y1 - y0) * u()),
-                };
-                let (o, d, _, _) = cam.ray(px, py);
-                let (t0, t1) = ((lo - o) / d, (hi - o) / d);
-                let near = t0.min(t1).max_element().max(0.0);
-                near <= t0.max(t1).min_element()
-            });
-            if f.misses_box(lo, hi) {
-                assert!(!hits, "tile {rect:?} box {lo} {hi}");
-                missed += 1;
-            } else {
-                kept += 1;
-                met += hits as u32;
-            }
-        }
-        assert!(
-            missed > 300 && kept > 300 && met > 100,
-            "{missed} missed, {kept} kept, {met} met"
-        );
     }
 
     #[test]

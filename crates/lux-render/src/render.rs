@@ -65,7 +65,7 @@ impl<'s> Renderer<'s> {
             },
         )?;
         let materials = Materials::with_policy(scene_ref, options.strict, options.surfaces)?;
-        let geometry = Geometry::with_lights(scene_ref, &lights.lights);
+        let geometry = Geometry::new(scene_ref);
         let shadow_bvh = crate::visibility::ShadowBvh::new(scene_ref, &geometry);
         let film = Film {
             width: resolved.camera.width,

@@ -150,7 +150,7 @@ fn instanced_emitters_cost_what_they_say() {
     }
     assert_eq!(set.light_of(0, None), None);
     // For comparison, the geometry: the prototype once, ≈ 230 bytes per instance.
-    let (g, held_g, _) = measured(|| Geometry::with_lights(&lit, &set.lights));
+    let (g, held_g, _) = measured(|| Geometry::new(&lit));
     println!(
         "the geometry holds {held_g} bytes ({:.0} per instance; heap_bytes {})",
         held_g as f64 / n as f64,

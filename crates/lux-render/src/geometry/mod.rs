@@ -30,16 +30,12 @@
 
 mod blas;
 mod instances;
-mod lights;
 mod region;
 
-use crate::light::{Light, LightHit};
 pub(crate) use blas::{Blas, PrimRef, mesh_triangles};
 use glam::{DVec2, DVec3, Vec3A};
 pub(crate) use instances::Instances;
 pub(crate) use instances::drawable_transform;
-pub use lights::LINEAR_LIGHTS;
-pub(crate) use lights::LightShapes;
 use lux_usd::Scene;
 use obvhs::ray::{Ray, RayHit};
 pub use region::Region;
@@ -99,8 +95,6 @@ pub struct Geometry {
     world: Option<Blas>,
     /// Instanced prototypes and their placements.
     instances: Option<Instances>,
-    /// The analytic area lights.
-    lights: LightShapes,
 }
 
 /// The indices of the world-space meshes of `scene` (those not in a prototype), in order.
@@ -201,21 +195,10 @@ impl Geometry {
     /// instanced prototype and the top-level BVH over the instances (deterministic: obvhs builds
     /// single-threaded without its `parallel` feature). Degenerate triangles are kept out.
     pub fn new(scene: &Scene) -> Geometry {
-        Geometry::with_lights(scene, &[])
-    }
-
-    /// [`Geometry::new`] with the analytic area lights of `lights` (rect, disk, sphere,
-    /// cylinder) indexed for [`Geometry::closest_light`] and [`Geometry::lights_crossed`],
-    /// which must then be given the same slice.
-    pub fn with_lights(scene: &Scene, lights: &[Light]) -> Geometry {
         let mut stored = 0;
         let world = Blas::build(scene, world_meshes(scene), &mut stored);
         let instances = Instances::build(scene, &mut stored);
-        Geometry {
-            world,
-            instances,
-            lights: LightShapes::new(lights),
-        }
+        Geometry { world, instances }
     }
 
     /// The world-space meshes' triangles and BVH.
@@ -226,49 +209,6 @@ impl Geometry {
     /// The instanced prototypes and their placements.
     pub(crate) fn instances(&self) -> Option<&Instances> {
         self.instances.as_ref()
-    }
-
-    /// The analytic area lights' shapes.
-    pub(crate) fn light_shapes(&self) -> &LightShapes {
-        &self.lights
-    }
-
-    /// Number of analytic area lights indexed.
-    pub fn light_count(&self) -> usize {
-        self.lights.len()
-    }
-
-    /// The closest analytic light on `origin + t·dir`, `t ∈ (tmin, tmax)`, among those
-    /// `visible` keeps (a camera ray: the camera-visible ones), the lower index on a tie.
-    /// `lights` is the slice the geometry was built with.
-    #[inline]
-    pub fn closest_light(
-        &self,
-        lights: &[Light],
-        origin: DVec3,
-        dir: DVec3,
-        tmin: f64,
-        tmax: f64,
-        visible: impl Fn(&Light) -> bool,
-    ) -> Option<(usize, LightHit)> {
-        self.lights
-            .closest(lights, origin, dir, tmin, tmax, visible)
-    }
-
-    /// Calls `f` with every analytic light crossing `origin + t·dir`, `t ∈ (tmin, tmax)`, and
-    /// its hit, by light index (lights do not occlude one another). `lights` is the slice the
-    /// geometry was built with.
-    #[inline]
-    pub fn lights_crossed(
-        &self,
-        lights: &[Light],
-        origin: DVec3,
-        dir: DVec3,
-        tmin: f64,
-        tmax: f64,
-        f: impl FnMut(usize, LightHit),
-    ) {
-        self.lights.crossed(lights, origin, dir, tmin, tmax, f)
     }
 
     /// Number of triangles stored in the BVHs: the world meshes' plus each drawn prototype's

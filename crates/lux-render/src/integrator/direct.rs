@@ -29,7 +29,7 @@ use crate::light::{LiSample, Light, LightBase, Seen};
 use crate::material::{Bsdf, SurfacePoint};
 use crate::sampler::{Dim, SampleStream};
 use crate::settings::SamplingMode;
-use crate::visibility::{ConeSearch, FewTriangles, penumbra};
+use crate::visibility::{ConeSearch, FewTriangles, penumbra, regions};
 use glam::DVec3;
 use lux_sample::{Reference, Strategy};
 
@@ -143,11 +143,9 @@ impl<'a> DirectIntegrator<'a> {
             None => closest(w, ray.o, ray.d, ray.tmin, ray.tmax, false),
         };
         let t_best = hit.map_or(ray.tmax, |h| h.t);
-        if let Some((i, h)) =
-            w.geometry
-                .closest_light(lights, ray.o, ray.d, ray.tmin, t_best, |l| {
-                    l.base().camera_visible
-                })
+        if let Some((i, h)) = w
+            .lights
+            .closest_light(ray.o, ray.d, ray.tmin, t_best, |l| l.base().camera_visible)
         {
             let rgb = if h.front {
                 lights[i].le(h.local, -ray.d, Seen::Camera)
@@ -307,9 +305,9 @@ impl<'a> DirectIntegrator<'a> {
                         // nothing blocks; with shadow linking, only what it keeps).
                         let base = light.base();
                         let casts = |m| base.casts_shadow(m, None);
-                        let (patch, few) = match from.shadow_ball() {
+                        let (patch, few) = match regions::shadow_ball(from) {
                             Some(ball) if alone && self.closed_forms && base.shadow.enable => {
-                                let corners = from.shadow_corners();
+                                let corners = regions::shadow_corners(from);
                                 let corners = corners.as_ref();
                                 c.patches
                                     .search(w.scene, &w.shadows, sp, li, ball, corners, &casts)
@@ -331,8 +329,7 @@ impl<'a> DirectIntegrator<'a> {
                             _ if !(alone && self.closed_forms) => None,
                             // (the patch's region holds the point's: the light is above its
                             // horizon)
-                            ConeSearch::Clear => from
-                                .shadow_ball()
+                            ConeSearch::Clear => regions::shadow_ball(from)
                                 .map(|(centre, ..)| ((centre - sp.p).normalize(), 1.0)),
                             // Something may block the patch, and the light's samples are its
                             // closed form where unblocked: the exact penumbra, else the samples
@@ -344,11 +341,10 @@ impl<'a> DirectIntegrator<'a> {
                             // rect's or disk's pyramid (tighter than its ball's cone), else the
                             // cone.
                             _ => exact().or_else(|| {
-                                match from.shadow_pyramid(sp.p, sp.ng, sp.offset) {
+                                match regions::shadow_pyramid(from, sp.p, sp.ng, sp.offset) {
                                     Some(pyramid) => clear_from(w, base, &pyramid, patch, &casts)
                                         .then(|| (pyramid.axis(), 1.0)),
-                                    None => from
-                                        .shadow_cone(sp.p, sp.ng, sp.offset)
+                                    None => regions::shadow_cone(from, sp.p, sp.ng, sp.offset)
                                         .filter(|cone| clear_from(w, base, cone, patch, &casts))
                                         .map(|cone| (cone.axis(), 1.0)),
                                 }
@@ -436,13 +432,12 @@ impl<'a> DirectIntegrator<'a> {
                 }
             }
         };
-        w.geometry
-            .lights_crossed(lights, origin, wi, 0.0, t_geo, |li, h| {
-                if h.front && (li >= 64 || light_only & (1 << li) == 0) {
-                    let l = &lights[li];
-                    add(l, l.le(h.local, -wi, Seen::Lit), pmf(li) * l.pdf_li(&r, wi));
-                }
-            });
+        w.lights.lights_crossed(origin, wi, 0.0, t_geo, |li, h| {
+            if h.front && (li >= 64 || light_only & (1 << li) == 0) {
+                let l = &lights[li];
+                add(l, l.le(h.local, -wi, Seen::Lit), pmf(li) * l.pdf_li(&r, wi));
+            }
+        });
         match hit {
             Some(h) => {
                 // The back of a single-sided emitter emits nothing (light samples never reach

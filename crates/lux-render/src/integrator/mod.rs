@@ -100,14 +100,18 @@ impl Integrator<'_> {
         let Some((lo, hi)) = w.geometry.world_bounds().filter(|_| !w.transparent) else {
             return TileRays::default();
         };
-        let Some(frustum) = camera.frustum(rect, lo.abs().max(hi.abs()).max_element()) else {
+        let Some(frustum) = crate::visibility::RayFrustum::of_tile(
+            camera,
+            rect,
+            lo.abs().max(hi.abs()).max_element(),
+        ) else {
             return TileRays::default();
         };
         let triangles = w.shadows.triangles_in(&frustum, TILE_TRIANGLES);
         let lights = &w.lights.lights;
         let empty = triangles.as_ref().is_some_and(|t| t.is_empty())
             && w.lights.background.is_empty()
-            && w.geometry.light_shapes().none_in(
+            && w.lights.shapes.none_in(
                 lights,
                 |lo, hi| frustum.misses_box(lo, hi),
                 |l| l.base().camera_visible,

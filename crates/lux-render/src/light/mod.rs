@@ -57,6 +57,7 @@ mod load;
 mod mesh;
 mod rect;
 mod set;
+mod shapes;
 mod sphere;
 
 pub use cylinder::CylinderLight;
@@ -67,10 +68,10 @@ pub use linking::{GeomSet, LightLinks, MAX_PASS_THROUGH};
 pub use mesh::MeshLight;
 pub use rect::RectLight;
 pub use set::{AUTO_ALL_LIGHTS, LightOptions, LightSelection, LightSet};
+pub use shapes::{LINEAR_LIGHTS, LightShapes};
 pub use sphere::SphereLight;
 
 use crate::image_io::Texture;
-use crate::visibility::{RayEnds, ShadowCone, ShadowPyramid};
 use glam::{DMat3, DVec3};
 use lux_math::LightKind;
 use lux_sample::{EmissionCone, LightBounds, LightSample, LightTransform, Reference, Strategy};
@@ -246,42 +247,6 @@ pub enum LightFrom<'a> {
 }
 
 impl LightFrom<'_> {
-    /// The region the light's shadow rays from the surface point `p` (unit geometric normal
-    /// `ng`, rays leaving from `p + ng·offset`) stay in ([`ShadowCone`]), when its light-only
-    /// estimate from this receiver has a closed form where nothing blocks it
-    /// ([`LightFrom::unshadowed`]): a uniform sphere drawn from its projected cap (rays end on
-    /// its near side), or a rect or disk of uniform radiance (no shaping, no texture; a disk
-    /// under a similarity) inside a ball around it.
-    #[inline]
-    pub fn shadow_cone(&self, p: DVec3, ng: DVec3, offset: f64) -> Option<ShadowCone> {
-        let (c, r, ends) = self.shadow_ball()?;
-        ShadowCone::new(p, ng, offset, c, r, ends)
-    }
-
-    /// The pyramid of a rect or disk light's shadow rays from the surface point `p` (unit
-    /// geometric normal `ng`, rays leaving from `p + ng·offset`) over its
-    /// [`LightFrom::shadow_corners`] ([`ShadowPyramid`]), for a light of uniform radiance whose
-    /// corners all lie above the tangent plane: tighter than the cone of its ball, and there
-    /// where that ball reaches the horizon.
-    #[inline]
-    pub fn shadow_pyramid(&self, p: DVec3, ng: DVec3, offset: f64) -> Option<ShadowPyramid> {
-        ShadowPyramid::new(p, ng, offset, &self.shadow_corners()?)
-    }
-
-    /// The corners its shadow rays end inside, when its closed form is searched through its
-    /// pyramid ([`LightFrom::shadow_pyramid`]): a rect's world corners; for a disk (under a
-    /// similarity), the square of side `2r` around it in its plane.
-    #[inline]
-    pub fn shadow_corners(&self) -> Option<[DVec3; 4]> {
-        self.rect_corners().or_else(|| {
-            // The square around the disk in its plane: every ray ends on the disk, inside it.
-            let (c, axis, r) = self.world_disk()?;
-            let (u, v) = axis.any_orthonormal_pair();
-            let (u, v) = (u * r, v * r);
-            Some([c - u - v, c + u - v, c + u + v, c - u + v])
-        })
-    }
-
     /// Whether each light sample from this receiver returns its closed form
     /// ([`LightFrom::unshadowed`]) exactly where it is unblocked: a uniform sphere drawn from
     /// its projected cap (`L·cos θ / pdf = L·Π` for every sample). Its closed form then saves
@@ -321,32 +286,11 @@ impl LightFrom<'_> {
         }
     }
 
-    /// The ball holding every point a shadow ray of [`LightFrom::shadow_cone`] ends at, and
-    /// where in it they end: the sphere light itself (`inputs:radius`, scaled), the rect's
-    /// circumscribed ball, the disk's. The same from every receiver.
-    pub fn shadow_ball(&self) -> Option<(DVec3, f64, RayEnds)> {
-        match self {
-            LightFrom::Sphere(..) => {
-                let (c, r, _) = self.sphere_cap()?;
-                Some((c, r, RayEnds::NearSide))
-            }
-            LightFrom::Rect(l, _) if l.uniform_area() => {
-                let (c, r) = l.bounding_sphere();
-                Some((c, r, RayEnds::Anywhere))
-            }
-            LightFrom::Disk(..) => {
-                let (c, _, r) = self.world_disk()?;
-                Some((c, r, RayEnds::Anywhere))
-            }
-            _ => None,
-        }
-    }
-
     /// The light's unshadowed cosine-weighted integral at the receiver `(p, n)`,
     /// `∫ L cos θ dω = L·Π` (radiance times the projected solid angle,
     /// [`lux_irradiance::projected`]): what its light-only estimator averages to where nothing
     /// blocks it. For the sphere, Π of the projected cap its samples are drawn from (each
-    /// sample returns exactly `L·Π`). `None` where [`LightFrom::shadow_cone`] is.
+    /// sample returns exactly `L·Π`). `None` for other lights.
     #[inline]
     pub fn unshadowed(&self, p: DVec3, n: DVec3) -> Option<DVec3> {
         // The radiance leaving a point of a uniform light towards p (the same everywhere on

@@ -1,8 +1,8 @@
 //! Every light of a scene, prepared, and how the light to sample at a shading point is chosen:
 //! all lights, one by power, or one by the light BVH's importance.
 
-use super::Light;
 use super::load::Loader;
+use super::{Light, LightHit, LightShapes};
 use crate::RenderError;
 use glam::DVec3;
 use lux_math::Profile;
@@ -66,6 +66,8 @@ pub struct LightSet {
     pub background: Vec<usize>,
     /// Non-fatal problems met while preparing the lights.
     pub warnings: Vec<String>,
+    /// The analytic area lights' surfaces in a BVH of their own ([`LightShapes`]).
+    pub shapes: LightShapes,
 }
 
 impl LightSet {
@@ -140,7 +142,9 @@ impl LightSet {
         let background = (0..lights.len())
             .filter(|&i| lights[i].is_infinite() && lights[i].base().camera_visible)
             .collect();
+        let shapes = LightShapes::new(&lights);
         Ok(LightSet {
+            shapes,
             lights,
             mesh_light,
             instanced,
@@ -154,6 +158,36 @@ impl LightSet {
 }
 
 impl LightSet {
+    /// The closest analytic light on `origin + t·dir`, `t ∈ (tmin, tmax)`, among those
+    /// `visible` keeps (a camera ray: the camera-visible ones), the lower index on a tie.
+    #[inline]
+    pub fn closest_light(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        tmin: f64,
+        tmax: f64,
+        visible: impl Fn(&Light) -> bool,
+    ) -> Option<(usize, LightHit)> {
+        self.shapes
+            .closest(&self.lights, origin, dir, tmin, tmax, visible)
+    }
+
+    /// Calls `f` with every analytic light crossing `origin + t·dir`, `t ∈ (tmin, tmax)`, and
+    /// its hit, by light index (lights do not occlude one another).
+    #[inline]
+    pub fn lights_crossed(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        tmin: f64,
+        tmax: f64,
+        f: impl FnMut(usize, LightHit),
+    ) {
+        self.shapes
+            .crossed(&self.lights, origin, dir, tmin, tmax, f)
+    }
+
     /// The light that the scene mesh `mesh` drawn by `instance` (`None`: a world mesh) carries:
     /// what a ray hitting that geometry found, for its emission and MIS weight.
     #[inline]

@@ -9,6 +9,7 @@ pub(crate) mod patches;
 pub(crate) mod penumbra;
 pub(crate) mod planar;
 pub(crate) mod pyramid;
+pub(crate) mod regions;
 pub(crate) mod shadows;
 
 pub use cone::{ConeSearch, INSTANCED, RayEnds, ShadowCone};

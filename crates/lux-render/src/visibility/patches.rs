@@ -70,7 +70,7 @@ impl ClearPatches {
     /// Whether a triangle of a mesh that `casts` might block a shadow ray of light `light`
     /// from some point of the patch around the shading point `sp` ([`ConeSearch`]): rays
     /// towards the ball (`centre`, `radius`, `ends`), or with `corners` (a rect's, a disk's
-    /// square: `LightFrom::shadow_corners`) into their pyramid ([`ShadowPyramid::patch`]; the
+    /// square: `regions::shadow_corners`) into their pyramid ([`ShadowPyramid::patch`]; the
     /// ball then holds the light and sizes the cells).
     /// [`ConeSearch::Unsearched`] for points on instances and out-of-range coordinates, which
     /// are not searched here.

@@ -27,7 +27,7 @@ pub const LINEAR_LIGHTS: usize = 4;
 const WIDEN: f32 = 1e-4;
 
 /// The analytic lights' world boxes and their BVH.
-pub(crate) struct LightShapes {
+pub struct LightShapes {
     /// Every analytic light, ascending.
     all: Vec<u32>,
     /// The BVH (when there are more than [`LINEAR_LIGHTS`] bounded lights) and its primitive
@@ -132,6 +132,11 @@ impl LightShapes {
     /// Number of indexed lights.
     pub fn len(&self) -> usize {
         self.all.len()
+    }
+
+    /// Whether no light is indexed.
+    pub fn is_empty(&self) -> bool {
+        self.all.is_empty()
     }
 
     /// True when no ray of a group can meet a light that `visible` keeps: each one's box
