@@ -68,6 +68,7 @@ fn main() -> ExitCode {
                     sampling: cli::render::SamplingArg::Lux,
                     light_selection: cli::render::SelectionArg::Auto,
                     integrator: None,
+                    visibility: cli::render::VisibilityArg::Exact,
                     max_depth: 8,
                     surfaces: None,
                     light_samples: None,

@@ -89,7 +89,7 @@ fn render(
     // Sample for sample: the closed form of a light nothing can block is proven over
     // world-space triangles only, so an instanced stage and its flattened twin would take
     // different (equally exact) estimators where it applies.
-    o.closed_forms = false;
+    o.visibility = lux::render::settings::VisibilityMode::Rays;
     let r = Renderer::new(s, o).unwrap();
     let warnings: Vec<&String> = r.warnings().collect();
     assert!(warnings.is_empty(), "{warnings:?}");

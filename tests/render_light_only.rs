@@ -352,7 +352,7 @@ fn penumbra_pass_is_unbiased_and_quieter() {
             .map(|seed| {
                 let mut o = options(Profile::Spec, 64, [1, 1]);
                 o.integrator = IntegratorKind::Direct;
-                o.closed_forms = false;
+                o.visibility = lux::render::settings::VisibilityMode::Rays;
                 o.penumbra_samples = pen;
                 o.seed = 100 + seed;
                 Renderer::new(&s, o).unwrap().pixel_value(0, 0).x
@@ -444,7 +444,11 @@ fn closed_forms_change_the_luxtest_frames_by_rounding_or_noise_only() {
     let render = |s: &Scene, closed: bool| {
         let mut o = options(Profile::HdEmbree, 8, [64, 64]);
         o.adaptive = Some(lux::render::settings::AdaptiveSampling::OFF);
-        o.closed_forms = closed;
+        o.visibility = if closed {
+            lux::render::settings::VisibilityMode::Exact
+        } else {
+            lux::render::settings::VisibilityMode::Rays
+        };
         Renderer::new(s, o).unwrap().render(&|_| {})
     };
     for name in ["sphere", "disk", "rect"] {
@@ -534,7 +538,11 @@ fn sphere_rect_and_disk_penumbrae_are_exact_where_few_triangles_block() {
         o.integrator = IntegratorKind::Direct;
         o.selection = selection;
         o.seed = seed;
-        o.closed_forms = closed;
+        o.visibility = if closed {
+            lux::render::settings::VisibilityMode::Exact
+        } else {
+            lux::render::settings::VisibilityMode::Rays
+        };
         o.adaptive = Some(lux::render::settings::AdaptiveSampling::OFF);
         let (img, stats) = Renderer::new(s, o).unwrap().render(&|_| {});
         (img.pixels[0][0] as f64, stats.shadow_rays)

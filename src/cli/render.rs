@@ -14,7 +14,8 @@ use lux_render::image_io::{ImageRgba, StagedFile, stage_png, stage_png_opaque};
 use lux_render::light::LightSelection;
 use lux_render::render::{RenderOptions, RenderStats, Renderer};
 use lux_render::settings::{
-    AdaptiveSampling, MAX_ADAPTIVE_FACTOR, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_SPP, SamplingMode,
+    AdaptiveSampling, IntegratorKind, MAX_ADAPTIVE_FACTOR, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_SPP,
+    SamplingMode, VisibilityMode,
 };
 use lux_usd::{LoadOptions, Time, load_stage_with};
 use std::path::{Path, PathBuf};
@@ -58,13 +59,13 @@ pub enum SamplingArg {
     Reference,
 }
 
-/// `--integrator`.
+/// `--visibility`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum IntegratorArg {
-    /// Direct lighting (what the reference renderer computes).
-    Direct,
-    /// Path tracing: direct lighting at every vertex of a BSDF-sampled path.
-    Path,
+pub enum VisibilityArg {
+    /// Shadow rays and camera rays through the scene's BVH: the plain renderer.
+    Rays,
+    /// Closed forms where nothing blocks a light, exact penumbrae, card outlines, tile lists.
+    Exact,
 }
 
 /// `--surfaces`.
@@ -125,10 +126,15 @@ pub struct RenderArgs {
     /// Sampling techniques.
     #[arg(long, value_enum, default_value_t = SamplingArg::Lux)]
     pub sampling: SamplingArg,
-    /// Light transport (default: path in the spec profile, direct in hdembree, whose reference
-    /// renderer lights surfaces directly).
-    #[arg(long, value_enum)]
-    pub integrator: Option<IntegratorArg>,
+    /// Light transport: direct or path (default: path in the spec profile, direct in hdembree, whose reference renderer
+    /// lights surfaces directly).
+    #[arg(long, value_parser = parse_integrator)]
+    pub integrator: Option<IntegratorKind>,
+    /// How what a point sees of a light is found: exact (closed forms where nothing can block a
+    /// light, exact penumbrae behind a few triangles, per-tile lists) or rays (shadow rays
+    /// through the BVH for every light sample).
+    #[arg(long, value_enum, default_value_t = VisibilityArg::Exact)]
+    pub visibility: VisibilityArg,
     /// Most surface vertices a path lights, 1 to 128 (`--integrator path`).
     #[arg(long, default_value_t = 8)]
     pub max_depth: u32,
@@ -233,6 +239,13 @@ impl PngEncoding {
         }
         .map_err(|e| e.to_string())
     }
+}
+
+fn parse_integrator(s: &str) -> Result<IntegratorKind, String> {
+    IntegratorKind::from_name(s).ok_or_else(|| {
+        let names: Vec<&str> = IntegratorKind::ALL.iter().map(|k| k.name()).collect();
+        format!("expected one of {}", names.join(", "))
+    })
 }
 
 fn parse_profile(s: &str) -> Result<Profile, String> {
@@ -400,11 +413,12 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     options.seed = args.seed;
     options.light_samples = args.light_samples;
     if let Some(i) = args.integrator {
-        options.integrator = match i {
-            IntegratorArg::Direct => lux::render::settings::IntegratorKind::Direct,
-            IntegratorArg::Path => lux::render::settings::IntegratorKind::Path,
-        };
+        options.integrator = i;
     }
+    options.visibility = match args.visibility {
+        VisibilityArg::Rays => VisibilityMode::Rays,
+        VisibilityArg::Exact => VisibilityMode::Exact,
+    };
     options.max_depth = args.max_depth;
     if let Some(m) = args.surfaces {
         options.surfaces = match m {
@@ -437,7 +451,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     };
     // (the reference estimator is direct lighting only)
     let transport = match (options.integrator, options.sampling) {
-        (lux::render::settings::IntegratorKind::Path, SamplingMode::Lux) => {
+        (IntegratorKind::Path, SamplingMode::Lux) => {
             format!("path tracing (depth {})", options.max_depth)
         }
         _ => "direct lighting".to_owned(),

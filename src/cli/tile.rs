@@ -77,7 +77,7 @@ pub fn settings_string(options: &RenderOptions, camera_light: bool) -> String {
     format!(
         "lux={};spp={};resolution={resolution};crop={crop};camera={};camera_light={camera_light};\
          profile={};sampling={};integrator={};max_depth={};surfaces={};light_selection={};\
-         light_samples={};penumbra_samples={};adaptive={adaptive};cone_clipping={};closed_forms={};seed={};strict={}",
+         light_samples={};penumbra_samples={};adaptive={adaptive};cone_clipping={};visibility={};seed={};strict={}",
         env!("CARGO_PKG_VERSION"),
         options.spp,
         options.camera.as_deref().unwrap_or("default"),
@@ -90,7 +90,7 @@ pub fn settings_string(options: &RenderOptions, camera_light: bool) -> String {
         options.light_samples(),
         options.penumbra_samples,
         options.cone_clipping,
-        options.closed_forms,
+        lower(&options.visibility),
         options.seed,
         options.strict,
     )

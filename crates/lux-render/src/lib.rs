@@ -6,20 +6,40 @@
 //! It composes the small crates and adds no lighting formula of its own: base emission from
 //! lux-math (or lux-spectral for physical units and spectra, [`physical`]), ShapingAPI factors
 //! from lux-shaping, IES profiles from lux-ies and every sampling technique from lux-sample.
-//! Its parts, pbrt-v4's:
+//! Its parts, pbrt-v4's, top-down (each imports only those below it; `tests/architecture.rs`
+//! checks that no two import each other in a circle):
 //!
 //! | module | what |
 //! |---|---|
-//! | [`render`] | [`render::Renderer`]: prepare the scene, then the film renders it with the integrator |
+//! | [`render`] | [`render::Renderer`]: prepare the scene, then render it tile by tile |
 //! | [`settings`] | options and RenderSettings → camera, resolution, data window, crop |
-//! | [`film`] | tiles, the pixel loop, statistics, determinism |
-//! | [`sampler`] | the deterministic sample stream and its named dimensions |
+//! | [`tiles`] | the tile loop (pbrt's image-tile integrator): pixels, passes, determinism |
+//! | [`adaptive`] | where a pixel's samples go: adaptive sampling, the penumbra pilot |
+//! | [`integrator`] | light transport: one file per integrator, next-event estimation shared |
+//! | [`visibility`] | shadow rays, and the exact-visibility accelerations behind one switch |
+//! | [`world`] | the prepared scene an integrator reads |
+//! | [`film`] | the pixels and the splats |
 //! | [`camera`] | UsdGeomCamera → rays |
-//! | [`geometry`] | triangle BVHs with instancing, and the area lights' BVH |
 //! | [`light`] | one type per light kind, the light set and its selection |
 //! | [`material`] | BSDFs and the UsdPreviewSurface inputs that feed them |
-//! | [`integrator`] | light transport (`direct`) |
+//! | [`geometry`] | triangle BVHs with instancing |
+//! | [`sampler`] | the deterministic sample stream and its named dimensions |
+//! | [`stats`] | counters, importing nothing of the renderer |
 //! | [`conformance`] | the conformance-profile chain |
+//!
+//! Where a newcomer adds things:
+//! - **a light kind**: a file in `light/` with a type answering what [`light::Light`]'s
+//!   methods ask (sample towards a point, pdf, emitted radiance, intersection, bounds), a
+//!   variant in [`light::Light`] and its line in that enum's `dispatch!` macro, and its
+//!   construction in `light/load.rs`;
+//! - **an integrator**: a file in `integrator/` with a type that has `new(&Setup)` and
+//!   implements [`integrator::Integrator`], and one line in `integrator/mod.rs`'s
+//!   `integrators!` list (which also names it for `--integrator`);
+//! - **a material**: a BSDF file in `material/` and its variant in `material::Bsdf` (each
+//!   answers `f`, `sample`, `pdf`), its inputs read in `material/mod.rs`;
+//! - **a visibility acceleration**: a file in `visibility/`, used inside the
+//!   [`visibility::Visibility`] methods the integrators already call; nothing outside the
+//!   folder changes.
 //!
 //! ```no_run
 //! use lux_render::conformance::{default_config_paths, resolve_profile};
@@ -39,6 +59,7 @@
 
 #![warn(missing_docs)]
 
+pub mod adaptive;
 pub mod assets;
 pub mod camera;
 pub mod conformance;
@@ -52,7 +73,10 @@ pub mod physical;
 pub mod render;
 pub mod sampler;
 pub mod settings;
+pub mod stats;
+pub mod tiles;
 pub mod visibility;
+pub mod world;
 
 use std::path::PathBuf;
 

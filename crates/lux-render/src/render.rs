@@ -1,21 +1,25 @@
-//! The renderer: prepare the scene (settings, lights, materials, geometry), then let the film
-//! render it with the integrator.
+//! The renderer: prepare the scene (settings, lights, materials, geometry, visibility), then
+//! render it tile by tile (`tiles.rs`) with the integrator of the options.
 
 use crate::RenderError;
+use crate::adaptive::PenumbraPilot;
 use crate::camera::Camera;
-use crate::film::{Counters, Film};
 use crate::geometry::Geometry;
 use crate::image_io::ImageRgba;
-use crate::integrator::{DirectIntegrator, Integrator, PathIntegrator, World};
+use crate::integrator::{AnyIntegrator, Ctx, Integrator, Setup};
 use crate::light::{LightOptions, LightSet};
 use crate::material::Materials;
-use crate::settings::{IntegratorKind, SamplingMode, resolve};
+use crate::settings::resolve;
+use crate::tiles::{Frame, Scene as TileScene};
+use crate::visibility::Visibility;
+use crate::world::World;
 use glam::DVec4;
 use lux_math::Profile;
 use lux_usd::Scene;
 
-pub use crate::film::{RenderStats, TILE};
 pub use crate::settings::{MAX_RESOLUTION, MAX_SPP, RenderOptions};
+pub use crate::stats::RenderStats;
+pub use crate::tiles::TILE;
 
 /// A scene prepared for rendering: BVH, lights, materials and camera.
 pub struct Renderer<'s> {
@@ -23,13 +27,15 @@ pub struct Renderer<'s> {
     scene: std::borrow::Cow<'s, Scene>,
     /// What refining the subdivision surfaces of the copy replaced or left out.
     refine_warnings: Vec<String>,
+    /// What the integrator cannot do as the scene says.
+    integrator_warnings: Vec<String>,
     geometry: Geometry,
-    /// The shadow rays' BVH of flat cards' outlines (exact visibility).
-    shadow_bvh: crate::visibility::ShadowBvh,
+    /// How shadow rays and camera rays are answered (`RenderOptions::visibility`).
+    visibility: Visibility,
     lights: LightSet,
     materials: Materials,
     camera: Camera,
-    film: Film,
+    frame: Frame,
     options: RenderOptions,
 }
 
@@ -66,8 +72,8 @@ impl<'s> Renderer<'s> {
         )?;
         let materials = Materials::with_policy(scene_ref, options.strict, options.surfaces)?;
         let geometry = Geometry::new(scene_ref);
-        let shadow_bvh = crate::visibility::ShadowBvh::new(scene_ref, &geometry);
-        let film = Film {
+        let visibility = Visibility::new(options.visibility, scene_ref, &geometry);
+        let frame = Frame {
             width: resolved.camera.width,
             height: resolved.camera.height,
             window: resolved.window,
@@ -76,19 +82,24 @@ impl<'s> Renderer<'s> {
             adaptive: options.adaptive(),
             seed: options.seed,
             exposure_scale: resolved.exposure_scale,
-            penumbra_samples: options.penumbra_samples,
+            pilot: PenumbraPilot {
+                samples: options.penumbra_samples,
+            },
         };
-        Ok(Renderer {
+        let mut r = Renderer {
             scene,
             refine_warnings,
+            integrator_warnings: Vec::new(),
             geometry,
-            shadow_bvh,
+            visibility,
             lights,
             materials,
             camera: resolved.camera,
-            film,
+            frame,
             options,
-        })
+        };
+        r.integrator_warnings = r.integrator().warnings();
+        Ok(r)
     }
 
     /// The prepared lights (with the warnings met while preparing them).
@@ -103,23 +114,24 @@ impl<'s> Renderer<'s> {
             .iter()
             .chain(&self.lights.warnings)
             .chain(&self.materials.warnings)
+            .chain(&self.integrator_warnings)
     }
 
     /// Output image size.
     pub fn resolution(&self) -> [u32; 2] {
-        [self.film.width, self.film.height]
+        [self.frame.width, self.frame.height]
     }
 
     /// The pixels that are rendered, `[x0, y0, x1, y1)`.
     pub fn window(&self) -> [u32; 4] {
-        self.film.window
+        self.frame.window
     }
 
     /// Renders only rows `y0..y1` of the window (a band of the frame, for splitting it over
     /// processes); pixels keep the seeds of the whole frame, so a band is bit-identical to the
     /// same rows of a full render. An empty intersection renders nothing.
     pub fn restrict_rows(&mut self, [y0, y1]: [u32; 2]) {
-        let w = &mut self.film.window;
+        let w = &mut self.frame.window;
         w[1] = w[1].max(y0);
         w[3] = w[3].min(y1).max(w[1]);
     }
@@ -127,8 +139,8 @@ impl<'s> Renderer<'s> {
     /// The units of [`Renderer::render`]'s progress: every pixel of the window once per pass
     /// (two with adaptive sampling: first samples, then extra samples).
     pub fn progress_total(&self) -> u64 {
-        let [x0, y0, x1, y1] = self.film.window;
-        (x1 - x0) as u64 * (y1 - y0) as u64 * self.film.passes() as u64
+        let [x0, y0, x1, y1] = self.frame.window;
+        (x1 - x0) as u64 * (y1 - y0) as u64 * self.frame.passes() as u64
     }
 
     /// Number of BVH triangles (each instanced prototype's once).
@@ -146,49 +158,63 @@ impl<'s> Renderer<'s> {
         self.options.profile.profile
     }
 
-    /// The integrator of the options' sampling mode over the prepared scene.
-    pub fn integrator(&self) -> Integrator<'_> {
-        let world = World {
+    /// The prepared scene an integrator reads.
+    pub fn world(&self) -> World<'_> {
+        World {
             scene: &self.scene,
             geometry: &self.geometry,
-            shadows: self.shadow_bvh.view(&self.geometry),
             lights: &self.lights,
             materials: &self.materials,
             transparent: self.materials.any_transparent(),
             textured_emission: self.materials.any_textured_emission(),
-        };
-        let direct =
-            DirectIntegrator::new(world, self.options.sampling, self.options.light_samples())
-                .with_closed_forms(self.options.closed_forms);
-        // Path tracing builds on lux sampling's MIS; the reference estimator is direct only.
-        match self.options.integrator {
-            IntegratorKind::Path if self.options.sampling == SamplingMode::Lux => {
-                Integrator::Path(PathIntegrator::new(direct, self.options.max_depth))
-            }
-            _ => Integrator::Direct(direct),
         }
+    }
+
+    /// How shadow rays and camera rays are answered (`RenderOptions::visibility`).
+    pub fn visibility(&self) -> &Visibility {
+        &self.visibility
+    }
+
+    /// The integrator of the options over the prepared scene.
+    pub fn integrator(&self) -> AnyIntegrator<'_> {
+        let setup = Setup {
+            world: self.world(),
+            vis: &self.visibility,
+            camera: &self.camera,
+            sampling: self.options.sampling,
+            light_samples: self.options.light_samples(),
+            max_depth: self.options.max_depth,
+        };
+        AnyIntegrator::new(self.options.integrator, &setup)
     }
 
     /// Renders the image. `progress` is called (from worker threads) with the number of
     /// pixels finished by each completed tile of each pass (summing to
     /// [`Renderer::progress_total`]).
     pub fn render(&self, progress: &(dyn Fn(u64) + Sync)) -> (ImageRgba, RenderStats) {
-        self.film.render(&self.camera, &self.integrator(), progress)
+        let integrator = self.integrator();
+        self.frame.render(&self.tile_scene(&integrator), progress)
+    }
+
+    /// What the tile loop reads, with `integrator`.
+    fn tile_scene<'a, I: Integrator>(&'a self, integrator: &'a I) -> TileScene<'a, I> {
+        TileScene {
+            camera: &self.camera,
+            world: self.world(),
+            vis: &self.visibility,
+            integrator,
+        }
     }
 
     /// The mean of the pixel's `spp` samples: RGB radiance and alpha (coverage by geometry or a
-    /// visible light). Without adaptive sampling's extra samples: the estimator a pixel starts
-    /// from, whose variance [`Renderer::pixel_moments`] gives.
+    /// visible light). Without adaptive sampling's extra samples (and without the splats of a
+    /// light tracer): the estimator a pixel starts from, whose variance
+    /// [`Renderer::pixel_moments`] gives.
     pub fn pixel_value(&self, x: u32, y: u32) -> DVec4 {
         let integrator = self.integrator();
-        self.film.pixel(
-            &self.camera,
-            &integrator,
-            x,
-            y,
-            &mut Counters::default(),
-            &mut |_| {},
-        )
+        let scene = self.tile_scene(&integrator);
+        self.frame
+            .pixel(&scene, x, y, &mut Ctx::default(), &mut |_| {})
     }
 
     /// The pixel's sample moments: the mean (RGB, alpha) and the mean of the squared Rec.709
@@ -197,17 +223,13 @@ impl<'s> Renderer<'s> {
     pub fn pixel_moments(&self, x: u32, y: u32) -> (DVec4, f64) {
         let mut y2 = 0.0;
         let integrator = self.integrator();
-        let mean = self.film.pixel(
-            &self.camera,
-            &integrator,
-            x,
-            y,
-            &mut Counters::default(),
-            &mut |rgb| {
+        let scene = self.tile_scene(&integrator);
+        let mean = self
+            .frame
+            .pixel(&scene, x, y, &mut Ctx::default(), &mut |rgb| {
                 let l = lux_math::luminance(rgb);
                 y2 += l * l;
-            },
-        );
+            });
         (mean, y2 / self.options.spp as f64)
     }
 }
@@ -276,18 +298,18 @@ mod tests {
         o
     }
 
-    /// The tiles `tile_rays` finds empty: (tiles, empty ones, ones without triangles that are
-    /// not empty).
+    /// The tiles the visibility finds empty: (tiles, empty ones, ones without triangles that
+    /// are not empty).
     fn empties(r: &Renderer) -> (u32, u32, u32) {
         let (mut tiles, mut empty, mut lit) = (0, 0, 0);
         for y in (0..96).step_by(TILE as usize) {
             for x in (0..96).step_by(TILE as usize) {
                 let t = r
-                    .integrator()
-                    .tile_rays(&r.camera, [x, y, x + TILE, y + TILE]);
+                    .visibility
+                    .tile(&r.world(), &r.camera, [x, y, x + TILE, y + TILE]);
                 tiles += 1;
-                empty += t.empty as u32;
-                lit += (!t.empty && t.triangles.as_ref().is_some_and(|t| t.is_empty())) as u32;
+                empty += t.is_empty() as u32;
+                lit += (!t.is_empty() && t.listed() == Some(0)) as u32;
             }
         }
         (tiles, empty, lit)
@@ -314,13 +336,12 @@ mod tests {
                 _ => assert_eq!(empty, 0),
             }
             let (img, stats) = r.render(&|_| {});
-            let (integrator, mut c) = (r.integrator(), Counters::default());
+            let integrator = r.integrator();
+            let (scene, mut c) = (r.tile_scene(&integrator), Ctx::default());
             let mut seen = 0;
             for y in 0..96 {
                 for x in 0..96 {
-                    let v = r
-                        .film
-                        .pixel(&r.camera, &integrator, x, y, &mut c, &mut |_| {});
+                    let v = r.frame.pixel(&scene, x, y, &mut c, &mut |_| {});
                     let want = v.to_array().map(|v| (v as f32).to_bits());
                     let got = img.pixels[(y * 96 + x) as usize].map(f32::to_bits);
                     assert_eq!(
@@ -333,7 +354,7 @@ mod tests {
             // Camera rays are counted whether traced or not.
             assert_eq!(
                 (stats.rays, stats.shadow_rays, stats.light_samples),
-                (c.rays, c.shadow, c.light_samples)
+                (c.counters.rays, c.counters.shadow, c.counters.light_samples)
             );
             assert!(seen > 1500 && seen < 96 * 96 - 3000 || dome, "{seen}");
             // With adaptive sampling the image is the same wherever the tiles are empty.
@@ -342,8 +363,10 @@ mod tests {
             assert!(stats.adaptive_samples > 0);
             for y in 0..96u32 {
                 for x in 0..96u32 {
-                    let t = ra.integrator().tile_rays(&ra.camera, [x, y, x + 1, y + 1]);
-                    if t.empty {
+                    let t = ra
+                        .visibility
+                        .tile(&ra.world(), &ra.camera, [x, y, x + 1, y + 1]);
+                    if t.is_empty() {
                         assert_eq!(a.pixels[(y * 96 + x) as usize], [0.0; 4], "({x}, {y})");
                     }
                 }

@@ -21,6 +21,10 @@
 //! Russian roulette. A dimension is only a name for a stream: any two distinct names are
 //! decorrelated, so the layout never has to be dense.
 
+/// Largest sample count per pixel a render accepts (`RenderOptions::spp` and adaptive counts):
+/// a pixel's stream stratifies up to this many samples.
+pub const MAX_SPP: u32 = 1 << 20;
+
 /// 64-bit finaliser of SplitMix64 / MurmurHash3 (a bijection with full avalanche).
 #[inline(always)]
 fn mix64(mut x: u64) -> u64 {

@@ -16,68 +16,17 @@ use lux_usd::Scene;
 
 /// Largest image side accepted (pixels).
 pub const MAX_RESOLUTION: u32 = 65_536;
-/// Largest sample count per pixel accepted.
-pub const MAX_SPP: u32 = 1 << 20;
+pub use crate::adaptive::{AdaptiveSampling, MAX_ADAPTIVE_FACTOR};
+pub use crate::integrator::{IntegratorKind, SamplingMode};
+pub use crate::material::SurfaceModel;
+pub use crate::sampler::MAX_SPP;
+pub use crate::visibility::VisibilityMode;
 
 /// Largest path depth ([`RenderOptions::max_depth`]; the sample dimensions name 128 bounces).
 pub const MAX_DEPTH: u32 = 128;
 
-/// The light transport of a render.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum IntegratorKind {
-    /// Direct lighting (what the reference renderer computes).
-    Direct,
-    /// Path tracing: direct lighting at every vertex of a BSDF-sampled path.
-    Path,
-}
-
-impl IntegratorKind {
-    /// The default of a conformance profile: path tracing in `Spec`, direct lighting in
-    /// `HdEmbree` (the reference renderer lights surfaces directly).
-    pub fn default_for(profile: lux_math::Profile) -> IntegratorKind {
-        match profile {
-            lux_math::Profile::HdEmbree => IntegratorKind::Direct,
-            _ => IntegratorKind::Path,
-        }
-    }
-}
-
-/// How surfaces scatter light.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum SurfaceModel {
-    /// The full UsdPreviewSurface: diffuse, GGX specular (specular or metallic workflow),
-    /// clearcoat, ior, opacity and cut-outs, normal maps.
-    Preview,
-    /// Lambertian `diffuseColor` only, opaque (what the reference renderer shades).
-    Lambert,
-}
-
-impl SurfaceModel {
-    /// The default of a conformance profile: UsdPreviewSurface in `Spec`, Lambertian in
-    /// `HdEmbree`.
-    pub fn default_for(profile: lux_math::Profile) -> SurfaceModel {
-        match profile {
-            lux_math::Profile::HdEmbree => SurfaceModel::Lambert,
-            _ => SurfaceModel::Preview,
-        }
-    }
-}
-
 /// Largest number of light samples per shading point ([`RenderOptions::light_samples`]).
 pub const MAX_LIGHT_SAMPLES: u32 = 64;
-
-/// Which sampling techniques the renderer uses.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum SamplingMode {
-    /// lux's importance sampling (solid-angle techniques, textured dome) with MIS against
-    /// BSDF sampling.
-    #[default]
-    Lux,
-    /// hdEmbree's strategies, for A/B comparison: every area light sampled uniformly by area,
-    /// the dome uniformly over the hemisphere around the normal, light sampling only (no
-    /// MIS). Same expectation, more noise.
-    Reference,
-}
 
 /// Everything a render depends on besides the scene.
 #[derive(Clone, Debug)]
@@ -110,18 +59,19 @@ pub struct RenderOptions {
     /// [`RenderOptions::light_samples`] (1 to [`MAX_LIGHT_SAMPLES`]; 1 turns the pass off): from
     /// 8 spp, a pilot camera sample per pixel (not part of the estimate) traces shadow rays, and
     /// a pixel where one was blocked takes this many times the light samples per light in all
-    /// its samples (film.rs).
+    /// its samples ([`crate::adaptive::PenumbraPilot`]).
     pub penumbra_samples: u32,
     /// Sample shaped rect and cylinder lights only where their emission cone reaches the
     /// receiver (default); `false` for A/B measurements ([`crate::light::LightOptions`]).
     pub cone_clipping: bool,
-    /// Where nothing can block a rect, disk or sphere light of uniform radiance seen from a
-    /// Lambertian point (geometry/cone.rs proves it over the world-space triangles; scenes
-    /// with instances never qualify), take its closed form `L·Π` instead of its light samples,
-    /// and where a few triangles can block it, its exact penumbra `L·(Π − Σ H)`
-    /// (integrator/penumbra.rs) (default); `false` for A/B measurements and to compare
-    /// instanced stages with their flattened twins sample for sample.
-    pub closed_forms: bool,
+    /// How what a point sees of a light is found (`--visibility`): [`VisibilityMode::Exact`]
+    /// (default) adds closed forms where nothing can block a rect, disk or sphere light of
+    /// uniform radiance seen from a Lambertian point, exact penumbrae behind a few triangles,
+    /// the shadow BVH of card outlines and per-tile short lists (`visibility/`);
+    /// [`VisibilityMode::Rays`] is the plain renderer, shadow rays through the scene's BVH,
+    /// for A/B measurements and to compare instanced stages with their flattened twins sample
+    /// for sample.
+    pub visibility: VisibilityMode,
     /// Adaptive sampling: after its `spp` samples, a pixel whose neighbourhood is noisy or
     /// crosses an edge takes more ([`AdaptiveSampling`]; [`AdaptiveSampling::OFF`]: every pixel
     /// takes `spp`); `None`: [`RenderOptions::adaptive`] chooses.
@@ -161,7 +111,7 @@ impl RenderOptions {
             light_samples: None,
             penumbra_samples: 1,
             cone_clipping: true,
-            closed_forms: true,
+            visibility: VisibilityMode::Exact,
             adaptive: None,
             subdiv_level: None,
             seed: 0,
@@ -191,82 +141,6 @@ impl RenderOptions {
                 width,
                 max_level: SCREEN_LEVEL_CAP,
             },
-        }
-    }
-}
-
-/// Adaptive sampling: where a pixel's samples go after its first `spp` (film.rs).
-///
-/// Every pixel first takes `spp` samples. From the luminances `Y` of the samples of its (up to
-/// 8) neighbours, `m` of them, pooled — mean `μ`, unbiased variance `σ²` (pixel noise and edges
-/// across the neighbourhood alike) — the pixel then takes
-///
-/// `n = min(⌈spp · σ / (t · √max(μ, μ_min))⌉, max_factor · spp)`
-///
-/// samples in all (more than `spp` only), `t` = [`AdaptiveSampling::threshold`] and
-/// `μ_min` = [`AdaptiveSampling::MIN_MEAN`]. `σ / √μ` is the noise of one sample in a
-/// square-root (gamma 2) encoding of the image, where noise is seen about as the eye sees it
-/// (the measure of Blender Cycles' adaptive sampling); samples go in proportion to it, the
-/// allocation that minimises the summed squared error for a given number of samples
-/// (`n ∝ σ`), wherever it exceeds `t`. So a render costs a multiple of `spp` set by the image,
-/// not by `spp`: 1.4–2.5 × on the luxtest frames at the default.
-///
-/// The count depends on the neighbours' samples only, never on the pixel's own, and the
-/// extra samples draw from an independent scramble of the pixel's points: each pixel stays
-/// an unbiased estimate. It is a pure function of the scene, settings and seed, so images stay
-/// bit-identical for any thread count, and a band of rows renders its neighbours' first
-/// samples one row beyond it to match the whole frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AdaptiveSampling {
-    /// Noise threshold `t` (> 0): the noise of one sample's luminance, relative to the square
-    /// root of the neighbourhood's mean luminance (after exposure), above which a pixel takes
-    /// proportionally more samples.
-    pub threshold: f64,
-    /// Most samples a pixel takes, as a multiple of `spp` (≥ 1).
-    pub max_factor: u32,
-}
-
-/// Largest [`AdaptiveSampling::max_factor`].
-pub const MAX_ADAPTIVE_FACTOR: u32 = 1024;
-
-impl AdaptiveSampling {
-    /// The default: `t` = 0.01, at most 16 × `spp` samples a pixel.
-    pub const DEFAULT: AdaptiveSampling = AdaptiveSampling {
-        threshold: 0.01,
-        max_factor: 16,
-    };
-
-    /// No extra samples: every pixel takes `spp` (`max_factor` 1).
-    pub const OFF: AdaptiveSampling = AdaptiveSampling {
-        threshold: 0.01,
-        max_factor: 1,
-    };
-
-    /// Whether a pixel can take more than `spp` samples (`max_factor` > 1).
-    pub fn is_on(&self) -> bool {
-        self.max_factor > 1
-    }
-
-    /// Mean luminance below which the threshold stops shrinking (`μ_min`): black regions are
-    /// held to the noise allowed at this level, not to 0.
-    pub const MIN_MEAN: f64 = 1e-3;
-
-    /// Samples a pixel takes in all given its neighbours' pooled luminance statistics
-    /// (`count` samples, `mean`, unbiased `variance`) and its base `spp`: the formula of the
-    /// type's doc, at least `spp`; `spp` when fewer than 2 samples were pooled.
-    pub fn samples(&self, spp: u32, count: u32, mean: f64, variance: f64) -> u32 {
-        let cap = spp
-            .saturating_mul(self.max_factor.max(1))
-            .min(MAX_SPP)
-            .max(spp);
-        let sigma = variance.max(0.0).sqrt();
-        let n = spp as f64 * sigma / (self.threshold * mean.max(Self::MIN_MEAN).sqrt());
-        if count < 2 || n.is_nan() || n <= spp as f64 {
-            spp
-        } else if n >= cap as f64 {
-            cap
-        } else {
-            n.ceil() as u32
         }
     }
 }
@@ -452,38 +326,4 @@ pub fn resolve(scene: &Scene, options: &RenderOptions) -> Result<Resolved, Rende
         window,
         exposure_scale: camera.linear_exposure_scale(),
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn adaptive_sample_counts() {
-        let a = AdaptiveSampling {
-            threshold: 0.1,
-            max_factor: 16,
-        };
-        // n = spp · σ / (t √μ): 4 · 0.5 / (0.1 · √0.25) = 40.
-        assert_eq!(a.samples(4, 8, 0.25, 0.25), 40);
-        // 4 · 0.02 / (0.1 · √0.04) = 4 → no more than spp.
-        assert_eq!(a.samples(4, 8, 0.04, 0.0004), 4);
-        // 4 · 0.021 / (0.1 · 0.2) = 4.2 → rounded up to 5.
-        assert_eq!(a.samples(4, 8, 0.04, 0.021 * 0.021), 5);
-        // Capped at 16 × spp.
-        assert_eq!(a.samples(4, 8, 0.25, 100.0), 64);
-        // Black neighbourhoods are held to μ_min = 1e-3: 1 · 0.01 / (0.1 · √1e-3) = 3.16 → 4.
-        assert_eq!(a.samples(1, 8, 0.0, 1e-4), 4);
-        // Fewer than 2 pooled samples, no variance, or NaN: spp.
-        assert_eq!(a.samples(4, 1, 0.25, 0.25), 4);
-        assert_eq!(a.samples(4, 8, 0.25, 0.0), 4);
-        assert_eq!(a.samples(4, 8, 0.25, f64::NAN), 4);
-        assert_eq!(a.samples(4, 8, 0.25, f64::INFINITY), 64);
-        // The count scales with spp: twice the spp, twice the samples.
-        assert_eq!(a.samples(8, 8, 0.25, 0.25), 80);
-        // The cap never exceeds MAX_SPP, and never falls below spp.
-        assert_eq!(a.samples(MAX_SPP, 8, 0.25, 1e9), MAX_SPP);
-        let one = AdaptiveSampling { max_factor: 1, ..a };
-        assert_eq!(one.samples(4, 8, 0.25, 0.25), 4);
-    }
 }

@@ -84,7 +84,7 @@ fn render(s: &Scene, threads: usize) -> Vec<[f32; 4]> {
     o.integrator = lux_render::settings::IntegratorKind::Direct;
     // Sampled everywhere: a flattened scene's exact penumbrae (integrator/penumbra.rs) need the
     // world triangles that an instanced scene's searches do not give.
-    o.closed_forms = false;
+    o.visibility = lux_render::settings::VisibilityMode::Rays;
     let r = Renderer::new(s, o).expect("scene prepares");
     assert!(r.lights().warnings.is_empty(), "{:?}", r.lights().warnings);
     let pool = rayon::ThreadPoolBuilder::new()

@@ -1,6 +1,6 @@
 //! The scene's triangles in `obvhs` compressed-wide BVHs (CWBVH): closest-hit queries for
-//! camera and BSDF rays, any-hit queries for shadow rays; and the analytic area lights in a
-//! BVH of their own (`geometry/lights.rs`), so that a ray finds the light it hits.
+//! camera and BSDF rays, any-hit queries for shadow rays. (The analytic area lights have a BVH
+//! of their own in the light set, `light/shapes.rs`.)
 //!
 //! Two levels (`geometry/instances.rs`): the world-space meshes in one BVH
 //! (`geometry/blas.rs`), exactly as a scene without instancing; each instanced prototype's
@@ -16,13 +16,10 @@
 //! ulps of the largest coordinate involved), so shadow and continuation rays never re-hit the
 //! surface they leave.
 //!
-//! Shadow rays ([`Geometry::occluded`], [`Geometry::first_occluder`]) query a second BVH when
-//! some world meshes are flat cards tiling a convex polygon (`geometry/planar.rs`): those
-//! meshes as their outline's fan triangles, which block exactly what their triangles block.
-//!
-//! Where a region holds every ray of a group and meets few triangles, the group tests those
-//! alone: a tile's camera rays ([`RayFrustum`], [`Geometry::triangles_in`]) and the shadow rays
-//! of a patch of surface ([`Geometry::blockers_in`]); same answers as the BVH.
+//! Shadow rays ([`Geometry::occluded`], [`Geometry::first_occluder`]) go through the world
+//! BVH, or through any other BVH of the same surfaces (`*_through`: the exact visibility's
+//! BVH of card outlines, `visibility/shadows.rs`). [`Region`] is the search a region of rays
+//! (a cone, a pyramid, a frustum) makes of a BVH's nodes and triangles (`region.rs`).
 //!
 //! Back faces: a triangle of a mesh that is not `doubleSided` is invisible from behind to
 //! closest-hit queries (UsdGeom: single-sided geometry may be back-face culled), but it

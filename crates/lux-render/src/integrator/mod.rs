@@ -1,12 +1,25 @@
-//! Integrators: what a camera ray brings back, `(radiance, alpha)`, from the prepared scene
-//! ([`World`]). The closed set is [`Integrator`]; `direct.rs` is the direct-lighting estimator
-//! (the reference renderer's light transport with lux's sampling), `path.rs` the path tracer
-//! built on it.
+//! Integrators: what a camera sample brings back, `(radiance, alpha)` along its ray, and the
+//! splats it adds elsewhere on the film, from the prepared scene ([`World`]).
 //!
-//! Shared here: the shadow-ray transmission of `ShadowAPI` ([`visibility`]) and the power
-//! heuristic of multiple importance sampling.
+//! pbrt-v4's shape: every integrator implements [`Integrator`] (one file each), and the closed
+//! set is [`AnyIntegrator`], generated with [`IntegratorKind`] (the `--integrator` names) from
+//! the one registration list at the foot of this file. What they share lives beside them:
+//!
+//! | file | what |
+//! |---|---|
+//! | `camera_vertex.rs` | what a camera ray meets first: a visible light, the background, or a surface and its glow |
+//! | `nee.rs` | next-event estimation: light sampling with MIS against BSDF sampling, written once |
+//! | `shadow.rs` | shadow rays (`ShadowAPI`, shadow linking) through [`Visibility`] |
+//! | `trace.rs` | rays through partly transparent surfaces |
+//! | `direct.rs` | [`DirectIntegrator`]: next-event estimation at the first surface |
+//! | `path.rs` | [`PathIntegrator`]: next-event estimation at every vertex of a BSDF-sampled path |
+//! //!
+//! Adding an integrator: a file here with a type that has `new(&Setup) -> Self` and implements
+//! [`Integrator`], and one line in the `integrators!` list below.
 
+mod camera_vertex;
 mod direct;
+mod nee;
 mod path;
 mod shadow;
 mod trace;
@@ -16,33 +29,25 @@ pub use path::{PathIntegrator, ROULETTE_DEPTH};
 pub use shadow::{first_shadow_occluder, shadow_ray};
 pub use trace::closest;
 
-use crate::film::Counters;
-use crate::geometry::Geometry;
-use crate::light::LightSet;
-use crate::material::Materials;
+use crate::camera::Camera;
+use crate::film::Splat;
 use crate::sampler::SampleStream;
+use crate::stats::Counters;
+use crate::visibility::{Scratch, Visibility};
+use crate::world::World;
 use glam::DVec3;
-use lux_usd::Scene;
 
-/// The prepared scene an integrator reads: geometry (with the area lights' BVH), lights and
-/// materials.
-#[derive(Clone, Copy)]
-pub struct World<'a> {
-    /// The stage the rest was prepared from (mesh attributes for shading).
-    pub scene: &'a Scene,
-    /// Triangles, instances and the analytic lights' BVH.
-    pub geometry: &'a Geometry,
-    /// The shadow rays' BVH of flat cards' outlines and the searches of shadow regions.
-    pub shadows: crate::visibility::Shadows<'a>,
-    /// The lights and their selection.
-    pub lights: &'a LightSet,
-    /// Surfaces' BSDFs.
-    pub materials: &'a Materials,
-    /// Whether some surface lets rays through ([`Materials::any_transparent`]).
-    pub transparent: bool,
-    /// Whether some surface glows from a texture ([`Materials::emission`]), which only camera
-    /// and BSDF rays find.
-    pub textured_emission: bool,
+/// Which sampling techniques the renderer uses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum SamplingMode {
+    /// lux's importance sampling (solid-angle techniques, textured dome) with MIS against
+    /// BSDF sampling.
+    #[default]
+    Lux,
+    /// hdEmbree's strategies, for A/B comparison: every area light sampled uniformly by area,
+    /// the dome uniformly over the hemisphere around the normal, light sampling only (no
+    /// MIS). Same expectation, more noise.
+    Reference,
 }
 
 /// A camera ray: origin, unit direction and the clipping range `(tmin, tmax)`.
@@ -58,75 +63,53 @@ pub struct CameraRay {
     pub tmax: f64,
 }
 
-/// Every light-transport estimator lux has.
-#[derive(Clone, Copy)]
-pub enum Integrator<'a> {
-    /// Direct lighting (light sampling, MIS with BSDF sampling).
-    Direct(DirectIntegrator<'a>),
-    /// Path tracing over the direct estimate at every vertex.
-    Path(PathIntegrator<'a>),
-}
-
-/// Most triangles a tile's camera rays test as a list ([`Integrator::tile_rays`]): beyond that
-/// the BVH's traversal costs less.
-pub const TILE_TRIANGLES: usize = 12;
-
-/// What the camera rays through one tile of pixels can meet ([`Integrator::tile_rays`]), for
-/// every sample of the tile ([`Counters::tile`](crate::film::Counters::tile)).
+/// What one worker carries from sample to sample: its counters, the visibility's scratch
+/// (patch answers, the current tile's hint) and the splats of the current tile.
 #[derive(Clone, Debug, Default)]
-pub struct TileRays {
-    /// The world triangles the rays can hit, when few; `None`: they take the BVH.
-    pub triangles: Option<Box<[u32]>>,
-    /// Nothing at all: no triangle, no camera-visible analytic light and no background, so
-    /// every ray ends black with alpha 0 ([`DirectIntegrator::li`]'s answer for a ray that meets
-    /// nothing), which the film takes without tracing it.
-    pub empty: bool,
+pub struct Ctx {
+    /// Rays, shadow rays, light samples … ([`Counters`]).
+    pub counters: Counters,
+    /// The visibility's per-worker state ([`Scratch`]).
+    pub vis: Scratch,
+    /// Splats to other pixels ([`Integrator::splats`]), which the tile loop hands to the film.
+    pub splats: Vec<Splat>,
 }
 
-impl Integrator<'_> {
-    /// What the camera rays through pixels `[x0, y0, x1, y1)` can meet, from the camera's
-    /// [`Camera::frustum`] of the tile: the world triangles in it ([`Geometry::triangles_in`];
-    /// `None`, the BVH, with more than [`TILE_TRIANGLES`], with instances or partly transparent
-    /// surfaces, whose rays go on past a hit), and whether it holds nothing at all — no
-    /// triangle, no camera-visible light at infinity, and no camera-visible analytic light
-    /// whose box reaches the frustum ([`Geometry::no_light_in`]).
-    ///
-    /// [`Camera::frustum`]: crate::camera::Camera::frustum
-    pub fn tile_rays(&self, camera: &crate::camera::Camera, rect: [u32; 4]) -> TileRays {
-        let w = match self {
-            Integrator::Direct(i) => &i.world,
-            Integrator::Path(i) => i.world(),
-        };
-        let Some((lo, hi)) = w.geometry.world_bounds().filter(|_| !w.transparent) else {
-            return TileRays::default();
-        };
-        let Some(frustum) = crate::visibility::RayFrustum::of_tile(
-            camera,
-            rect,
-            lo.abs().max(hi.abs()).max_element(),
-        ) else {
-            return TileRays::default();
-        };
-        let triangles = w.shadows.triangles_in(&frustum, TILE_TRIANGLES);
-        let lights = &w.lights.lights;
-        let empty = triangles.as_ref().is_some_and(|t| t.is_empty())
-            && w.lights.background.is_empty()
-            && w.lights.shapes.none_in(
-                lights,
-                |lo, hi| frustum.misses_box(lo, hi),
-                |l| l.base().camera_visible,
-            );
-        TileRays { triangles, empty }
+/// Everything an integrator is built from: the scene, how it sees, the camera and the
+/// transport settings (`RenderOptions`).
+#[derive(Clone, Copy)]
+pub struct Setup<'a> {
+    /// The prepared scene.
+    pub world: World<'a>,
+    /// How shadow rays and camera rays are answered (`--visibility`).
+    pub vis: &'a Visibility,
+    /// The camera (splatting integrators project onto it).
+    pub camera: &'a Camera,
+    /// Sampling techniques.
+    pub sampling: SamplingMode,
+    /// Light samples per light (or light choice) at each shading point (≥ 1).
+    pub light_samples: u32,
+    /// Most surface vertices a path lights (≥ 1).
+    pub max_depth: u32,
+}
+
+/// A light-transport estimator: pbrt-v4's `Integrator::Li` for one camera sample.
+pub trait Integrator: Sync {
+    /// Radiance (RGB) and alpha (coverage) along the camera ray `ray`, drawing its random
+    /// numbers from `st`; a splatting integrator also adds splats to `ctx.splats`.
+    fn li(&self, ray: &CameraRay, st: &SampleStream, ctx: &mut Ctx) -> (DVec3, f64);
+
+    /// Whether [`Integrator::li`] adds splats: the film then divides their sum by the number
+    /// of camera samples of the render, and the render takes no adaptive or penumbra samples
+    /// (each camera sample must be one particle of the same estimator).
+    fn splats(&self) -> bool {
+        false
     }
 
-    /// Radiance (RGB) and alpha (coverage) along a camera ray, drawing its random numbers
-    /// from `st`.
-    #[inline]
-    pub fn li(&self, ray: &CameraRay, st: &SampleStream, c: &mut Counters) -> (DVec3, f64) {
-        match self {
-            Integrator::Direct(i) => i.li(ray, st, c),
-            Integrator::Path(i) => i.li(ray, st, c),
-        }
+    /// What this integrator cannot do as the scene says (each names the prim and what was
+    /// approximated), reported with the render's warnings.
+    fn warnings(&self) -> Vec<String> {
+        Vec::new()
     }
 }
 
@@ -140,6 +123,89 @@ pub fn power_heuristic(a: f64, b: f64) -> f64 {
     if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
 }
 
+/// Generates [`IntegratorKind`] (the names), [`AnyIntegrator`] (the closed set) and its
+/// dispatch from the registration list.
+macro_rules! integrators {
+    ($( $(#[doc = $doc:literal])* $kind:ident = $name:literal => $ty:ident, )+) => {
+        /// The light transport of a render (`--integrator`; one per registered integrator).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum IntegratorKind {
+            $( $(#[doc = $doc])* $kind, )+
+        }
+
+        impl IntegratorKind {
+            /// Every registered integrator, in registration order.
+            pub const ALL: &'static [IntegratorKind] = &[$(IntegratorKind::$kind),+];
+
+            /// Its `--integrator` name.
+            pub fn name(self) -> &'static str {
+                match self {
+                    $( IntegratorKind::$kind => $name, )+
+                }
+            }
+
+            /// The integrator named `name` ([`IntegratorKind::name`]).
+            pub fn from_name(name: &str) -> Option<IntegratorKind> {
+                IntegratorKind::ALL.iter().copied().find(|k| k.name() == name)
+            }
+        }
+
+        /// Any registered integrator, ready to render.
+        pub enum AnyIntegrator<'a> {
+            $( $(#[doc = $doc])* $kind($ty<'a>), )+
+        }
+
+        impl<'a> AnyIntegrator<'a> {
+            /// The integrator of `kind` over `setup`.
+            pub fn new(kind: IntegratorKind, setup: &Setup<'a>) -> AnyIntegrator<'a> {
+                match kind {
+                    $( IntegratorKind::$kind => AnyIntegrator::$kind($ty::new(setup)), )+
+                }
+            }
+        }
+
+        impl Integrator for AnyIntegrator<'_> {
+            #[inline]
+            fn li(&self, ray: &CameraRay, st: &SampleStream, ctx: &mut Ctx) -> (DVec3, f64) {
+                match self {
+                    $( AnyIntegrator::$kind(i) => i.li(ray, st, ctx), )+
+                }
+            }
+
+            fn splats(&self) -> bool {
+                match self {
+                    $( AnyIntegrator::$kind(i) => i.splats(), )+
+                }
+            }
+
+            fn warnings(&self) -> Vec<String> {
+                match self {
+                    $( AnyIntegrator::$kind(i) => i.warnings(), )+
+                }
+            }
+        }
+    };
+}
+
+// The registration list: one line per integrator.
+integrators! {
+    /// Direct lighting (what the reference renderer computes).
+    Direct = "direct" => DirectIntegrator,
+    /// Path tracing: next-event estimation at every vertex of a BSDF-sampled path.
+    Path = "path" => PathIntegrator,
+}
+
+impl IntegratorKind {
+    /// The default of a conformance profile: path tracing in `Spec`, direct lighting in
+    /// `HdEmbree` (the reference renderer lights surfaces directly).
+    pub fn default_for(profile: lux_math::Profile) -> IntegratorKind {
+        match profile {
+            lux_math::Profile::HdEmbree => IntegratorKind::Direct,
+            _ => IntegratorKind::Path,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -151,5 +217,15 @@ mod tests {
         assert_eq!(power_heuristic(0.0, 0.0), 0.0);
         assert_eq!(power_heuristic(f64::INFINITY, 1.0), 1.0);
         assert!((power_heuristic(1.0, 3.0) + power_heuristic(3.0, 1.0) - 1.0).abs() < 1e-15);
+    }
+
+    /// Every registered integrator answers to its name, and names are distinct.
+    #[test]
+    fn kinds_round_trip_their_names() {
+        for &k in IntegratorKind::ALL {
+            assert_eq!(IntegratorKind::from_name(k.name()), Some(k));
+        }
+        assert_eq!(IntegratorKind::from_name("bdpt"), None);
+        assert_eq!(IntegratorKind::ALL.len(), 2);
     }
 }

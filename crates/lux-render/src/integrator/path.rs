@@ -1,21 +1,23 @@
-//! The `path` integrator: global illumination by path tracing, built on the direct
-//! integrator's estimate at every vertex.
+//! The `path` integrator: global illumination by path tracing, with next-event estimation
+//! (`nee.rs`) at every vertex.
 //!
-//! A path starts as the direct integrator's camera ray (visible lights, background, a mesh
-//! light's glow at the first surface). At each surface vertex `b` it adds, weighted by the
-//! path throughput β, the direct integrator's estimate with the random numbers of vertex `b`:
-//! next-event estimation through the light interface (MIS against BSDF sampling) and the
-//! emission found along the BSDF sample `Dim::Bsdf { bounce: b }` (MIS against light
-//! sampling). The path then continues along that same BSDF sample, β ← β·f·cos/pdf, to the
-//! first surface on either side (what blocks light for the vertex's estimate); the emission
-//! of what it meets was already counted there. The back of a single-sided surface ends the
-//! path: it blocks, but reflects nothing (camera rays do not see it either). After [`ROULETTE_DEPTH`] vertices Russian
-//! roulette ends the path with probability 1 − q, q = min(1, max(β)), and divides β by q; at
-//! most `max_depth` vertices are lit (`max_depth = 1` is the direct integrator, bit for bit).
+//! A path starts as every integrator's camera ray (`camera_vertex.rs`: visible lights,
+//! background, a mesh light's glow at the first surface). At each surface vertex `b` it adds,
+//! weighted by the path throughput β, next-event estimation with the random numbers of vertex
+//! `b`: light sampling (MIS against BSDF sampling) and the emission found along the BSDF sample
+//! `Dim::Bsdf { bounce: b }` (MIS against light sampling). The path then continues along that
+//! same BSDF sample, β ← β·f·cos/pdf, to the first surface on either side (what blocks light
+//! for the vertex's estimate); the emission of what it meets was already counted there. The
+//! back of a single-sided surface ends the path: it blocks, but reflects nothing (camera rays
+//! do not see it either). After [`ROULETTE_DEPTH`] vertices Russian roulette ends the path
+//! with probability 1 − q, q = min(1, max(β)), and divides β by q; at most `max_depth`
+//! vertices are lit (`max_depth = 1` is the direct integrator, bit for bit). The reference
+//! estimator (`SamplingMode::Reference`) has no BSDF sampling to continue along: a path of it
+//! is the direct integrator.
 
-use super::direct::{CameraVertex, DirectIntegrator};
-use super::{CameraRay, World, closest};
-use crate::film::Counters;
+use super::camera_vertex::{CameraVertex, camera_vertex};
+use super::nee::Nee;
+use super::{CameraRay, Ctx, Integrator, SamplingMode, Setup, closest};
 use crate::sampler::{Dim, SampleStream};
 use glam::DVec3;
 
@@ -25,39 +27,37 @@ pub const ROULETTE_DEPTH: u32 = 3;
 /// Path tracing with next-event estimation and MIS at every vertex.
 #[derive(Clone, Copy)]
 pub struct PathIntegrator<'a> {
-    direct: DirectIntegrator<'a>,
+    nee: Nee<'a>,
     /// Most surface vertices lit along a path (≥ 1).
     max_depth: u32,
 }
 
 impl<'a> PathIntegrator<'a> {
-    /// The scene it renders.
-    pub(super) fn world(&self) -> &World<'a> {
-        &self.direct.world
-    }
-
-    /// Paths of at most `max_depth` (≥ 1) lit vertices over the direct integrator's estimate.
-    pub fn new(direct: DirectIntegrator<'a>, max_depth: u32) -> PathIntegrator<'a> {
+    /// Paths of at most `setup.max_depth` (≥ 1) lit vertices; 1 with the reference estimator.
+    pub fn new(setup: &Setup<'a>) -> PathIntegrator<'a> {
+        let max_depth = match setup.sampling {
+            SamplingMode::Lux => setup.max_depth.max(1),
+            SamplingMode::Reference => 1,
+        };
         PathIntegrator {
-            direct,
-            max_depth: max_depth.max(1),
+            nee: Nee::new(setup.world, setup.vis, setup.sampling, setup.light_samples),
+            max_depth,
         }
     }
+}
 
+impl Integrator for PathIntegrator<'_> {
     /// Radiance and alpha along a camera ray.
-    pub fn li(&self, ray: &CameraRay, st: &SampleStream, c: &mut Counters) -> (DVec3, f64) {
-        let (mut sp, glow) = match self.direct.camera_vertex(ray, c) {
+    fn li(&self, ray: &CameraRay, st: &SampleStream, ctx: &mut Ctx) -> (DVec3, f64) {
+        let w = &self.nee.world;
+        let (mut sp, glow) = match camera_vertex(w, self.nee.vis, ray, ctx) {
             CameraVertex::Done(rgb, alpha) => return (rgb, alpha),
-            CameraVertex::Surface(hit, glow) => {
-                let w = &self.direct.world;
-                (w.materials.at(w.scene, &hit, ray.d), glow)
-            }
+            CameraVertex::Surface(hit, glow) => (w.materials.at(w.scene, &hit, ray.d), glow),
         };
-        let w = &self.direct.world;
         let mut rgb = glow;
         let mut beta = DVec3::ONE;
         for bounce in 0..self.max_depth {
-            rgb += beta * self.direct.direct(&sp, st, bounce, c);
+            rgb += beta * self.nee.estimate(&sp, st, bounce, ctx);
             if bounce + 1 == self.max_depth {
                 break;
             }
@@ -75,7 +75,7 @@ impl<'a> PathIntegrator<'a> {
                 }
                 beta /= q;
             }
-            c.rays += 1;
+            ctx.counters.rays += 1;
             let origin = sp.p + sp.ng * sp.offset;
             let Some(hit) = closest(w, origin, bs.wi, 0.0, f64::INFINITY, true) else {
                 break;

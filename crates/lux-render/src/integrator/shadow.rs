@@ -1,11 +1,11 @@
 //! Shadow rays: what passes from a point towards a light, `ShadowAPI` and shadow linking
 //! included.
 
-use super::{World, trace};
-use crate::film::Counters;
-use crate::geometry::offset_scale;
+use super::{Ctx, trace};
+use crate::geometry::{Geometry, offset_scale};
 use crate::light::{LightBase, MAX_PASS_THROUGH};
-use crate::visibility::{FewTriangles, Shadows};
+use crate::visibility::{ShadowHint, Visibility};
+use crate::world::World;
 use glam::DVec3;
 
 /// Transmission of a shadow ray from `origin` along `dir` up to `tmax` towards the light
@@ -15,19 +15,21 @@ use glam::DVec3;
 /// `T = ∏(1 − oᵢ)` (`trace.rs`); with `ShadowAPI` inputs, `T + (1 − T)·shadowed` where
 /// `shadowed` is the ShadowAPI multiplier at the first surface of opacity > 0.
 /// Occluders outside the light's `collection:shadowLink` cast no shadow
-/// ([`first_shadow_occluder`]). `among`: every triangle that can stop the ray
-/// (`Shadows::blockers_in` of a region holding it), which plain shadows test alone.
+/// ([`first_shadow_occluder`]). Opaque plain shadows ask `vis` ([`Visibility::occluded`],
+/// with what it knows of the ray, `hint`).
 #[inline]
 pub fn shadow_ray(
     world: &World,
+    vis: &Visibility,
     l: &LightBase,
     (origin, dir, tmax): (DVec3, DVec3, f64),
-    among: Option<&FewTriangles>,
-    c: &mut Counters,
+    hint: &ShadowHint,
+    ctx: &mut Ctx,
 ) -> Option<DVec3> {
     if !l.shadow.enable {
         return Some(DVec3::ONE);
     }
+    let c = &mut ctx.counters;
     c.rays += 1;
     c.shadow += 1;
     if world.transparent {
@@ -49,15 +51,12 @@ pub fn shadow_ray(
         return (m != DVec3::ZERO).then_some(m);
     }
     if l.plain_shadows() {
-        let blocked = match among {
-            Some(few) => world.shadows.occluded_among(few, origin, dir, 0.0, tmax),
-            None => world.shadows.occluded(origin, dir, 0.0, tmax),
-        };
+        let blocked = vis.occluded(world.geometry, hint, origin, dir, tmax);
         c.blocked += blocked as u64;
         return (!blocked).then_some(DVec3::ONE);
     }
     // Shadow linking: occluders outside the light's shadowLink are passed through.
-    let Some(t) = first_shadow_occluder(world, l, origin, dir, tmax) else {
+    let Some(t) = first_shadow_occluder(world.geometry, vis, l, origin, dir, tmax) else {
         return Some(DVec3::ONE);
     };
     c.blocked += 1;
@@ -68,35 +67,25 @@ pub fn shadow_ray(
 }
 
 /// Distance to the first occluder on `origin + t·dir`, `t ∈ (0, tmax)`, that casts the
-/// shadows of `l`: `Geometry::first_occluder` (through the shadow rays' BVH) without a shadowLink; with one, occluders
-/// outside it are passed through (the ray cast again from [`offset_scale`] past each, in
-/// order, deterministically); after [`MAX_PASS_THROUGH`] of them the ray counts as blocked
-/// there.
+/// shadows of `l` in `g` as `vis` traces shadow rays: the first occluder without a
+/// shadowLink; with one, occluders outside it are passed through (the ray cast again from
+/// [`offset_scale`] past each, in order, deterministically); after [`MAX_PASS_THROUGH`] of
+/// them the ray counts as blocked there.
 #[inline]
 pub fn first_shadow_occluder(
-    world: &World,
-    l: &LightBase,
-    origin: DVec3,
-    dir: DVec3,
-    tmax: f64,
-) -> Option<f64> {
-    first_linked_occluder(&world.shadows, l, origin, dir, tmax)
-}
-
-/// [`first_shadow_occluder`] through the shadow rays of `shadows`.
-fn first_linked_occluder(
-    shadows: &Shadows,
+    g: &Geometry,
+    vis: &Visibility,
     l: &LightBase,
     origin: DVec3,
     dir: DVec3,
     tmax: f64,
 ) -> Option<f64> {
     let Some(set) = &l.links.shadow else {
-        return shadows.first_occluder(origin, dir, 0.0, tmax);
+        return vis.first_occluder(g, origin, dir, 0.0, tmax);
     };
     let mut tmin = 0.0;
     for _ in 0..MAX_PASS_THROUGH {
-        let o = shadows.first_occluder_at(origin, dir, tmin, tmax)?;
+        let o = vis.first_occluder_at(g, origin, dir, tmin, tmax)?;
         if set.contains(o.mesh, o.instance) {
             return Some(o.t);
         }
@@ -113,7 +102,7 @@ mod tests {
     use super::*;
     use crate::geometry::Geometry;
     use crate::light::GeomSet;
-    use crate::visibility::ShadowBvh;
+    use crate::visibility::VisibilityMode;
     use lux_usd::{Membership, Mesh, Rule, Scene};
     use std::sync::Arc;
 
@@ -138,8 +127,7 @@ mod tests {
         let mut scene = Scene::empty("t.usda");
         scene.meshes = vec![tri("/a", 1.0), tri("/b", 2.0), tri("/c", 3.0)];
         let g = Geometry::new(&scene);
-        let bvh = ShadowBvh::new(&scene, &g);
-        let shadows = bvh.view(&g);
+        let vis = Visibility::new(VisibilityMode::Exact, &scene, &g);
         let mut l = LightBase::new(
             "/L",
             lux_sample::LightTransform::IDENTITY,
@@ -147,7 +135,7 @@ mod tests {
             lux_usd::ShadowInputs::default(),
         );
         let o = DVec3::new(0.0, 0.0, 0.0);
-        let t = |l: &LightBase, tmax: f64| first_linked_occluder(&shadows, l, o, DVec3::Y, tmax);
+        let t = |l: &LightBase, tmax: f64| first_shadow_occluder(&g, &vis, l, o, DVec3::Y, tmax);
         assert!((t(&l, 10.0).unwrap() - 1.0).abs() < 1e-6);
         l.links.shadow = Some(Arc::new(GeomSet::new(
             &scene,

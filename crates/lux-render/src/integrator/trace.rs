@@ -10,8 +10,8 @@
 //!
 //! [`Materials::opacity`]: crate::material::Materials::opacity
 
-use super::World;
 use crate::geometry::Hit;
+use crate::world::World;
 use glam::DVec3;
 use lux_sample::SplitMix64;
 

@@ -22,7 +22,6 @@ pub use preview::{PreviewBsdf, PreviewParams};
 use crate::RenderError;
 use crate::geometry::Hit;
 use crate::image_io::Texture;
-use crate::settings::SurfaceModel;
 use glam::{DMat3, DVec2, DVec3, DVec4};
 use lux_usd::{Input, Scene, SurfaceSpectral, TextureInput};
 use std::collections::HashMap;
@@ -310,6 +309,27 @@ pub struct SurfacePoint {
     pub instance: Option<usize>,
 }
 
+/// How surfaces scatter light (`RenderOptions::surfaces`, `--surfaces`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SurfaceModel {
+    /// The full UsdPreviewSurface: diffuse, GGX specular (specular or metallic workflow),
+    /// clearcoat, ior, opacity and cut-outs, normal maps.
+    Preview,
+    /// Lambertian `diffuseColor` only, opaque (what the reference renderer shades).
+    Lambert,
+}
+
+impl SurfaceModel {
+    /// The default of a conformance profile: UsdPreviewSurface in `Spec`, Lambertian in
+    /// `HdEmbree`.
+    pub fn default_for(profile: lux_math::Profile) -> SurfaceModel {
+        match profile {
+            lux_math::Profile::HdEmbree => SurfaceModel::Lambert,
+            _ => SurfaceModel::Preview,
+        }
+    }
+}
+
 impl Materials {
     /// Loads the textures of every material (once per file), UsdPreviewSurface surfaces. A
     /// texture that does not resolve or cannot be read gives its `UsdUVTexture` fallback, with
@@ -335,83 +355,7 @@ impl Materials {
         };
         let mut materials = Vec::with_capacity(scene.materials.len());
         for m in &scene.materials {
-            let path = m.path.as_str();
-            let grey = lux_usd::material::DEFAULT_DIFFUSE;
-            // The primvars its readers read, by slot.
-            ld.primvars = m
-                .primvar_names()
-                .into_iter()
-                .take(MAX_PRIMVARS)
-                .map(|n| {
-                    let fallback = m
-                        .primvar_readers()
-                        .into_iter()
-                        .find(|(_, p)| p.name == n)
-                        .map_or(DVec4::ZERO, |(_, p)| p.fallback);
-                    (n.to_owned(), fallback)
-                })
-                .collect();
-            // LTESpectralAPI: a spectral reflectance on the surface shader replaces diffuseColor
-            // (one that lux-spectral refuses is a warning, and diffuseColor is used).
-            let diffuse = match reflectance_albedo(path, &m.spectral, unit) {
-                Ok(Some(c)) => Param::Value(c),
-                Ok(None) => ld.colour(path, "diffuseColor", &m.diffuse, grey)?,
-                Err(e) if strict => return Err(e),
-                Err(e) => {
-                    ld.warnings
-                        .push(format!("{e}; diffuseColor is used instead"));
-                    ld.colour(path, "diffuseColor", &m.diffuse, grey)?
-                }
-            };
-            let emission = match (&m.emissive_primvar, m.emissive_texture.as_deref()) {
-                (Some(p), _) => Some(ld.primvar(p)),
-                (None, t) => ld
-                    .texture(path, "emissiveColor", DVec3::ZERO, t)?
-                    .map(Param::Texture),
-            };
-            let primvars = ld.primvars.clone();
-            if surfaces == SurfaceModel::Lambert || !m.preview {
-                materials.push(Shader {
-                    diffuse,
-                    preview: None,
-                    opacity: None,
-                    threshold: 0.0,
-                    emission,
-                    primvars,
-                });
-                continue;
-            }
-            // The schema defaults stand in for unreadable textures.
-            let d = PreviewParams::default();
-            let preview = PreviewInputs {
-                use_specular_workflow: m.use_specular_workflow,
-                specular: ld.colour(path, "specularColor", &m.specular, d.specular_color)?,
-                metallic: ld.float(path, "metallic", &m.metallic, d.metallic)?,
-                roughness: ld.float(path, "roughness", &m.roughness, d.roughness)?,
-                clearcoat: ld.float(path, "clearcoat", &m.clearcoat, d.clearcoat)?,
-                clearcoat_roughness: ld.float(
-                    path,
-                    "clearcoatRoughness",
-                    &m.clearcoat_roughness,
-                    d.clearcoat_roughness,
-                )?,
-                ior: ld.float(path, "ior", &m.ior, d.ior)?,
-                normal: ld.texture(path, "normal", DVec3::Z, m.normal.as_deref())?,
-            };
-            let opacity = ld.float(path, "opacity", &m.opacity, 1.0)?;
-            let opaque = match &opacity {
-                Param::Value(v) if m.opacity_threshold > 0.0 => v.x >= m.opacity_threshold,
-                Param::Value(v) => v.x >= 1.0,
-                Param::Texture(_) | Param::Primvar { .. } => false,
-            };
-            materials.push(Shader {
-                diffuse,
-                preview: Some(Box::new(preview)),
-                opacity: (!opaque).then_some(opacity),
-                threshold: m.opacity_threshold,
-                emission,
-                primvars,
-            });
+            materials.push(ld.material_shader(m, unit, surfaces)?);
         }
         let mut warnings = ld.warnings;
         let mut mesh_reflectance = Vec::with_capacity(scene.meshes.len());
@@ -756,6 +700,94 @@ impl Materials {
             return ns;
         }
         mapped
+    }
+}
+
+impl InputLoader {
+    /// The shader of material `m` (`unit`: the scene's wavelength unit for spectral
+    /// reflectances) as `surfaces` shades it: its inputs read, textures loaded once per file.
+    fn material_shader(
+        &mut self,
+        m: &lux_usd::Material,
+        unit: lux_spectral::WavelengthUnit,
+        surfaces: SurfaceModel,
+    ) -> Result<Shader, RenderError> {
+        let path = m.path.as_str();
+        let grey = lux_usd::material::DEFAULT_DIFFUSE;
+        // The primvars its readers read, by slot.
+        self.primvars = m
+            .primvar_names()
+            .into_iter()
+            .take(MAX_PRIMVARS)
+            .map(|n| {
+                let fallback = m
+                    .primvar_readers()
+                    .into_iter()
+                    .find(|(_, p)| p.name == n)
+                    .map_or(DVec4::ZERO, |(_, p)| p.fallback);
+                (n.to_owned(), fallback)
+            })
+            .collect();
+        // LTESpectralAPI: a spectral reflectance on the surface shader replaces diffuseColor
+        // (one that lux-spectral refuses is a warning, and diffuseColor is used).
+        let diffuse = match reflectance_albedo(path, &m.spectral, unit) {
+            Ok(Some(c)) => Param::Value(c),
+            Ok(None) => self.colour(path, "diffuseColor", &m.diffuse, grey)?,
+            Err(e) if self.strict => return Err(e),
+            Err(e) => {
+                self.warnings
+                    .push(format!("{e}; diffuseColor is used instead"));
+                self.colour(path, "diffuseColor", &m.diffuse, grey)?
+            }
+        };
+        let emission = match (&m.emissive_primvar, m.emissive_texture.as_deref()) {
+            (Some(p), _) => Some(self.primvar(p)),
+            (None, t) => self
+                .texture(path, "emissiveColor", DVec3::ZERO, t)?
+                .map(Param::Texture),
+        };
+        let primvars = self.primvars.clone();
+        if surfaces == SurfaceModel::Lambert || !m.preview {
+            return Ok(Shader {
+                diffuse,
+                preview: None,
+                opacity: None,
+                threshold: 0.0,
+                emission,
+                primvars,
+            });
+        }
+        // The schema defaults stand in for unreadable textures.
+        let d = PreviewParams::default();
+        let preview = PreviewInputs {
+            use_specular_workflow: m.use_specular_workflow,
+            specular: self.colour(path, "specularColor", &m.specular, d.specular_color)?,
+            metallic: self.float(path, "metallic", &m.metallic, d.metallic)?,
+            roughness: self.float(path, "roughness", &m.roughness, d.roughness)?,
+            clearcoat: self.float(path, "clearcoat", &m.clearcoat, d.clearcoat)?,
+            clearcoat_roughness: self.float(
+                path,
+                "clearcoatRoughness",
+                &m.clearcoat_roughness,
+                d.clearcoat_roughness,
+            )?,
+            ior: self.float(path, "ior", &m.ior, d.ior)?,
+            normal: self.texture(path, "normal", DVec3::Z, m.normal.as_deref())?,
+        };
+        let opacity = self.float(path, "opacity", &m.opacity, 1.0)?;
+        let opaque = match &opacity {
+            Param::Value(v) if m.opacity_threshold > 0.0 => v.x >= m.opacity_threshold,
+            Param::Value(v) => v.x >= 1.0,
+            Param::Texture(_) | Param::Primvar { .. } => false,
+        };
+        Ok(Shader {
+            diffuse,
+            preview: Some(Box::new(preview)),
+            opacity: (!opaque).then_some(opacity),
+            threshold: m.opacity_threshold,
+            emission,
+            primvars,
+        })
     }
 }
 

@@ -56,6 +56,12 @@ pub struct ShadowBvh {
 }
 
 impl ShadowBvh {
+    /// No shadow BVH: shadow rays through the world BVH.
+    pub const NONE: ShadowBvh = ShadowBvh {
+        shadow: None,
+        cards: Vec::new(),
+    };
+
     /// The shadow BVH of `scene`'s world meshes as `g` holds them (not when the world BVH
     /// stopped at [`MAX_TRIANGLES`]: shadow rays would see what it left out).
     pub fn new(scene: &Scene, g: &Geometry) -> ShadowBvh {

@@ -1,0 +1,390 @@
+//! Next-event estimation: the direct illumination of a surface point, written once for every
+//! integrator that lights its vertices (direct, path).
+//!
+//! - **Light sampling**: every light (or one light chosen by lux-sample's selection when there
+//!   are many) sampled with its lux-sample technique, a shadow ray per sample (`shadow.rs`);
+//!   `k` samples per light, each weighted `1/k`.
+//! - **BSDF sampling**: one direction from the BSDF, which collects the emission of every
+//!   analytic light it crosses before the first surface (lights are not occluders, as in the
+//!   reference renderer), of the mesh light it hits, or of the infinite lights if it escapes.
+//! - Combined with the power heuristic (β = 2) of multiple importance sampling; the light
+//!   technique's density is `k·pmf·pdf`.
+//!
+//! Light sampling alone (no BSDF ray) for the rect, disk and sphere lights of uniform radiance
+//! at a Lambertian point when every light is sampled: their samplers follow the
+//! cosine-weighted solid angle (the sphere's projected cap exactly, the rect's bilinear cosine
+//! warp closely), so a BSDF sample would only add noise. For those, [`Visibility::estimate`]
+//! may answer exactly (the light's closed form where nothing blocks it, its exact penumbra
+//! behind a few triangles) instead of the samples.
+//!
+//! [`SamplingMode::Reference`] is hdEmbree's estimator instead: every light sampled with
+//! lux-sample's [`Strategy::HdEmbree`] (uniformly by area; the dome uniformly over the
+//! hemisphere), light sampling only. Lights with non-default `ShadowAPI` inputs (coloured,
+//! distance-limited or disabled shadows, shadow links) are estimated by light sampling alone:
+//! a BSDF ray stops at the first occluder, which is not what their shadow says.
+
+use super::{Ctx, SamplingMode, power_heuristic, shadow_ray};
+use crate::geometry::{shadow_ray_to, shadow_tmax};
+use crate::light::{LiSample, Light, LightBase, Seen};
+use crate::material::{Bsdf, BsdfSample, SurfacePoint};
+use crate::sampler::{Dim, SampleStream};
+use crate::visibility::{ShadowHint, Visibility};
+use crate::world::World;
+use glam::DVec3;
+use lux_sample::{LightSelector, Reference, Strategy};
+
+/// Next-event estimation over a scene.
+#[derive(Clone, Copy)]
+pub(super) struct Nee<'a> {
+    pub(super) world: World<'a>,
+    pub(super) vis: &'a Visibility,
+    /// The light-sampling strategy.
+    strategy: Strategy,
+    /// BSDF sampling and MIS (off for the reference estimator).
+    mis: bool,
+    /// One light per shading point by the light set's selector (off: every light).
+    select: bool,
+    /// Light samples per light (or per light choice) at each shading point.
+    light_samples: u32,
+    /// Whether every light is a rect, disk or sphere of uniform radiance
+    /// ([`Light::uniform_area`]): at a Lambertian point, all are then estimated by light
+    /// sampling alone and no BSDF ray is needed.
+    all_uniform: bool,
+}
+
+/// What the light samples of one shading point share.
+struct At {
+    /// The receiver lux-sample samples from.
+    r: Reference,
+    /// Where its rays start (`p` off the surface by its offset).
+    origin: DVec3,
+    /// Light samples per light (or light choice).
+    k: u32,
+    /// Every light is sampled and the BSDF is Lambertian: uniform lights go alone.
+    lambertian: bool,
+}
+
+impl At {
+    /// Whether `light` is estimated by light sampling alone here.
+    #[inline]
+    fn alone(&self, light: &Light) -> bool {
+        self.lambertian && light.uniform_area()
+    }
+}
+
+/// Whether a light's `inputs:diffuse` and `inputs:specular` act on `bsdf` as one factor
+/// (`diffuse`): a Lambertian BSDF has no specular part, or the two are equal.
+#[inline]
+fn one_scale(bsdf: &Bsdf, base: &LightBase) -> bool {
+    matches!(bsdf, Bsdf::Diffuse(_)) || base.diffuse == base.specular
+}
+
+impl<'a> Nee<'a> {
+    /// The estimator of `mode` over `world` seen through `vis`, with `light_samples` (≥ 1)
+    /// light samples per light or light choice.
+    pub(super) fn new(
+        world: World<'a>,
+        vis: &'a Visibility,
+        mode: SamplingMode,
+        light_samples: u32,
+    ) -> Nee<'a> {
+        let lux = mode == SamplingMode::Lux;
+        Nee {
+            world,
+            vis,
+            strategy: if lux {
+                Strategy::Lux
+            } else {
+                Strategy::HdEmbree
+            },
+            mis: lux,
+            select: lux,
+            light_samples: light_samples.max(1),
+            all_uniform: world.lights.lights.iter().all(Light::uniform_area),
+        }
+    }
+
+    /// The selector of one light per shading point, when used.
+    #[inline]
+    fn selector(&self) -> Option<&'a LightSelector> {
+        if self.select {
+            self.world.lights.selector.as_ref()
+        } else {
+            None
+        }
+    }
+
+    /// Direct illumination at a surface point with the random numbers of path vertex `bounce`
+    /// (0 for the surface a camera ray meets): light sampling, and the emission found along
+    /// the BSDF sample `Dim::Bsdf { bounce }` (with MIS), which a path continues along.
+    #[inline(always)]
+    pub(super) fn estimate(
+        &self,
+        sp: &SurfacePoint,
+        st: &SampleStream,
+        bounce: u32,
+        ctx: &mut Ctx,
+    ) -> DVec3 {
+        let w = &self.world;
+        if (w.lights.lights.is_empty() && !w.textured_emission) || sp.bsdf.is_black() {
+            return DVec3::ZERO;
+        }
+        let selector = self.selector();
+        let at = At {
+            r: Reference::surface(sp.p, sp.ns),
+            origin: sp.p + sp.ng * sp.offset,
+            k: self.light_samples * st.light_factor(),
+            lambertian: self.mis && selector.is_none() && sp.bsdf.is_lambertian(),
+        };
+        let mut out = match selector {
+            None => self.every_light(sp, st, bounce, &at, ctx),
+            Some(sel) => self.chosen_lights(sel, sp, st, bounce, &at, ctx),
+        };
+        // Every light estimated by light sampling alone: no BSDF ray (unless surfaces glow
+        // from textures, which only BSDF rays find).
+        if (at.lambertian && self.all_uniform && !w.textured_emission) || !self.mis {
+            return out;
+        }
+        if let Some(bs) = sp.bsdf.sample(st.get2(Dim::Bsdf { bounce }))
+            && sp.ng.dot(bs.wi) > 0.0
+        {
+            // (added to `out` term by term, in the order of the terms)
+            self.bsdf_sample(sp, &bs, &at, selector, ctx, &mut out);
+        }
+        out
+    }
+
+    /// Light sampling of every light: `k` samples each, or its exact answer
+    /// ([`Visibility::estimate`]) where it goes alone.
+    #[inline(always)]
+    fn every_light(
+        &self,
+        sp: &SurfacePoint,
+        st: &SampleStream,
+        bounce: u32,
+        at: &At,
+        ctx: &mut Ctx,
+    ) -> DVec3 {
+        let kf = at.k as f64;
+        let mut out = DVec3::ZERO;
+        for (li, light) in self.world.lights.lights.iter().enumerate() {
+            // (light linking: an unlinked light adds nothing here, nor by BSDF sampling)
+            if !light.base().illuminates(sp.mesh, sp.instance) {
+                continue;
+            }
+            let alone = at.alone(light);
+            let dim = Dim::Light {
+                bounce,
+                index: li as u32,
+            };
+            if at.k == 1 {
+                let ls = light.sample_li(&at.r, st.get2(dim), self.strategy);
+                out += self.sample_light(sp, at, light, ls, kf, alone, &ShadowHint::NONE, ctx);
+                continue;
+            }
+            // What the light's k samples share, computed once.
+            light.seen_from(&at.r, self.strategy, |from| {
+                let base = light.base();
+                let e = self
+                    .vis
+                    .estimate(&self.world, &mut ctx.vis, sp, li, light, from, alone);
+                if let Some((wi, pass)) = e.exact
+                    && let Some(le_pi) = from.unshadowed(sp.p, sp.ns)
+                {
+                    // The light's closed form `L·Π` (times what passes): what its k samples
+                    // average to, without drawing them.
+                    let le_pi = le_pi * pass;
+                    out += if one_scale(&sp.bsdf, base) {
+                        sp.bsdf.f(wi) * le_pi * base.diffuse
+                    } else {
+                        sp.bsdf.f_scaled(wi, base.diffuse, base.specular) * le_pi
+                    };
+                    return;
+                }
+                for u in st.split_get2(dim, at.k) {
+                    let ls = from.sample_li(u);
+                    out += self.sample_light(sp, at, light, ls, kf, alone, &e.hint, ctx);
+                }
+            });
+        }
+        out
+    }
+
+    /// Light sampling of `k` lights chosen by the selector `sel`.
+    fn chosen_lights(
+        &self,
+        sel: &LightSelector,
+        sp: &SurfacePoint,
+        st: &SampleStream,
+        bounce: u32,
+        at: &At,
+        ctx: &mut Ctx,
+    ) -> DVec3 {
+        let lights = &self.world.lights.lights;
+        let mut out = DVec3::ZERO;
+        for j in 0..at.k {
+            let sj = st.split(j, at.k);
+            if let Some((li, pmf)) = sel.sample(&at.r, sj.get1(Dim::LightChoice { bounce }))
+                && pmf > 0.0
+                && lights[li].base().illuminates(sp.mesh, sp.instance)
+            {
+                let l = &lights[li];
+                let u = sj.get2(Dim::Light { bounce, index: 0 });
+                let ls = l.sample_li(&at.r, u, self.strategy);
+                let pmf = pmf * at.k as f64;
+                out += self.sample_light(sp, at, l, ls, pmf, false, &ShadowHint::NONE, ctx);
+            }
+        }
+        out
+    }
+
+    /// The contribution of the light sample `ls` of light `l`, chosen with probability `pmf`
+    /// (times k), with MIS against BSDF sampling unless `alone`; `hint`: what the visibility
+    /// knows of its shadow ray.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn sample_light(
+        &self,
+        sp: &SurfacePoint,
+        at: &At,
+        l: &Light,
+        ls: Option<LiSample>,
+        pmf: f64,
+        alone: bool,
+        hint: &ShadowHint,
+        ctx: &mut Ctx,
+    ) -> DVec3 {
+        let Some(ls) = ls else {
+            return DVec3::ZERO;
+        };
+        ctx.counters.light_samples += 1;
+        let cos = sp.ns.dot(ls.wi);
+        if cos <= 0.0 || sp.ng.dot(ls.wi) <= 0.0 || ls.pdf.is_nan() || ls.pdf <= 0.0 {
+            return DVec3::ZERO;
+        }
+        if ls.l == DVec3::ZERO {
+            return DVec3::ZERO;
+        }
+        // A mesh light is geometry: its shadow ray aims at the sampled point from `origin`
+        // (`shadow_ray_to`); other lights are not occluders.
+        let (dir, tmax) = match l {
+            Light::Mesh(_) => match shadow_ray_to(at.origin, ls.point) {
+                Some(ray) => ray,
+                None => return DVec3::ZERO,
+            },
+            _ if ls.dist.is_finite() => (ls.wi, shadow_tmax(ls.dist, ls.point)),
+            _ => (ls.wi, f64::INFINITY),
+        };
+        if tmax <= 0.0 {
+            return DVec3::ZERO;
+        }
+        let base = l.base();
+        let w = &self.world;
+        let Some(vis) = shadow_ray(w, self.vis, base, (at.origin, dir, tmax), hint, ctx) else {
+            return DVec3::ZERO;
+        };
+        let pdf = pmf * ls.pdf;
+        let weight = if alone || ls.delta || !self.mis || !base.plain_shadows() {
+            1.0
+        } else {
+            power_heuristic(pdf, sp.bsdf.pdf(ls.wi))
+        };
+        // The light's inputs:diffuse and inputs:specular scale the two parts of f; one scale
+        // for a Lambertian surface or equal multipliers.
+        let contrib = if one_scale(&sp.bsdf, base) {
+            sp.bsdf.f(ls.wi) * ls.l * vis * (base.diffuse * cos * weight / pdf)
+        } else {
+            sp.bsdf.f_scaled(ls.wi, base.diffuse, base.specular) * ls.l * vis * (cos * weight / pdf)
+        };
+        if contrib.is_finite() {
+            contrib
+        } else {
+            DVec3::ZERO
+        }
+    }
+
+    /// The emission found along the BSDF sample `bs` (MIS against light sampling): analytic
+    /// lights it crosses before the first surface, the mesh light or textured emission it
+    /// hits, the lights at infinity if it escapes, added to `out`.
+    fn bsdf_sample(
+        &self,
+        sp: &SurfacePoint,
+        bs: &BsdfSample,
+        at: &At,
+        selector: Option<&LightSelector>,
+        ctx: &mut Ctx,
+        out: &mut DVec3,
+    ) {
+        let w = &self.world;
+        let lights = &w.lights.lights;
+        let wi = bs.wi;
+        let kf = at.k as f64;
+        let pmf = |li: usize| kf * selector.map_or(1.0, |s| s.pmf(&at.r, li));
+        ctx.counters.rays += 1;
+        // Either side blocks, as for shadow rays.
+        let hit = super::closest(w, at.origin, wi, 0.0, f64::INFINITY, true);
+        if w.textured_emission
+            && let Some(h) = &hit
+        {
+            // No light technique samples it: the BSDF sample's full weight.
+            let e = bs.weight * w.materials.emission(w.scene, h);
+            if e.is_finite() {
+                *out += e;
+            }
+        }
+        let t_geo = hit.map_or(f64::INFINITY, |h| h.t);
+        let mut add = |l: &Light, le: DVec3, pdf_l: f64| {
+            let base = l.base();
+            if le != DVec3::ZERO && base.plain_shadows() && base.illuminates(sp.mesh, sp.instance) {
+                let mis = power_heuristic(bs.pdf, pdf_l);
+                let contrib = if one_scale(&sp.bsdf, base) {
+                    bs.weight * le * (mis * base.diffuse)
+                } else {
+                    // The sample's weight f·cos/pdf with each part of f scaled.
+                    let f = sp.bsdf.f(wi);
+                    let scaled = sp.bsdf.f_scaled(wi, base.diffuse, base.specular);
+                    let ratio = DVec3::select(f.cmpgt(DVec3::ZERO), scaled / f, DVec3::ZERO);
+                    bs.weight * le * ratio * mis
+                };
+                if contrib.is_finite() {
+                    *out += contrib;
+                }
+            }
+        };
+        w.lights.lights_crossed(at.origin, wi, 0.0, t_geo, |li, h| {
+            let l = &lights[li];
+            if h.front && !at.alone(l) {
+                add(
+                    l,
+                    l.le(h.local, -wi, Seen::Lit),
+                    pmf(li) * l.pdf_li(&at.r, wi),
+                );
+            }
+        });
+        match hit {
+            Some(h) => {
+                // The back of a single-sided emitter emits nothing (light samples never reach
+                // it: the sampler checks the side).
+                if let Some(li) = w.lights.light_of(h.mesh, h.instance)
+                    && (!h.back || w.scene.meshes[h.mesh].double_sided)
+                {
+                    let l = &lights[li];
+                    add(
+                        l,
+                        l.le(l.base().to_local(h.p), -wi, Seen::Lit),
+                        // The density of the point it hit, as light samples from `p` reach
+                        // it (the ray left from `origin`: along `wi` from `p` it may pass the
+                        // triangle's edge).
+                        pmf(li) * l.pdf_li_triangle(&at.r, h.tri, (h.p - sp.p).normalize()),
+                    );
+                }
+            }
+            None => {
+                for &li in &w.lights.infinite {
+                    let l = &lights[li];
+                    add(l, l.le_escape(wi), pmf(li) * l.pdf_li(&at.r, wi));
+                }
+            }
+        }
+    }
+}

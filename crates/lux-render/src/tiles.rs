@@ -1,0 +1,516 @@
+//! The tile loop (pbrt-v4's image-tile integrator): the window's pixels in 16 × 16 tiles on
+//! rayon's pool, each pixel the mean of its camera samples (box filter, stratified jitter)
+//! through an [`Integrator`], into the [`Film`] with the integrator's splats, and the render's
+//! counters ([`RenderStats`]).
+//!
+//! Before a tile's samples the visibility is asked what its camera rays can meet
+//! ([`Visibility::tile`]); each worker's visibility scratch (its patch answers) goes from tile
+//! to tile. With adaptive sampling ([`AdaptiveSampling`]) a render is two passes: every pixel's
+//! `spp` samples (and, for a band of rows, those of the row beyond each side), then each
+//! pixel's extra samples, counted from its neighbours' first-pass luminances; the penumbra
+//! pilot ([`PenumbraPilot`]) sets a pixel's light samples before its first.
+//!
+//! Determinism: every random number is a function of (seed, pixel, sample, dimension)
+//! ([`crate::sampler`]), pixels are independent and splats sum in fixed point, so the image is
+//! bit-identical for any thread count and tile order.
+
+use crate::adaptive::{AdaptiveSampling, Luma, PenumbraPilot};
+use crate::camera::Camera;
+use crate::film::{Film, Splat, Splats};
+use crate::image_io::ImageRgba;
+use crate::integrator::{CameraRay, Ctx, Integrator};
+use crate::sampler::{Dim, SampleStream};
+use crate::stats::{Counters, RenderStats};
+use crate::visibility::{Scratch, Visibility};
+use crate::world::World;
+use glam::{DVec3, DVec4};
+use rayon::prelude::*;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+/// Tile side in pixels.
+pub const TILE: u32 = 16;
+
+/// What a render samples: the image's size, the pixels to render, samples and seed.
+#[derive(Clone, Copy, Debug)]
+pub struct Frame {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// The pixels to render, `[x0, y0, x1, y1)` (crop ∩ data window, maybe restricted to a band
+    /// of rows); the rest stays 0 with alpha 0.
+    pub window: [u32; 4],
+    /// The rows `[y0, y1)` of the whole frame's window (crop ∩ data window): a band's adaptive
+    /// pass reads its neighbours' first samples up to one row beyond it, within these.
+    pub frame_rows: [u32; 2],
+    /// Samples per pixel (with adaptive sampling, the least a pixel takes).
+    pub spp: u32,
+    /// Adaptive sampling ([`AdaptiveSampling::OFF`]: none).
+    pub adaptive: AdaptiveSampling,
+    /// Seed of every random number.
+    pub seed: u64,
+    /// The camera's linear exposure scale applied to every sample (UsdGeomCamera
+    /// `ComputeLinearExposureScale`; ×1 is exact).
+    pub exposure_scale: f64,
+    /// The penumbra pilot ([`PenumbraPilot`]; `samples` 1: none).
+    pub pilot: PenumbraPilot,
+}
+
+/// What a render reads: the camera, the scene, how it sees, and the integrator.
+#[derive(Clone, Copy)]
+pub struct Scene<'a, I: Integrator> {
+    /// The camera rays come from.
+    pub camera: &'a Camera,
+    /// The prepared scene.
+    pub world: World<'a>,
+    /// The visibility the integrator uses (asked for each tile's hint).
+    pub vis: &'a Visibility,
+    /// The light transport.
+    pub integrator: &'a I,
+}
+
+/// A pixel after its first `spp` samples: the mean RGBA, the mean luminance and mean squared
+/// luminance of the samples (what neighbours' adaptive counts read), and the penumbra factor
+/// its extra samples keep. Only a tile's worth exists at a time: the RGBA goes to the film,
+/// the luminances to a [`Luma`] grid, the factor to its own grid when the pilot can run.
+#[derive(Clone, Copy, Debug, Default)]
+struct FirstPass {
+    rgba: [f32; 4],
+    y: f32,
+    y2: f32,
+    factor: u32,
+}
+
+/// Sums over a run of a pixel's camera samples: RGB radiance and alpha, luminance and its
+/// square.
+#[derive(Clone, Copy, Debug, Default)]
+struct Sums {
+    rgba: DVec4,
+    y: f64,
+    y2: f64,
+}
+
+/// The render's counters, summed over the workers.
+#[derive(Default)]
+struct Shared {
+    rays: AtomicU64,
+    shadow: AtomicU64,
+    light_samples: AtomicU64,
+    non_finite: AtomicU64,
+    extra: AtomicU64,
+}
+
+impl Shared {
+    fn add(&self, c: &Counters, extra: u64) {
+        self.rays.fetch_add(c.rays, Ordering::Relaxed);
+        self.shadow.fetch_add(c.shadow, Ordering::Relaxed);
+        self.light_samples
+            .fetch_add(c.light_samples, Ordering::Relaxed);
+        self.non_finite.fetch_add(c.non_finite, Ordering::Relaxed);
+        self.extra.fetch_add(extra, Ordering::Relaxed);
+    }
+}
+
+/// A pixel's RGBA as stored in the film.
+#[inline]
+fn to_f32(v: DVec4) -> [f32; 4] {
+    [v.x as f32, v.y as f32, v.z as f32, v.w as f32]
+}
+
+/// Puts a finished tile's results (row-major) into the pass's buffers: [`Tiles::run`].
+type StoreTile<'a, D, T> = dyn Fn(&mut D, [u32; 4], &[T]) + Sync + 'a;
+
+/// One pass over a rectangle of pixels in tiles: what every tile of a pass shares.
+struct Tiles<'r, 'a, I: Integrator> {
+    scene: &'r Scene<'a, I>,
+    shared: &'r Shared,
+    /// Each worker's visibility scratch (`memo[rayon::current_thread_index()]`), handed from
+    /// tile to tile — each patch answer is a function of its key alone (`visibility/patches.rs`)
+    /// — so that neighbouring tiles share the cells on their edges, and the passes theirs.
+    memo: &'r [Mutex<Scratch>],
+    /// Where splats go, and the exposure they take ([`Frame::exposure_scale`]).
+    splats: Option<&'r Splats>,
+    exposure: f64,
+    /// Splats dropped (outside the image or not finite).
+    dropped: &'r AtomicU64,
+}
+
+impl<I: Integrator> Tiles<'_, '_, I> {
+    /// Runs `f` over every pixel of `rect` (`[x0, y0, x1, y1)`) in 16 × 16 tiles on rayon's
+    /// pool and hands each finished tile's results (row-major) with its rectangle to `store`,
+    /// which puts them into `dest` (one tile at a time). `done` is called with each finished
+    /// tile's rectangle, after its counters (and the extra samples `f` reports) are added up
+    /// and its splats added to the film. A finished tile is stored at once, so no frame-sized
+    /// buffer is made besides `dest`.
+    fn run<T: Copy + Send, D: Send, F: Fn(u32, u32, &mut Ctx, &mut u64) -> T + Sync>(
+        &self,
+        rect: [u32; 4],
+        f: &F,
+        done: &(dyn Fn([u32; 4]) + Sync),
+        dest: &mut D,
+        store: &StoreTile<'_, D, T>,
+    ) {
+        let [x0, y0, x1, y1] = rect;
+        let mut tiles = Vec::new();
+        let mut ty = y0;
+        while ty < y1 {
+            let mut tx = x0;
+            while tx < x1 {
+                tiles.push([tx, ty, (tx + TILE).min(x1), (ty + TILE).min(y1)]);
+                tx += TILE;
+            }
+            ty += TILE;
+        }
+        let dest = Mutex::new(dest);
+        // One tile per job: the adaptive pass's work sits in a few tiles (edges, penumbrae), and
+        // rayon's default splitting leaves whole runs of them to one thread.
+        tiles.par_iter().with_max_len(1).for_each(|&tile| {
+            let px = self.tile(tile, f);
+            {
+                // (a poisoned lock only means another tile's job panicked; its panic goes on)
+                let mut d = dest.lock().unwrap_or_else(|e| e.into_inner());
+                store(&mut d, tile, &px);
+            }
+            done(tile);
+        });
+    }
+
+    /// `f` over the pixels of one tile with the worker's scratch and the tile's visibility
+    /// hint; each pixel's splats go to the film, the tile's counters and extra samples to the
+    /// render's, and the scratch back to the worker.
+    fn tile<T, F: Fn(u32, u32, &mut Ctx, &mut u64) -> T>(
+        &self,
+        [tx0, ty0, tx1, ty1]: [u32; 4],
+        f: &F,
+    ) -> Vec<T> {
+        let kept = rayon::current_thread_index().and_then(|i| self.memo.get(i));
+        let mut vis = kept.map_or_else(Scratch::default, |m| {
+            std::mem::take(&mut *m.lock().unwrap_or_else(|e| e.into_inner()))
+        });
+        let s = self.scene;
+        vis.tile = s.vis.tile(&s.world, s.camera, [tx0, ty0, tx1, ty1]);
+        let mut ctx = Ctx {
+            vis,
+            ..Ctx::default()
+        };
+        let mut extra = 0;
+        let mut px = Vec::with_capacity(((tx1 - tx0) * (ty1 - ty0)) as usize);
+        for y in ty0..ty1 {
+            for x in tx0..tx1 {
+                px.push(f(x, y, &mut ctx, &mut extra));
+                if !ctx.splats.is_empty() {
+                    self.flush(&mut ctx.splats);
+                }
+            }
+        }
+        self.shared.add(&ctx.counters, extra);
+        if let Some(m) = kept {
+            *m.lock().unwrap_or_else(|e| e.into_inner()) = std::mem::take(&mut ctx.vis);
+        }
+        px
+    }
+}
+
+impl<I: Integrator> Tiles<'_, '_, I> {
+    /// Adds `splats` (exposed) to the film's and empties it; those it drops are counted.
+    fn flush(&self, splats: &mut Vec<Splat>) {
+        if let Some(s) = self.splats {
+            let mut dropped = 0;
+            for mut sp in splats.drain(..) {
+                sp.rgb *= self.exposure;
+                dropped += !s.add(&sp) as u64;
+            }
+            self.dropped.fetch_add(dropped, Ordering::Relaxed);
+        }
+        splats.clear();
+    }
+}
+
+/// Copies the row-major results `px` of tile `[tx0, ty0, tx1, ty1]` into the film.
+fn copy_tile(film: &mut Film, [tx0, ty0, tx1, _]: [u32; 4], px: &[[f32; 4]]) {
+    let tw = (tx1 - tx0) as usize;
+    for (row, chunk) in px.chunks(tw).enumerate() {
+        film.row_mut([tx0, ty0 + row as u32], tw)
+            .copy_from_slice(chunk);
+    }
+}
+
+impl Frame {
+    /// Renders every pixel of the window of `scene`. `progress` is called (from worker
+    /// threads) with the number of pixels finished by each tile of each pass
+    /// ([`Frame::passes`] passes in all). A splatting integrator
+    /// ([`Integrator::splats`]) takes `spp` samples a pixel, no adaptive or penumbra ones.
+    pub fn render<I: Integrator>(
+        &self,
+        scene: &Scene<'_, I>,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> (ImageRgba, RenderStats) {
+        let [x0, y0, x1, y1] = self.window;
+        let start = Instant::now();
+        let shared = Shared::default();
+        let splats = scene
+            .integrator
+            .splats()
+            .then(|| Splats::new(self.width, self.height));
+        let mut film = Film::new(self.width, self.height);
+        let memo: Vec<Mutex<Scratch>> = (0..rayon::current_num_threads())
+            .map(|_| Mutex::default())
+            .collect();
+        let dropped = AtomicU64::new(0);
+        let tiles = Tiles {
+            scene,
+            shared: &shared,
+            memo: &memo,
+            splats: splats.as_ref(),
+            exposure: self.exposure_scale,
+            dropped: &dropped,
+        };
+        let frame = self.for_integrator(scene.integrator);
+        match Some(frame.adaptive).filter(|a| a.is_on() && x0 < x1 && y0 < y1) {
+            None => {
+                tiles.run(
+                    self.window,
+                    &|x, y, c, _| to_f32(frame.pixel(scene, x, y, c, &mut |_| {})),
+                    &|[a, b, c, d]| progress((c - a) as u64 * (d - b) as u64),
+                    &mut film,
+                    &|film: &mut Film, rect, px| copy_tile(film, rect, px),
+                );
+            }
+            Some(adaptive) => frame.adaptive_passes(&tiles, adaptive, &mut film, progress),
+        }
+        let npx = (x1 - x0) as u64 * (y1 - y0) as u64;
+        let extra = shared.extra.load(Ordering::Relaxed);
+        let samples = npx * self.spp as u64 + extra;
+        let stats = RenderStats {
+            pixels: npx,
+            samples,
+            adaptive_samples: extra,
+            rays: shared.rays.load(Ordering::Relaxed),
+            shadow_rays: shared.shadow.load(Ordering::Relaxed),
+            light_samples: shared.light_samples.load(Ordering::Relaxed),
+            non_finite_samples: shared.non_finite.load(Ordering::Relaxed)
+                + dropped.load(Ordering::Relaxed),
+            seconds: start.elapsed().as_secs_f64(),
+        };
+        (film.finish(self.window, splats.as_ref(), samples), stats)
+    }
+
+    /// The frame as `integrator` renders it: a splatting one takes neither adaptive nor
+    /// penumbra samples (every camera sample one particle of the same estimator).
+    fn for_integrator(&self, integrator: &impl Integrator) -> Frame {
+        if integrator.splats() {
+            Frame {
+                adaptive: AdaptiveSampling::OFF,
+                pilot: PenumbraPilot { samples: 1 },
+                ..*self
+            }
+        } else {
+            *self
+        }
+    }
+
+    /// Adaptive sampling's two passes into `film` ([`AdaptiveSampling`]).
+    fn adaptive_passes<I: Integrator>(
+        &self,
+        tiles: &Tiles<'_, '_, I>,
+        adaptive: AdaptiveSampling,
+        film: &mut Film,
+        progress: &(dyn Fn(u64) + Sync),
+    ) {
+        let scene = tiles.scene;
+        let [x0, y0, x1, y1] = self.window;
+        let rw = (x1 - x0) as usize;
+        // First pass: the window's rows and one row beyond each side (within the frame's
+        // window), so a band reads the neighbours the whole frame reads. The window's pixels
+        // take their first-pass means, which the second pass updates where it adds samples;
+        // every row's luminances go to `luma`, the penumbra factors (when the pilot can run)
+        // to `factors`.
+        let hy0 = y0.saturating_sub(1).max(self.frame_rows[0]).min(y0);
+        let hy1 = (y1 + 1).min(self.frame_rows[1]).max(y1);
+        let rows = (hy1 - hy0) as usize;
+        let mut luma: Vec<Luma> = vec![[0.0; 2]; rw * rows];
+        let mut factors: Vec<u32> = if self.pilot.runs(self.spp) {
+            vec![1; rw * rows]
+        } else {
+            Vec::new()
+        };
+        tiles.run(
+            [x0, hy0, x1, hy1],
+            &|x, y, c, _| self.first_pass(scene, x, y, c),
+            &|[a, b, c, d]| {
+                let rows = d.min(y1).saturating_sub(b.max(y0));
+                progress((c - a) as u64 * rows as u64)
+            },
+            &mut (&mut *film, &mut luma, &mut factors),
+            &|(film, luma, factors), [tx0, ty0, tx1, _], px: &[FirstPass]| {
+                let tw = (tx1 - tx0) as usize;
+                for (row, first) in px.chunks(tw).enumerate() {
+                    let y = ty0 + row as u32;
+                    let at = (y - hy0) as usize * rw + (tx0 - x0) as usize;
+                    for (l, p) in luma[at..at + tw].iter_mut().zip(first) {
+                        *l = [p.y, p.y2];
+                    }
+                    if !factors.is_empty() {
+                        for (f, p) in factors[at..at + tw].iter_mut().zip(first) {
+                            *f = p.factor;
+                        }
+                    }
+                    if (y0..y1).contains(&y) {
+                        for (q, p) in film.row_mut([tx0, y], tw).iter_mut().zip(first) {
+                            *q = p.rgba;
+                        }
+                    }
+                }
+            },
+        );
+        // Second pass: each pixel's extra samples, counted from its neighbours' pooled
+        // luminance statistics; a pixel that takes some becomes the mean of all its samples.
+        tiles.run(
+            self.window,
+            &|x, y, c, extra| {
+                let (i, j) = ((x - x0) as usize, (y - hy0) as usize);
+                let n = adaptive.samples_at(self.spp, &luma, [rw, rows], [i, j]);
+                if n <= self.spp {
+                    return None;
+                }
+                let ne = n - self.spp;
+                *extra += ne as u64;
+                let factor = factors.get(j * rw + i).copied().unwrap_or(1);
+                let salt = AdaptiveSampling::SALT;
+                let sums = self.samples(scene, [x, y], [ne, factor], salt, c, &mut |_| {});
+                Some((n, sums.rgba))
+            },
+            &|[a, b, c, d]| progress((c - a) as u64 * (d - b) as u64),
+            film,
+            &|film, [tx0, ty0, tx1, _], px: &[Option<(u32, DVec4)>]| {
+                let tw = (tx1 - tx0) as usize;
+                for (row, second) in px.chunks(tw).enumerate() {
+                    let y = ty0 + row as u32;
+                    for (q, s) in film.row_mut([tx0, y], tw).iter_mut().zip(second) {
+                        if let Some((n, sums)) = *s {
+                            let base = DVec4::from_array(q.map(f64::from)) * self.spp as f64;
+                            *q = to_f32((base + sums) / n as f64);
+                        }
+                    }
+                }
+            },
+        );
+    }
+
+    /// Passes over the window a render makes: 2 with adaptive sampling that can add samples
+    /// (`max_factor` > 1), else 1. Progress reports every pixel once per pass.
+    pub fn passes(&self) -> u32 {
+        if self.adaptive.is_on() { 2 } else { 1 }
+    }
+
+    /// A pixel's first `spp` samples (adaptive sampling's first pass).
+    fn first_pass<I: Integrator>(
+        &self,
+        scene: &Scene<'_, I>,
+        x: u32,
+        y: u32,
+        c: &mut Ctx,
+    ) -> FirstPass {
+        let (factor, s) = self.first_samples(scene, [x, y], c, &mut |_| {});
+        let k = 1.0 / self.spp as f64;
+        FirstPass {
+            rgba: to_f32(s.rgba / self.spp as f64),
+            y: (s.y * k) as f32,
+            y2: (s.y2 * k) as f32,
+            factor,
+        }
+    }
+
+    /// The mean of pixel `(x, y)`'s `spp` samples, RGB radiance and alpha; `each` sees every
+    /// sample's (exposed, finite) radiance. (Without the adaptive extra samples, and without
+    /// splats from other pixels' samples.)
+    #[inline]
+    pub fn pixel<I: Integrator>(
+        &self,
+        scene: &Scene<'_, I>,
+        x: u32,
+        y: u32,
+        c: &mut Ctx,
+        each: &mut dyn FnMut(DVec3),
+    ) -> DVec4 {
+        let (_, s) = self.first_samples(scene, [x, y], c, &mut |v| each(v));
+        s.rgba / self.spp as f64
+    }
+
+    /// The penumbra factor of pixel `[x, y]` and the sums over its `spp` samples.
+    #[inline]
+    fn first_samples<I: Integrator>(
+        &self,
+        scene: &Scene<'_, I>,
+        [x, y]: [u32; 2],
+        c: &mut Ctx,
+        each: &mut impl FnMut(DVec3),
+    ) -> (u32, Sums) {
+        let factor = self.penumbra_factor(scene, x, y, c);
+        let salt = PenumbraPilot::SALT;
+        let s = self.samples(scene, [x, y], [self.spp, factor], salt, c, each);
+        (factor, s)
+    }
+
+    /// Light samples per light for pixel `(x, y)`'s samples, as a factor: the penumbra pilot's
+    /// answer ([`PenumbraPilot`]), 1 when it does not run.
+    fn penumbra_factor<I: Integrator>(
+        &self,
+        scene: &Scene<'_, I>,
+        x: u32,
+        y: u32,
+        c: &mut Ctx,
+    ) -> u32 {
+        if !self.pilot.runs(self.spp) {
+            return 1;
+        }
+        let index = y as u64 * self.width as u64 + x as u64;
+        let blocked0 = c.counters.blocked;
+        let st = SampleStream::new(self.seed, index, 0, 1)
+            .pass(PenumbraPilot::PILOT_SALT, PenumbraPilot::LIGHT_SAMPLES);
+        let j = st.get2(Dim::Camera);
+        let (o, d, tmin, tmax) = scene.camera.ray(x as f64 + j[0], y as f64 + j[1]);
+        scene.integrator.li(&CameraRay { o, d, tmin, tmax }, &st, c);
+        self.pilot.factor(c.counters.blocked - blocked0)
+    }
+
+    /// Sums over `n` camera samples of pixel `[x, y]` taking `factor` × the integrator's light
+    /// samples per light: the pixel's stratified set of `n` points, rescrambled under `salt`
+    /// when `factor > 1` or for adaptive extra samples (`salt` = [`AdaptiveSampling::SALT`]).
+    #[inline]
+    fn samples<I: Integrator>(
+        &self,
+        scene: &Scene<'_, I>,
+        [x, y]: [u32; 2],
+        [n, factor]: [u32; 2],
+        salt: u64,
+        c: &mut Ctx,
+        each: &mut impl FnMut(DVec3),
+    ) -> Sums {
+        let mut sums = Sums::default();
+        let index = y as u64 * self.width as u64 + x as u64;
+        for s in 0..n {
+            let mut st = SampleStream::new(self.seed, index, s, n);
+            if factor > 1 || salt == AdaptiveSampling::SALT {
+                st = st.pass(salt, factor);
+            }
+            let j = st.get2(Dim::Camera);
+            let (o, d, tmin, tmax) = scene.camera.ray(x as f64 + j[0], y as f64 + j[1]);
+            let (rgb, a) = scene.integrator.li(&CameraRay { o, d, tmin, tmax }, &st, c);
+            let rgb = if rgb.is_finite() {
+                rgb * self.exposure_scale
+            } else {
+                c.counters.non_finite += 1;
+                DVec3::ZERO
+            };
+            each(rgb);
+            let l = lux_math::luminance(rgb);
+            sums.rgba += rgb.extend(a);
+            sums.y += l;
+            sums.y2 += l * l;
+        }
+        sums
+    }
+}
