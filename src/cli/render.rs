@@ -126,7 +126,8 @@ pub struct RenderArgs {
     /// Sampling techniques.
     #[arg(long, value_enum, default_value_t = SamplingArg::Lux)]
     pub sampling: SamplingArg,
-    /// Light transport: direct or path (default: path in the spec profile, direct in hdembree, whose reference renderer
+    /// Light transport: direct, path or light (particles from the lights, splatted to the
+    /// camera) (default: path in the spec profile, direct in hdembree, whose reference renderer
     /// lights surfaces directly).
     #[arg(long, value_parser = parse_integrator)]
     pub integrator: Option<IntegratorKind>,
@@ -453,6 +454,9 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let transport = match (options.integrator, options.sampling) {
         (IntegratorKind::Path, SamplingMode::Lux) => {
             format!("path tracing (depth {})", options.max_depth)
+        }
+        (IntegratorKind::Light, _) => {
+            format!("light tracing (depth {})", options.max_depth)
         }
         _ => "direct lighting".to_owned(),
     };

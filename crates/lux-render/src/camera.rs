@@ -13,7 +13,7 @@
 //! Pixel (x, y) covers `[x, x+1) × [y, y+1)` with y = 0 the **top** row; a sample at continuous
 //! coordinates (x + jx, y + jy) maps linearly onto the window (box pixel filter).
 
-use glam::{DMat4, DVec3, DVec4};
+use glam::{DMat3, DMat4, DVec3, DVec4};
 use lux_usd::Projection;
 
 /// The orthographic aperture unit of GfCamera: apertures are in tenths of a scene unit.
@@ -29,6 +29,8 @@ pub struct Camera {
     /// The pixels to render, `[x0, y0, x1, y1)` (from `dataWindowNDC`; y from the top).
     pub pixel_window: [u32; 4],
     cam_to_world: DMat4,
+    /// Its inverse (world → camera space), for [`Camera::project`].
+    world_to_cam: DMat4,
     /// The perspective camera's centre of projection in the world (the camera-space origin
     /// mapped by `cam_to_world`, as for every ray).
     eye: DVec3,
@@ -137,6 +139,7 @@ impl Camera {
             height: h,
             pixel_window: pixel_window(w, h, data_window_ndc),
             cam_to_world: m,
+            world_to_cam: m.inverse(),
             eye: m.transform_point3(DVec3::ZERO),
             ortho,
             window: [l, r, b, t],
@@ -166,6 +169,50 @@ impl Camera {
         // rigid camera transform; in general the ratio |d_cam.z| / |M d_cam|.
         let depth_per_t = 1.0 / len;
         (o, d, self.near / depth_per_t, self.far / depth_per_t)
+    }
+}
+
+impl Camera {
+    /// Where the world point `p` appears on the image, if it does: inside the film window and
+    /// within the clipping range ([`CameraPoint`]; the inverse of [`Camera::ray`]).
+    pub fn project(&self, p: DVec3) -> Option<CameraPoint> {
+        let q = self.world_to_cam.transform_point3(p);
+        let [l, r, b, t] = self.window;
+        let a = DMat3::from_mat4(self.cam_to_world);
+        let det = a.determinant().abs();
+        let pixel_area = (r - l) / self.width as f64 * ((t - b) / self.height as f64);
+        let (film, depth) = if self.ortho {
+            (DVec3::new(q.x, q.y, 0.0), -q.z)
+        } else {
+            (DVec3::new(q.x / -q.z, q.y / -q.z, -1.0), -q.z)
+        };
+        if !(depth > 0.0 && depth >= self.near && depth <= self.far) {
+            return None;
+        }
+        let px = (film.x - l) / (r - l) * self.width as f64;
+        let py = (t - film.y) / (t - b) * self.height as f64;
+        let inside = |v: f64, n: u32| v >= 0.0 && v < n as f64;
+        if !(inside(px, self.width) && inside(py, self.height)) {
+            return None;
+        }
+        let (o, d, importance) = if self.ortho {
+            let dz = a * DVec3::NEG_Z;
+            let o = self.cam_to_world.transform_point3(film);
+            (o, dz.normalize(), dz.length() / (det * pixel_area))
+        } else {
+            let dist = (p - self.eye).length();
+            let imp = dist / (depth * depth * depth * det * pixel_area);
+            (self.eye, (p - self.eye) / dist, imp)
+        };
+        let t = (p - o).length();
+        let point = CameraPoint {
+            raster: [px, py],
+            ray: (o, d),
+            t,
+            near_t: self.near * t / depth,
+            importance,
+        };
+        (importance.is_finite() && point.t.is_finite()).then_some(point)
     }
 }
 
@@ -204,6 +251,27 @@ impl Camera {
             centre: ray(centre),
         })
     }
+}
+
+/// Where a world point appears on the image ([`Camera::project`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraPoint {
+    /// Continuous pixel coordinates `(x, y)` (y down from the top edge), inside the image.
+    pub raster: [f64; 2],
+    /// The camera ray through it: origin and unit direction (as [`Camera::ray`] makes them).
+    pub ray: (DVec3, DVec3),
+    /// Distance from the ray's origin to the point.
+    pub t: f64,
+    /// Where the ray's clipping range starts along it (`tmin` of [`Camera::ray`]).
+    pub near_t: f64,
+    /// The camera's importance per unit area at the point, per unit of `|n·ω|` (`n` the
+    /// surface's unit normal, `ω` the ray direction): what a radiance `L` leaving a surface
+    /// element `dA` towards the camera adds to the pixel, `L·|n·ω|·importance·dA`, with pixels
+    /// the mean over their area of the radiance their rays bring (a box filter). Perspective:
+    /// `d / (z³·|det A|·a)` for the point at distance `d` and depth `z` (camera space),
+    /// `A` the camera transform's linear part and `a` the film area of a pixel at unit
+    /// depth; orthographic: `|A·ẑ| / (|det A|·a)`.
+    pub importance: f64,
 }
 
 /// The rays bounding a rectangle of pixels ([`Camera::rect_rays`]).
@@ -348,5 +416,92 @@ pub(crate) mod tests {
         let mut c = luxtest_camera();
         c.camera_to_world = DMat4::ZERO;
         assert!(Camera::new(&c, [8, 8], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).is_err());
+    }
+
+    /// `project` inverts `ray`: the point a pixel's ray reaches projects back to that pixel,
+    /// with the ray's origin and direction, for perspective and orthographic cameras under a
+    /// rigid and a non-uniformly scaled transform; points behind, outside or beyond the
+    /// clipping range do not project.
+    #[test]
+    fn project_inverts_ray() {
+        for ortho in [false, true] {
+            for scale in [DVec3::ONE, DVec3::new(1.0, 2.0, 0.5)] {
+                let mut c = luxtest_camera();
+                c.camera_to_world *= DMat4::from_scale(scale);
+                if ortho {
+                    c.projection = Projection::Orthographic;
+                    c.horizontal_aperture = 80.0;
+                    c.vertical_aperture = 60.0;
+                }
+                let cam = Camera::new(&c, [64, 48], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).unwrap();
+                for (px, py) in [(0.5, 0.5), (13.25, 40.75), (63.9, 0.1), (32.0, 24.0)] {
+                    let (o, d, tmin, _) = cam.ray(px, py);
+                    let p = o + d * (tmin + 7.5);
+                    let q = cam.project(p).expect("in view");
+                    assert!((q.raster[0] - px).abs() < 1e-9 && (q.raster[1] - py).abs() < 1e-9);
+                    assert!((q.ray.0 - o).length() < 1e-9 && (q.ray.1 - d).length() < 1e-12);
+                    assert!((q.t - (tmin + 7.5)).abs() < 1e-9);
+                    assert!((q.near_t - tmin).abs() < 1e-9 * tmin.max(1.0));
+                }
+                let (o, d, tmin, _) = cam.ray(10.0, 10.0);
+                assert!(cam.project(o - d * 5.0).is_none(), "behind");
+                assert!(
+                    cam.project(o + d * tmin * 0.5).is_none(),
+                    "before the near plane"
+                );
+                let side = cam.cam_to_world.transform_vector3(DVec3::X);
+                assert!(cam.project(o + d * 10.0 + side * 1e4).is_none(), "outside");
+            }
+        }
+    }
+
+    /// The importance integrates to one pixel: a surface of unit radiance filling a pixel's
+    /// view, tilted, adds `∫ |n·ω|·importance dA = 1` over the pixel's footprint (a midpoint
+    /// sum over the footprint's parametrisation by the pixel's area), for perspective and
+    /// orthographic cameras, rigid and scaled.
+    #[test]
+    fn importance_integrates_to_one_pixel() {
+        for ortho in [false, true] {
+            for scale in [DVec3::ONE, DVec3::new(1.0, 2.0, 0.5)] {
+                let mut c = luxtest_camera();
+                c.camera_to_world *= DMat4::from_scale(scale);
+                if ortho {
+                    c.projection = Projection::Orthographic;
+                    c.horizontal_aperture = 80.0;
+                    c.vertical_aperture = 60.0;
+                }
+                let cam = Camera::new(&c, [64, 48], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).unwrap();
+                // A plane through (0.3, 0, 0.2) tilted away from the camera's axis.
+                let n = DVec3::new(0.3, 1.0, -0.2).normalize();
+                let c0 = DVec3::new(0.3, 0.0, 0.2);
+                let hit = |px: f64, py: f64| {
+                    let (o, d, _, _) = cam.ray(px, py);
+                    o + d * ((c0 - o).dot(n) / d.dot(n))
+                };
+                for (x, y) in [(20u32, 30u32), (45, 5)] {
+                    let k = 64;
+                    let h = 1.0 / k as f64;
+                    let mut sum = 0.0;
+                    for j in 0..k {
+                        for i in 0..k {
+                            let (u, v) = (
+                                x as f64 + (i as f64 + 0.5) * h,
+                                y as f64 + (j as f64 + 0.5) * h,
+                            );
+                            let p = hit(u, v);
+                            let du = (hit(u + 1e-4, v) - hit(u - 1e-4, v)) / 2e-4;
+                            let dv = (hit(u, v + 1e-4) - hit(u, v - 1e-4)) / 2e-4;
+                            let q = cam.project(p).unwrap();
+                            sum +=
+                                n.dot(q.ray.1).abs() * q.importance * du.cross(dv).length() * h * h;
+                        }
+                    }
+                    assert!(
+                        (sum - 1.0).abs() < 1e-5,
+                        "ortho {ortho}, scale {scale}: {sum}"
+                    );
+                }
+            }
+        }
     }
 }

@@ -129,7 +129,9 @@ impl<'s> Renderer<'s> {
 
     /// Renders only rows `y0..y1` of the window (a band of the frame, for splitting it over
     /// processes); pixels keep the seeds of the whole frame, so a band is bit-identical to the
-    /// same rows of a full render. An empty intersection renders nothing.
+    /// same rows of a full render. An empty intersection renders nothing. (A splatting
+    /// integrator, the light tracer, traces the whole frame's particles for each band and
+    /// keeps the band's rows: the same bits, none of the time saved.)
     pub fn restrict_rows(&mut self, [y0, y1]: [u32; 2]) {
         let w = &mut self.frame.window;
         w[1] = w[1].max(y0);

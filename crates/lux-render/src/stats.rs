@@ -6,7 +6,8 @@
 pub struct RenderStats {
     /// Pixels rendered.
     pub pixels: u64,
-    /// Camera samples (pixels × spp, plus the adaptive extra samples).
+    /// Camera samples traced (pixels × spp, plus the adaptive extra samples; a light tracer's
+    /// band traces the whole frame's).
     pub samples: u64,
     /// Adaptive extra samples among them (`crate::adaptive`).
     pub adaptive_samples: u64,

@@ -228,12 +228,15 @@ impl<I: Integrator> Tiles<'_, '_, I> {
     }
 }
 
-/// Copies the row-major results `px` of tile `[tx0, ty0, tx1, ty1]` into the film.
-fn copy_tile(film: &mut Film, [tx0, ty0, tx1, _]: [u32; 4], px: &[[f32; 4]]) {
+/// Copies the row-major results `px` of tile `[tx0, ty0, tx1, ty1]` into the film, the rows
+/// in `[y0, y1)` only.
+fn copy_rows(film: &mut Film, [tx0, ty0, tx1, _]: [u32; 4], px: &[[f32; 4]], [y0, y1]: [u32; 2]) {
     let tw = (tx1 - tx0) as usize;
     for (row, chunk) in px.chunks(tw).enumerate() {
-        film.row_mut([tx0, ty0 + row as u32], tw)
-            .copy_from_slice(chunk);
+        let y = ty0 + row as u32;
+        if (y0..y1).contains(&y) {
+            film.row_mut([tx0, y], tw).copy_from_slice(chunk);
+        }
     }
 }
 
@@ -268,21 +271,36 @@ impl Frame {
             dropped: &dropped,
         };
         let frame = self.for_integrator(scene.integrator);
+        // A splatting integrator's band traces the particles of the whole frame's rows (a
+        // particle may land anywhere), keeping its own rows: the same bits as the frame's.
+        let traced = match splats {
+            Some(_) if y0 < y1 => [
+                x0,
+                self.frame_rows[0].min(y0),
+                x1,
+                self.frame_rows[1].max(y1),
+            ],
+            _ => self.window,
+        };
         match Some(frame.adaptive).filter(|a| a.is_on() && x0 < x1 && y0 < y1) {
             None => {
                 tiles.run(
-                    self.window,
+                    traced,
                     &|x, y, c, _| to_f32(frame.pixel(scene, x, y, c, &mut |_| {})),
-                    &|[a, b, c, d]| progress((c - a) as u64 * (d - b) as u64),
+                    &|[a, b, c, d]| {
+                        let rows = d.min(y1).saturating_sub(b.max(y0));
+                        progress((c - a) as u64 * rows as u64)
+                    },
                     &mut film,
-                    &|film: &mut Film, rect, px| copy_tile(film, rect, px),
+                    &|film: &mut Film, rect, px| copy_rows(film, rect, px, [y0, y1]),
                 );
             }
             Some(adaptive) => frame.adaptive_passes(&tiles, adaptive, &mut film, progress),
         }
         let npx = (x1 - x0) as u64 * (y1 - y0) as u64;
         let extra = shared.extra.load(Ordering::Relaxed);
-        let samples = npx * self.spp as u64 + extra;
+        let traced_px = (traced[2] - traced[0]) as u64 * (traced[3] - traced[1]) as u64;
+        let samples = traced_px * self.spp as u64 + extra;
         let stats = RenderStats {
             pixels: npx,
             samples,

@@ -31,6 +31,19 @@ struct Triangle {
     area: f64,
 }
 
+/// A point sampled on a mesh light's surface ([`MeshLight::sample_area`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AreaSample {
+    /// The point (world space).
+    pub point: DVec3,
+    /// Unit normal of the triangle's front side.
+    pub normal: DVec3,
+    /// Density per unit area.
+    pub pdf: f64,
+    /// The triangle it lies on.
+    pub triangle: usize,
+}
+
 /// A triangle mesh light in **world** space (the renderer applies the prim transform to the
 /// points; affine maps keep triangles triangles, so densities stay exact).
 #[derive(Clone, Debug)]
@@ -276,6 +289,34 @@ impl MeshLight {
             dist * dist / (cos * t.area)
         };
         pdf * self.table.pmf(i)
+    }
+
+    /// Whether both sides of every triangle emit (UsdGeom `doubleSided`).
+    #[inline]
+    pub fn two_sided(&self) -> bool {
+        self.two_sided
+    }
+
+    /// A point on the light's surface for emission sampling (pbrt-v4's `SampleLe` position):
+    /// a triangle chosen with the selection weights by `u[0]` (its leftover bits reused), then a
+    /// point uniform on it. The density is per unit area, `pmf(i) / area(i)`; the normal is the
+    /// front side's (`(v1 − v0) × (v2 − v0)`, unit). `None` for a degenerate triangle.
+    #[inline]
+    pub fn sample_area(&self, u: [f64; 2]) -> Option<AreaSample> {
+        let (i, pmf, u0) = self.table.sample_remap(u[0]);
+        let t = &self.tris[i];
+        if t.area.is_nan() || t.area <= 0.0 {
+            return None;
+        }
+        let s = u0.sqrt();
+        let (b0, b1) = (1.0 - s, u[1] * s);
+        let point = b0 * t.v[0] + b1 * t.v[1] + (1.0 - b0 - b1) * t.v[2];
+        Some(AreaSample {
+            point,
+            normal: t.n / (2.0 * t.area),
+            pdf: pmf / t.area,
+            triangle: i,
+        })
     }
 
     /// Total density of direction `wi` over all triangles it crosses (O(triangles); for tests and

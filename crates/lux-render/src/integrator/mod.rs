@@ -13,18 +13,21 @@
 //! | `trace.rs` | rays through partly transparent surfaces |
 //! | `direct.rs` | [`DirectIntegrator`]: next-event estimation at the first surface |
 //! | `path.rs` | [`PathIntegrator`]: next-event estimation at every vertex of a BSDF-sampled path |
-//! //!
+//! | `light_tracer.rs` | [`LightTracer`]: particles from the lights, splatted to the camera |
+//!
 //! Adding an integrator: a file here with a type that has `new(&Setup) -> Self` and implements
 //! [`Integrator`], and one line in the `integrators!` list below.
 
 mod camera_vertex;
 mod direct;
+mod light_tracer;
 mod nee;
 mod path;
 mod shadow;
 mod trace;
 
 pub use direct::DirectIntegrator;
+pub use light_tracer::LightTracer;
 pub use path::{PathIntegrator, ROULETTE_DEPTH};
 pub use shadow::{first_shadow_occluder, shadow_ray};
 pub use trace::closest;
@@ -193,6 +196,8 @@ integrators! {
     Direct = "direct" => DirectIntegrator,
     /// Path tracing: next-event estimation at every vertex of a BSDF-sampled path.
     Path = "path" => PathIntegrator,
+    /// Light tracing: particles from the lights, splatted to the camera at every vertex.
+    Light = "light" => LightTracer,
 }
 
 impl IntegratorKind {
@@ -226,6 +231,6 @@ mod tests {
             assert_eq!(IntegratorKind::from_name(k.name()), Some(k));
         }
         assert_eq!(IntegratorKind::from_name("bdpt"), None);
-        assert_eq!(IntegratorKind::ALL.len(), 2);
+        assert_eq!(IntegratorKind::ALL.len(), 3);
     }
 }

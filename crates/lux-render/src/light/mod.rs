@@ -52,6 +52,7 @@ mod cylinder;
 mod disk;
 mod distant;
 mod dome;
+mod emit;
 mod linking;
 mod load;
 mod mesh;
@@ -64,6 +65,7 @@ pub use cylinder::CylinderLight;
 pub use disk::DiskLight;
 pub use distant::DistantLight;
 pub use dome::DomeLight;
+pub use emit::LeSample;
 pub use linking::{GeomSet, LightLinks, MAX_PASS_THROUGH};
 pub use mesh::MeshLight;
 pub use rect::RectLight;
@@ -361,6 +363,22 @@ impl LightTexture {
         };
         DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64)
     }
+}
+
+/// A point sampled on an area light's surface for emission sampling (each kind's
+/// `sample_area`; [`Light::sample_le`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct AreaPoint {
+    /// The point in the light's local space (what [`Light::le`] reads).
+    pub local: DVec3,
+    /// The point in the world.
+    pub p: DVec3,
+    /// Unit world normal of the emitting side.
+    pub n: DVec3,
+    /// Density per unit world area.
+    pub pdf: f64,
+    /// Both sides emit (a `doubleSided` mesh light).
+    pub two_sided: bool,
 }
 
 /// Any light ready to render (the closed set of UsdLux light kinds lux renders).
