@@ -484,6 +484,11 @@ impl Frame {
         if !self.pilot.runs(self.spp) {
             return 1;
         }
+        if c.vis.tile.is_empty() {
+            // (its ray meets nothing: no shadow ray)
+            c.counters.rays += 1;
+            return 1;
+        }
         let index = y as u64 * self.width as u64 + x as u64;
         let blocked0 = c.counters.blocked;
         let st = SampleStream::new(self.seed, index, 0, 1)
@@ -508,6 +513,16 @@ impl Frame {
         each: &mut impl FnMut(DVec3),
     ) -> Sums {
         let mut sums = Sums::default();
+        if c.vis.tile.is_empty() && !scene.integrator.splats() {
+            // Every camera ray of the tile meets nothing (`Tile::is_empty`): what every
+            // integrator's camera vertex answers for such a ray, black with alpha 0, taken
+            // without drawing or tracing it (the sums stay 0, as adding those samples leaves
+            // them). A splatting integrator is asked: its particles go elsewhere.
+            c.counters.rays += n as u64;
+            let rgb = DVec3::ZERO * self.exposure_scale;
+            (0..n).for_each(|_| each(rgb));
+            return sums;
+        }
         let index = y as u64 * self.width as u64 + x as u64;
         for s in 0..n {
             let mut st = SampleStream::new(self.seed, index, s, n);

@@ -286,6 +286,7 @@ impl Visibility {
     /// (`patches.rs`), then for the point unless the patch's blocker blocks its region too
     /// (without shadows, nothing blocks; with shadow linking, only what it keeps).
     #[allow(clippy::too_many_arguments)]
+    #[inline]
     pub fn estimate(
         &self,
         w: &World,
