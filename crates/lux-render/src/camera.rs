@@ -418,12 +418,10 @@ pub(crate) mod tests {
         assert!(Camera::new(&c, [8, 8], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).is_err());
     }
 
-    /// `project` inverts `ray`: the point a pixel's ray reaches projects back to that pixel,
-    /// with the ray's origin and direction, for perspective and orthographic cameras under a
-    /// rigid and a non-uniformly scaled transform; points behind, outside or beyond the
-    /// clipping range do not project.
-    #[test]
-    fn project_inverts_ray() {
+    /// 64 × 48 cameras for `project`: the luxtest camera, perspective and orthographic, rigid
+    /// and non-uniformly scaled (whether orthographic, the scale, the camera).
+    fn projected_cameras() -> Vec<(bool, DVec3, Camera)> {
+        let mut out = Vec::new();
         for ortho in [false, true] {
             for scale in [DVec3::ONE, DVec3::new(1.0, 2.0, 0.5)] {
                 let mut c = luxtest_camera();
@@ -434,24 +432,36 @@ pub(crate) mod tests {
                     c.vertical_aperture = 60.0;
                 }
                 let cam = Camera::new(&c, [64, 48], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).unwrap();
-                for (px, py) in [(0.5, 0.5), (13.25, 40.75), (63.9, 0.1), (32.0, 24.0)] {
-                    let (o, d, tmin, _) = cam.ray(px, py);
-                    let p = o + d * (tmin + 7.5);
-                    let q = cam.project(p).expect("in view");
-                    assert!((q.raster[0] - px).abs() < 1e-9 && (q.raster[1] - py).abs() < 1e-9);
-                    assert!((q.ray.0 - o).length() < 1e-9 && (q.ray.1 - d).length() < 1e-12);
-                    assert!((q.t - (tmin + 7.5)).abs() < 1e-9);
-                    assert!((q.near_t - tmin).abs() < 1e-9 * tmin.max(1.0));
-                }
-                let (o, d, tmin, _) = cam.ray(10.0, 10.0);
-                assert!(cam.project(o - d * 5.0).is_none(), "behind");
-                assert!(
-                    cam.project(o + d * tmin * 0.5).is_none(),
-                    "before the near plane"
-                );
-                let side = cam.cam_to_world.transform_vector3(DVec3::X);
-                assert!(cam.project(o + d * 10.0 + side * 1e4).is_none(), "outside");
+                out.push((ortho, scale, cam));
             }
+        }
+        out
+    }
+
+    /// `project` inverts `ray`: the point a pixel's ray reaches projects back to that pixel,
+    /// with the ray's origin and direction, for perspective and orthographic cameras under a
+    /// rigid and a non-uniformly scaled transform; points behind, outside or beyond the
+    /// clipping range do not project.
+    #[test]
+    fn project_inverts_ray() {
+        for (_, _, cam) in projected_cameras() {
+            for (px, py) in [(0.5, 0.5), (13.25, 40.75), (63.9, 0.1), (32.0, 24.0)] {
+                let (o, d, tmin, _) = cam.ray(px, py);
+                let p = o + d * (tmin + 7.5);
+                let q = cam.project(p).expect("in view");
+                assert!((q.raster[0] - px).abs() < 1e-9 && (q.raster[1] - py).abs() < 1e-9);
+                assert!((q.ray.0 - o).length() < 1e-9 && (q.ray.1 - d).length() < 1e-12);
+                assert!((q.t - (tmin + 7.5)).abs() < 1e-9);
+                assert!((q.near_t - tmin).abs() < 1e-9 * tmin.max(1.0));
+            }
+            let (o, d, tmin, _) = cam.ray(10.0, 10.0);
+            assert!(cam.project(o - d * 5.0).is_none(), "behind");
+            assert!(
+                cam.project(o + d * tmin * 0.5).is_none(),
+                "before the near plane"
+            );
+            let side = cam.cam_to_world.transform_vector3(DVec3::X);
+            assert!(cam.project(o + d * 10.0 + side * 1e4).is_none(), "outside");
         }
     }
 
@@ -461,46 +471,35 @@ pub(crate) mod tests {
     /// orthographic cameras, rigid and scaled.
     #[test]
     fn importance_integrates_to_one_pixel() {
-        for ortho in [false, true] {
-            for scale in [DVec3::ONE, DVec3::new(1.0, 2.0, 0.5)] {
-                let mut c = luxtest_camera();
-                c.camera_to_world *= DMat4::from_scale(scale);
-                if ortho {
-                    c.projection = Projection::Orthographic;
-                    c.horizontal_aperture = 80.0;
-                    c.vertical_aperture = 60.0;
-                }
-                let cam = Camera::new(&c, [64, 48], 1.0, DVec4::new(0.0, 0.0, 1.0, 1.0)).unwrap();
-                // A plane through (0.3, 0, 0.2) tilted away from the camera's axis.
-                let n = DVec3::new(0.3, 1.0, -0.2).normalize();
-                let c0 = DVec3::new(0.3, 0.0, 0.2);
-                let hit = |px: f64, py: f64| {
-                    let (o, d, _, _) = cam.ray(px, py);
-                    o + d * ((c0 - o).dot(n) / d.dot(n))
-                };
-                for (x, y) in [(20u32, 30u32), (45, 5)] {
-                    let k = 64;
-                    let h = 1.0 / k as f64;
-                    let mut sum = 0.0;
-                    for j in 0..k {
-                        for i in 0..k {
-                            let (u, v) = (
-                                x as f64 + (i as f64 + 0.5) * h,
-                                y as f64 + (j as f64 + 0.5) * h,
-                            );
-                            let p = hit(u, v);
-                            let du = (hit(u + 1e-4, v) - hit(u - 1e-4, v)) / 2e-4;
-                            let dv = (hit(u, v + 1e-4) - hit(u, v - 1e-4)) / 2e-4;
-                            let q = cam.project(p).unwrap();
-                            sum +=
-                                n.dot(q.ray.1).abs() * q.importance * du.cross(dv).length() * h * h;
-                        }
+        for (ortho, scale, cam) in projected_cameras() {
+            // A plane through (0.3, 0, 0.2) tilted away from the camera's axis.
+            let n = DVec3::new(0.3, 1.0, -0.2).normalize();
+            let c0 = DVec3::new(0.3, 0.0, 0.2);
+            let hit = |px: f64, py: f64| {
+                let (o, d, _, _) = cam.ray(px, py);
+                o + d * ((c0 - o).dot(n) / d.dot(n))
+            };
+            for (x, y) in [(20u32, 30u32), (45, 5)] {
+                let k = 64;
+                let h = 1.0 / k as f64;
+                let mut sum = 0.0;
+                for j in 0..k {
+                    for i in 0..k {
+                        let (u, v) = (
+                            x as f64 + (i as f64 + 0.5) * h,
+                            y as f64 + (j as f64 + 0.5) * h,
+                        );
+                        let p = hit(u, v);
+                        let du = (hit(u + 1e-4, v) - hit(u - 1e-4, v)) / 2e-4;
+                        let dv = (hit(u, v + 1e-4) - hit(u, v - 1e-4)) / 2e-4;
+                        let q = cam.project(p).unwrap();
+                        sum += n.dot(q.ray.1).abs() * q.importance * du.cross(dv).length() * h * h;
                     }
-                    assert!(
-                        (sum - 1.0).abs() < 1e-5,
-                        "ortho {ortho}, scale {scale}: {sum}"
-                    );
                 }
+                assert!(
+                    (sum - 1.0).abs() < 1e-5,
+                    "ortho {ortho}, scale {scale}: {sum}"
+                );
             }
         }
     }

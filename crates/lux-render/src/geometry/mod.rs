@@ -387,7 +387,8 @@ impl Geometry {
     }
 
     /// [`Geometry::first_occluder`] with `blockers` standing for the world meshes (a BVH of
-    /// the same surfaces: `crate::visibility`'s of flat cards' outlines).
+    /// the same surfaces: `crate::visibility`'s of flat cards' outlines): the distance of
+    /// [`Geometry::first_occluder_at_through`]'s occluder.
     pub(crate) fn first_occluder_through(
         &self,
         blockers: Option<&Blas>,
@@ -396,33 +397,8 @@ impl Geometry {
         tmin: f64,
         tmax: f64,
     ) -> Option<f64> {
-        let ray = Self::ray(origin, dir, tmin, tmax)?;
-        if let Some(inst) = &self.instances {
-            return Self::first_occluder_instanced(blockers, inst, ray, origin, dir);
-        }
-        let mut hit = RayHit::none();
-        (blockers?.nearest(ray, &mut hit)).then_some(hit.t as f64)
-    }
-
-    /// [`Geometry::first_occluder`] with instances.
-    #[inline(never)]
-    fn first_occluder_instanced(
-        blockers: Option<&Blas>,
-        inst: &Instances,
-        ray: Ray,
-        origin: DVec3,
-        dir: DVec3,
-    ) -> Option<f64> {
-        let mut hit = RayHit::none();
-        let found = blockers.is_some_and(|w| w.nearest(ray, &mut hit));
-        let mut r = ray;
-        if found {
-            r.tmax = hit.t;
-        }
-        match inst.closest(origin, dir, r, false) {
-            Some(h) => Some(h.t as f64),
-            None => found.then_some(hit.t as f64),
-        }
+        self.first_occluder_at_through(blockers, origin, dir, tmin, tmax)
+            .map(|o| o.t)
     }
 
     /// [`Geometry::first_occluder`] with the geometry it met: the closest triangle (either

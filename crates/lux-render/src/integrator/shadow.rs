@@ -102,49 +102,39 @@ mod tests {
     use super::*;
     use crate::geometry::Geometry;
     use crate::light::GeomSet;
+    use crate::light::linking_tests::{rules, tri};
     use crate::visibility::VisibilityMode;
-    use lux_usd::{Membership, Mesh, Rule, Scene};
+    use lux_usd::{Rule, Scene};
     use std::sync::Arc;
 
-    fn tri(path: &str, y: f64) -> Mesh {
-        Mesh::new(
-            path,
-            vec![
-                DVec3::new(-1.0, y, -1.0),
-                DVec3::new(-1.0, y, 3.0),
-                DVec3::new(3.0, y, -1.0),
-            ],
-            vec![[0, 1, 2]],
-        )
-    }
-
-    fn rules(entries: &[(&str, Rule)]) -> Membership {
-        Membership::Rules(entries.iter().map(|(p, r)| ((*p).to_owned(), *r)).collect())
-    }
-
+    /// With either visibility: the first occluder without a shadowLink; with one, those
+    /// outside it are passed through.
     #[test]
     fn shadow_rays_pass_through_unlinked_occluders() {
         let mut scene = Scene::empty("t.usda");
         scene.meshes = vec![tri("/a", 1.0), tri("/b", 2.0), tri("/c", 3.0)];
         let g = Geometry::new(&scene);
-        let vis = Visibility::new(VisibilityMode::Exact, &scene, &g);
-        let mut l = LightBase::new(
-            "/L",
-            lux_sample::LightTransform::IDENTITY,
-            lux_shaping::Shaping::identity(),
-            lux_usd::ShadowInputs::default(),
-        );
-        let o = DVec3::new(0.0, 0.0, 0.0);
-        let t = |l: &LightBase, tmax: f64| first_shadow_occluder(&g, &vis, l, o, DVec3::Y, tmax);
-        assert!((t(&l, 10.0).unwrap() - 1.0).abs() < 1e-6);
-        l.links.shadow = Some(Arc::new(GeomSet::new(
-            &scene,
-            &rules(&[("/c", Rule::ExpandPrims)]),
-        )));
-        assert!(l.links.shadow.is_some() && !l.plain_shadows());
-        assert!((t(&l, 10.0).unwrap() - 3.0).abs() < 1e-6);
-        assert_eq!(t(&l, 2.5), None);
-        l.links.shadow = Some(Arc::new(GeomSet::new(&scene, &rules(&[]))));
-        assert_eq!(t(&l, 10.0), None);
+        for mode in [VisibilityMode::Exact, VisibilityMode::Rays] {
+            let vis = Visibility::new(mode, &scene, &g);
+            let mut l = LightBase::new(
+                "/L",
+                lux_sample::LightTransform::IDENTITY,
+                lux_shaping::Shaping::identity(),
+                lux_usd::ShadowInputs::default(),
+            );
+            let o = DVec3::new(0.0, 0.0, 0.0);
+            let t =
+                |l: &LightBase, tmax: f64| first_shadow_occluder(&g, &vis, l, o, DVec3::Y, tmax);
+            assert!((t(&l, 10.0).unwrap() - 1.0).abs() < 1e-6);
+            l.links.shadow = Some(Arc::new(GeomSet::new(
+                &scene,
+                &rules(&[("/c", Rule::ExpandPrims)]),
+            )));
+            assert!(l.links.shadow.is_some() && !l.plain_shadows());
+            assert!((t(&l, 10.0).unwrap() - 3.0).abs() < 1e-6);
+            assert_eq!(t(&l, 2.5), None);
+            l.links.shadow = Some(Arc::new(GeomSet::new(&scene, &rules(&[]))));
+            assert_eq!(t(&l, 10.0), None);
+        }
     }
 }

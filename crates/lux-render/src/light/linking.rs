@@ -158,12 +158,13 @@ impl LightBase {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use glam::{DMat4, DVec3};
     use lux_usd::{Instance, Mesh, Prototype, Rule};
 
-    fn tri(path: &str, y: f64) -> Mesh {
+    /// A triangle at height `y` (normal along −Y), wide enough to block rays near the origin.
+    pub(crate) fn tri(path: &str, y: f64) -> Mesh {
         Mesh::new(
             path,
             vec![
@@ -175,7 +176,8 @@ mod tests {
         )
     }
 
-    fn rules(entries: &[(&str, Rule)]) -> Membership {
+    /// A collection of the given path rules.
+    pub(crate) fn rules(entries: &[(&str, Rule)]) -> Membership {
         Membership::Rules(entries.iter().map(|(p, r)| ((*p).to_owned(), *r)).collect())
     }
 

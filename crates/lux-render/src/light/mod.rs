@@ -66,6 +66,8 @@ pub use disk::DiskLight;
 pub use distant::DistantLight;
 pub use dome::DomeLight;
 pub use emit::LeSample;
+#[cfg(test)]
+pub(crate) use linking::tests as linking_tests;
 pub use linking::{GeomSet, LightLinks, MAX_PASS_THROUGH};
 pub use mesh::MeshLight;
 pub use rect::RectLight;
