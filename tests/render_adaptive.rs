@@ -1,4 +1,4 @@
-//! Adaptive sampling (`RenderOptions::adaptive`, film.rs): extra samples go where a pixel's
+//! Adaptive sampling (`RenderOptions::adaptive`, adaptive.rs and tiles.rs): extra samples go where a pixel's
 //! neighbourhood varies and nowhere else, every pixel stays an unbiased estimate, and a band
 //! of rows or another thread count gives the same bits.
 //!

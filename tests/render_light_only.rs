@@ -95,7 +95,7 @@ fn unoccluded_spheres_are_exact_at_a_few_samples() {
 }
 
 /// Where nothing can block a rect, disk or sphere light of uniform radiance (no geometry in the
-/// cone from the shading point to a sphere holding it: `geometry/cone.rs`), its light-only
+/// cone from the shading point to a sphere holding it: `visibility/cone.rs`), its light-only
 /// estimate is its closed form `L·Π`, drawn without a sample or a shadow ray; with a blocker in
 /// that cone it is sampled, and agrees with MIS.
 #[test]
@@ -144,7 +144,7 @@ fn lights_nothing_can_block_take_their_closed_form_without_shadow_rays() {
     // A rect and a disk facing the point from above and aside (tilted, one-sided).
     let toward = aimed(c, -c);
     // A wide, low rect (3 × 2, 0.4 above the point, facing down): the ball around it reaches
-    // the floor, its pyramid does not (geometry/pyramid.rs); and a wide, low disk (radius
+    // the floor, its pyramid does not (visibility/pyramid.rs); and a wide, low disk (radius
     // 1.2): no ball cone either, the pyramid over the square around it holds its rays.
     let low = DVec3::new(0.2, 0.4, -0.1);
     let down = aimed(low, -DVec3::Y);
@@ -176,7 +176,7 @@ fn lights_nothing_can_block_take_their_closed_form_without_shadow_rays() {
 
         // A small square halfway to the light, in its cone or pyramid: shadowed, and what
         // MIS (one light chosen by power, light and BSDF samples: no closed form) converges
-        // to: exact without a shadow ray (integrator/penumbra.rs: the sphere's cap, the rect
+        // to: exact without a shadow ray (visibility/penumbra.rs: the sphere's cap, the rect
         // or the disk less what the square's two triangles hide of it), the same at 4 samples
         // as at 2¹⁴.
         let mut blocked = clear;
@@ -341,7 +341,7 @@ fn occluded_lights_converge_to_the_exact_shadowed_irradiance() {
 
 #[test]
 fn penumbra_pass_is_unbiased_and_quieter() {
-    // The occluded rect, probed in its penumbra and sampled (closed forms off: with them its
+    // The occluded rect, probed in its penumbra and sampled (rays visibility: with the exact one its
     // penumbra is exact): 64-spp estimates over 40 seeds, without and with the penumbra pass
     // (8 light samples where the pilot saw a blocked shadow ray). Both means agree with the
     // exact value within their noise; the pass lowers the spread.
@@ -480,10 +480,10 @@ fn closed_forms_change_the_luxtest_frames_by_rounding_or_noise_only() {
     }
 }
 
-/// A sphere, a rect and a disk light behind a few opaque triangles (integrator/penumbra.rs): where the
+/// A sphere, a rect and a disk light behind a few opaque triangles (visibility/penumbra.rs): where the
 /// triangles lie in front of the light and do not overlap as seen from the point, its
 /// penumbra is exact — no shadow ray, the same value at any seed and sample count — and equals
-/// what light sampling with shadow rays (closed forms off) and MIS converge to. Where they
+/// what light sampling with shadow rays (`--visibility rays`) and MIS converge to. Where they
 /// overlap, or one reaches past the sphere's nearest point or the rect's or disk's plane, it is
 /// sampled as before and converges to the same.
 #[test]
@@ -584,7 +584,7 @@ fn sphere_rect_and_disk_penumbrae_are_exact_where_few_triangles_block() {
         long.meshes.pop();
         long.meshes.push(quad("/Long", long_card));
         // The card subdivided 4 × 4: its outline in the shadow BVH stands for it, one convex
-        // polygon rather than triangles (geometry/planar.rs, penumbra::past), and the penumbra
+        // polygon rather than triangles (visibility/planar.rs, penumbra::past), and the penumbra
         // is the two-triangle card's.
         let mut grid = one.clone();
         let flat = grid.meshes.pop().unwrap();

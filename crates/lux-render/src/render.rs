@@ -319,7 +319,7 @@ mod tests {
 
     /// A tile whose camera rays can meet nothing is taken as black with alpha 0 without
     /// tracing: the render (tile lists and empty tiles) gives the bits and the ray counts of
-    /// every pixel's own estimate through the BVH (`Film::pixel` without a tile), with and without
+    /// every pixel's own estimate through the BVH (`Frame::pixel` without a tile hint), with and without
     /// adaptive sampling's extra samples (which reach into empty tiles beside the floor's
     /// edge); a tile holding only a camera-visible light, or any tile under a visible dome, is
     /// not empty.

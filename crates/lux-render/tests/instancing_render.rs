@@ -82,7 +82,7 @@ fn render(s: &Scene, threads: usize) -> Vec<[f32; 4]> {
     // Direct lighting: every secondary ray is a shadow or BSDF ray from a first hit, whose
     // exactness the comparison below is about.
     o.integrator = lux_render::settings::IntegratorKind::Direct;
-    // Sampled everywhere: a flattened scene's exact penumbrae (integrator/penumbra.rs) need the
+    // Sampled everywhere: a flattened scene's exact penumbrae (visibility/penumbra.rs) need the
     // world triangles that an instanced scene's searches do not give.
     o.visibility = lux_render::settings::VisibilityMode::Rays;
     let r = Renderer::new(s, o).expect("scene prepares");

@@ -13,7 +13,7 @@
 //! (`integrator/direct.rs`).
 //!
 //! [`ShadowCone::patch`] is the region of the shadow rays from every point of a patch of a
-//! plane (`integrator/patches.rs`): the same tests with margins grown by the patch's radius.
+//! plane (`visibility/patches.rs`): the same tests with margins grown by the patch's radius.
 //!
 //! The test only ever answers "clear" when it is certain: a box or triangle is dismissed when
 //! it lies wholly below the tangent plane at `p` (the surface the rays leave: what the offset

@@ -2,7 +2,7 @@
 //! remembered).
 //!
 //! The closed form of a light's unshadowed integral stands in for its samples where no
-//! triangle can block any shadow ray ([`ShadowCone`], `geometry/cone.rs`). Neighbouring shading
+//! triangle can block any shadow ray ([`ShadowCone`], `visibility/cone.rs`). Neighbouring shading
 //! points of one triangle share almost all of that search: the cone of a whole patch — the
 //! points of the triangle's plane within ρ of a point `q` ([`ShadowCone::patch`]) — answers
 //! it for all of them at once. The patches are the cells of a grid of side `s` in world space
@@ -25,7 +25,7 @@ use lux_usd::Scene;
 pub const CELL_PER_RADIUS: f64 = 0.25;
 
 /// Remembered answers: direct-mapped by key hash (a worker's, kept from tile to tile and pass to
-/// pass: film.rs).
+/// pass: adaptive.rs).
 const SLOTS: usize = 1024;
 
 /// One patch: whose light, which triangle and side, which cell.

@@ -3,7 +3,7 @@
 //! A light of uniform radiance L lights a Lambertian point with `L·Π_visible`, Π_visible the
 //! projected solid angle of the part of the light its shadow rays reach. When every triangle
 //! that can block those rays is known and few (the point's patch of surface,
-//! integrator/patches.rs), that part has a closed form: the light's Π less what each triangle
+//! visibility/patches.rs), that part has a closed form: the light's Π less what each triangle
 //! hides of it (`lux_irradiance::hidden`: of a sphere's cap, a rect's parallelogram, a disk), provided
 //! the triangles lie in front of the light (every ray through them meets them before the
 //! light) and their projections do not overlap (nothing hidden twice). Then the penumbra is

@@ -185,7 +185,7 @@ impl<'a> Shadows<'a> {
 
     /// The convex outline (its mesh, its corners in order) whose fan holds the triangle `id` of
     /// the BVH shadow rays test ([`Shadows::blocker_vertices`]), when that triangle stands
-    /// for a planar mesh there (`geometry/planar.rs`).
+    /// for a planar mesh there (`visibility/planar.rs`).
     pub fn blocker_card(&self, id: u32) -> Option<(u32, &'a [DVec3])> {
         let mesh = self.bvh.shadow.as_ref()?.prims.get(id as usize)?.mesh;
         let card = self.bvh.cards.get(mesh as usize)?.as_ref()?;
@@ -235,7 +235,7 @@ impl<'a> Shadows<'a> {
     }
 
     /// Every triangle of a mesh that `casts` which can stop a shadow ray inside `region`, among
-    /// those shadow rays query (the outlines of flat cards where built: `geometry/planar.rs`), for
+    /// those shadow rays query (the outlines of flat cards where built: `visibility/planar.rs`), for
     /// [`Shadows::occluded_among`]; `None` when more than [`FewTriangles::CAP`], or with
     /// instances.
     pub fn blockers_in(
