@@ -1,5 +1,5 @@
 //! The film: the image's pixels, to which the tile loop adds each pixel's estimate
-//! ([`Film::set`]) and integrators add splats ([`Splats::add`]) — radiance landing on a pixel
+//! ([`Film::row_mut`]) and integrators add splats ([`Splats::add`]) — radiance landing on a pixel
 //! other than the one whose sample made it, as a light tracer's particles do.
 //!
 //! Splats are summed in 64-bit fixed point (`2⁻²⁴` of a unit of radiance, ±2³⁹ in all): integer
@@ -85,18 +85,6 @@ impl Film {
         }
     }
 
-    /// Pixel `[x, y]`'s RGBA.
-    #[inline]
-    pub fn get(&self, [x, y]: [u32; 2]) -> [f32; 4] {
-        self.pixels[y as usize * self.width as usize + x as usize]
-    }
-
-    /// Sets pixel `[x, y]`'s RGBA (its estimate from its own samples).
-    #[inline]
-    pub fn set(&mut self, [x, y]: [u32; 2], rgba: [f32; 4]) {
-        self.pixels[y as usize * self.width as usize + x as usize] = rgba;
-    }
-
     /// The row-major RGBA of the `w` pixels from `[x, y]` on, to set.
     #[inline]
     pub fn row_mut(&mut self, [x, y]: [u32; 2], w: usize) -> &mut [[f32; 4]] {
@@ -169,7 +157,7 @@ mod tests {
         }));
         assert_eq!(s1.sum([0, 0]), DVec3::ZERO);
         let mut film = Film::new(2, 1);
-        film.set([0, 0], [0.5, 0.5, 0.5, 1.0]);
+        film.row_mut([0, 0], 1)[0] = [0.5, 0.5, 0.5, 1.0];
         let splats = Splats::new(2, 1);
         splats.add(&Splat {
             pixel: [0, 0],

@@ -4,7 +4,7 @@
 use crate::error::{SampleError, positive};
 use crate::not_positive;
 use crate::transform::{LightTransform, finish_sample, local_direction};
-use crate::{LightSample, Reference, Strategy};
+use crate::{AreaSample, LightSample, Reference, Strategy};
 use core::f64::consts::TAU;
 use glam::{DVec2, DVec3};
 
@@ -408,5 +408,23 @@ impl CylinderLight {
             }
         };
         if pdf.is_finite() { pdf * jac } else { 0.0 }
+    }
+}
+
+impl CylinderLight {
+    /// A point uniform by local area on the cylinder's side (no caps; local axis X), emitting
+    /// outward: emission sampling ([`AreaSample`]).
+    #[inline]
+    pub fn sample_area(&self, u: [f64; 2]) -> Option<AreaSample> {
+        let (s, c) = (TAU * u[1]).sin_cos();
+        let n = DVec3::new(0.0, c, s);
+        let local = DVec3::new((u[0] - 0.5) * self.length, 0.0, 0.0) + n * self.radius;
+        let side = TAU * self.radius * self.length;
+        let area = side * self.xf.area_scale(DVec3::X, DVec3::new(0.0, -s, c));
+        (area > 0.0).then(|| AreaSample {
+            point: self.xf.point(local),
+            normal: self.xf.normal(n),
+            pdf: 1.0 / area,
+        })
     }
 }

@@ -5,7 +5,7 @@ use crate::error::{SampleError, positive};
 use crate::not_positive;
 use crate::transform::{LightTransform, finish_sample, local_direction};
 use crate::warp::sample_concentric_disk;
-use crate::{LightSample, Reference, Strategy};
+use crate::{AreaSample, LightSample, Reference, Strategy};
 use core::f64::consts::{PI, TAU};
 use glam::{DVec2, DVec3};
 
@@ -465,6 +465,21 @@ impl DiskLight {
             }
         };
         pdf * jac
+    }
+}
+
+impl DiskLight {
+    /// A point uniform by area on the disk (concentric mapping of `u`, local `z = 0`),
+    /// emitting towards `xf.normal(−Z)`: emission sampling ([`AreaSample`]).
+    #[inline]
+    pub fn sample_area(&self, u: [f64; 2]) -> Option<AreaSample> {
+        let d = sample_concentric_disk(u) * self.radius;
+        let area = PI * self.radius * self.radius * self.xf.area_scale(DVec3::X, DVec3::Y);
+        (area > 0.0).then(|| AreaSample {
+            point: self.xf.point(DVec3::new(d.x, d.y, 0.0)),
+            normal: self.xf.normal(DVec3::NEG_Z),
+            pdf: 1.0 / area,
+        })
     }
 }
 

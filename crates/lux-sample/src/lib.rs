@@ -52,10 +52,10 @@ pub use light::Light;
 /// The latlong convention of the dome texture (spec §2), defined in lux-math and re-exported
 /// here for the samplers' callers.
 pub use lux_math::{latlong_direction, latlong_uv};
-pub use mesh::{AreaSample, MeshLight, MeshTechnique};
+pub use mesh::{MeshLight, MeshTechnique};
 pub use rect::{RectFrom, RectLight, RectTechnique};
 pub use rng::SplitMix64;
-pub use sample::{LightSample, Reference};
+pub use sample::{AreaSample, LightSample, Reference};
 pub use select::LightSelector;
 pub use sphere::{SphereFrom, SphereLight, SphereTechnique};
 pub use strategy::Strategy;

@@ -5,7 +5,7 @@
 use crate::alias::AliasTable;
 use crate::error::{MAX_ENTRIES, SampleError};
 use crate::spherical::{sample_spherical_triangle, spherical_triangle_area};
-use crate::{LightSample, MIN_SOLID_ANGLE, Reference, Strategy};
+use crate::{AreaSample, LightSample, MIN_SOLID_ANGLE, Reference, Strategy};
 use glam::DVec3;
 
 /// Largest solid angle (sr) handed to the spherical-triangle sampler; above it (a triangle
@@ -29,19 +29,6 @@ struct Triangle {
     /// Unnormalised geometric normal (v1 − v0) × (v2 − v0); |n| = 2·area.
     n: DVec3,
     area: f64,
-}
-
-/// A point sampled on a mesh light's surface ([`MeshLight::sample_area`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AreaSample {
-    /// The point (world space).
-    pub point: DVec3,
-    /// Unit normal of the triangle's front side.
-    pub normal: DVec3,
-    /// Density per unit area.
-    pub pdf: f64,
-    /// The triangle it lies on.
-    pub triangle: usize,
 }
 
 /// A triangle mesh light in **world** space (the renderer applies the prim transform to the
@@ -315,7 +302,6 @@ impl MeshLight {
             point,
             normal: t.n / (2.0 * t.area),
             pdf: pmf / t.area,
-            triangle: i,
         })
     }
 

@@ -5,7 +5,7 @@ use crate::error::{SampleError, positive};
 use crate::spherical::SphericalRectangle;
 use crate::transform::{LightTransform, finish_sample_with_normal, local_direction};
 use crate::warp::{bilinear_pdf, sample_bilinear};
-use crate::{LightSample, MIN_SOLID_ANGLE, Reference, Strategy};
+use crate::{AreaSample, LightSample, MIN_SOLID_ANGLE, Reference, Strategy};
 use glam::DVec3;
 
 /// How a [`RectLight`] chooses its points.
@@ -372,5 +372,20 @@ impl RectLight {
             }
         };
         pdf * jac
+    }
+}
+
+impl RectLight {
+    /// A point uniform by area on the rect (local `(±w/2, ±h/2, 0)` placed by the transform),
+    /// emitting towards `xf.normal(−Z)`: emission sampling ([`AreaSample`]).
+    #[inline]
+    pub fn sample_area(&self, u: [f64; 2]) -> Option<AreaSample> {
+        let local = DVec3::new((u[0] - 0.5) * self.width, (u[1] - 0.5) * self.height, 0.0);
+        let area = self.width * self.height * self.xf.area_scale(DVec3::X, DVec3::Y);
+        (area > 0.0).then(|| AreaSample {
+            point: self.xf.point(local),
+            normal: self.normal,
+            pdf: 1.0 / area,
+        })
     }
 }

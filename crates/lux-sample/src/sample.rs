@@ -49,3 +49,15 @@ pub struct LightSample {
     /// True for delta lights (DistantLight with `angle` = 0), whose `pdf` is a probability.
     pub delta: bool,
 }
+
+/// A point on a light's surface for emission sampling (pbrt-v4's `SampleLe` position): each
+/// shape's `sample_area`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AreaSample {
+    /// The point (world space).
+    pub point: DVec3,
+    /// Unit world normal of the side that emits (a two-sided mesh's front side).
+    pub normal: DVec3,
+    /// Density per unit world area.
+    pub pdf: f64,
+}

@@ -5,7 +5,7 @@
 use crate::error::{SampleError, positive};
 use crate::transform::{LightTransform, finish_sample, finish_sample_dir, local_direction};
 use crate::warp::{sample_concentric_disk, sample_uniform_sphere};
-use crate::{LightSample, Reference, Strategy};
+use crate::{AreaSample, LightSample, Reference, Strategy};
 use core::f64::consts::{PI, TAU};
 use glam::DVec3;
 use lux_math::Frame;
@@ -535,5 +535,23 @@ impl SphereLight {
             1.0 / (TAU * omc)
         };
         pdf * jac
+    }
+}
+
+impl SphereLight {
+    /// A point uniform by local area on the sphere (by world area under a similarity; an
+    /// ellipsoid's density carries the transform's area scale at the point), emitting outward:
+    /// emission sampling ([`AreaSample`]).
+    #[inline]
+    pub fn sample_area(&self, u: [f64; 2]) -> Option<AreaSample> {
+        let n = sample_uniform_sphere(u);
+        let f = Frame::from_normal(n);
+        let r = self.radius;
+        let area = 4.0 * PI * r * r * self.xf.area_scale(f.t, f.b);
+        (area > 0.0).then(|| AreaSample {
+            point: self.xf.point(n * r),
+            normal: self.xf.normal(n),
+            pdf: 1.0 / area,
+        })
     }
 }

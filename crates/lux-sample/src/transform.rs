@@ -157,6 +157,13 @@ impl LightTransform {
         self.inverse * v
     }
 
+    /// The area scale `‖L t₁ × L t₂‖ = |det L|·‖L⁻ᵀ n‖` of a local surface element whose
+    /// orthonormal tangents are `t1`, `t2` (normal `n = t₁ × t₂`): world area per local area.
+    #[inline]
+    pub fn area_scale(&self, t1: DVec3, t2: DVec3) -> f64 {
+        (self.linear * t1).cross(self.linear * t2).length()
+    }
+
     /// Local normal → unit world normal (transformed by L⁻ᵀ, which keeps the side it points to).
     #[inline]
     pub fn normal(&self, n: DVec3) -> DVec3 {

@@ -36,17 +36,10 @@ pub const CAMERA_LIGHT_PATH: &str = "/__lux_camera_light";
 /// ([`geometry_bounds`]) and the boundable lights' extents (rect, disk, sphere, cylinder).
 /// `None` for a stage with nothing drawn.
 pub fn world_bounds(scene: &Scene) -> Option<(DVec3, DVec3)> {
-    let mut lo = DVec3::splat(f64::INFINITY);
-    let mut hi = DVec3::splat(f64::NEG_INFINITY);
-    let mut add = |p: DVec3| {
-        if p.is_finite() {
-            lo = lo.min(p);
-            hi = hi.max(p);
-        }
-    };
-    if let Some((a, b)) = geometry_bounds(scene) {
-        add(a);
-        add(b);
+    let mut b = Grow::EMPTY;
+    if let Some((lo, hi)) = geometry_bounds(scene) {
+        b.add(lo);
+        b.add(hi);
     }
     for l in &scene.lights {
         let local: Option<(DVec3, DVec3)> = match l.shape {
@@ -65,11 +58,11 @@ pub fn world_bounds(scene: &Scene) -> Option<(DVec3, DVec3)> {
             )),
             _ => None,
         };
-        if let Some((a, b)) = local {
-            corners(a, b).for_each(|c| add(l.light_to_world.transform_point3(c)));
+        if let Some((lo, hi)) = local {
+            corners(lo, hi).for_each(|c| b.add(l.light_to_world.transform_point3(c)));
         }
     }
-    (lo.x <= hi.x).then_some((lo, hi))
+    b.get()
 }
 
 /// World-space axis-aligned bounds `(min, max)` of the drawn geometry, as the scene holds it
@@ -78,38 +71,52 @@ pub fn world_bounds(scene: &Scene) -> Option<(DVec3, DVec3)> {
 /// transformed corners of its prototype's box (as `UsdGeomBBoxCache` aligns transformed
 /// boxes). Lights and cameras are not geometry. `None` when nothing is drawn.
 pub fn geometry_bounds(scene: &Scene) -> Option<(DVec3, DVec3)> {
-    let mut lo = DVec3::splat(f64::INFINITY);
-    let mut hi = DVec3::splat(f64::NEG_INFINITY);
-    let mut add = |p: DVec3| {
-        if p.is_finite() {
-            lo = lo.min(p);
-            hi = hi.max(p);
-        }
-    };
-    let mut proto_bounds: Vec<Option<(DVec3, DVec3)>> = vec![None; scene.prototypes.len()];
+    let mut world = Grow::EMPTY;
+    let mut proto_bounds = vec![Grow::EMPTY; scene.prototypes.len()];
     for m in &scene.meshes {
         // Every point, as UsdGeom's extent counts them.
-        let used = m.positions.iter().copied();
-        match m.prototype {
-            None => used.for_each(&mut add),
-            Some(pi) => {
-                if let Some(b) = proto_bounds.get_mut(pi) {
-                    for p in used.filter(|p| p.is_finite()) {
-                        *b = Some(match *b {
-                            None => (p, p),
-                            Some((l, h)) => (l.min(p), h.max(p)),
-                        });
-                    }
-                }
-            }
+        let b = match m.prototype {
+            None => Some(&mut world),
+            Some(pi) => proto_bounds.get_mut(pi),
+        };
+        if let Some(b) = b {
+            m.positions.iter().for_each(|&p| b.add(p));
         }
     }
     for inst in &scene.instances {
-        if let Some(Some((l, h))) = proto_bounds.get(inst.prototype) {
-            corners(*l, *h).for_each(|c| add(inst.to_world.transform_point3(c)));
+        if let Some((l, h)) = proto_bounds.get(inst.prototype).and_then(|b| b.get()) {
+            corners(l, h).for_each(|c| world.add(inst.to_world.transform_point3(c)));
         }
     }
-    (lo.x <= hi.x).then_some((lo, hi))
+    world.get()
+}
+
+/// An axis-aligned box grown point by point; non-finite points are left out.
+#[derive(Clone, Copy)]
+struct Grow {
+    lo: DVec3,
+    hi: DVec3,
+}
+
+impl Grow {
+    /// Holds nothing.
+    const EMPTY: Grow = Grow {
+        lo: DVec3::splat(f64::INFINITY),
+        hi: DVec3::splat(f64::NEG_INFINITY),
+    };
+
+    /// Grows to hold `p` (when finite).
+    fn add(&mut self, p: DVec3) {
+        if p.is_finite() {
+            self.lo = self.lo.min(p);
+            self.hi = self.hi.max(p);
+        }
+    }
+
+    /// `(min, max)`, `None` when empty.
+    fn get(self) -> Option<(DVec3, DVec3)> {
+        (self.lo.x <= self.hi.x).then_some((self.lo, self.hi))
+    }
 }
 
 /// The 8 corners of the box `lo..hi`.

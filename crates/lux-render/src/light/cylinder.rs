@@ -1,7 +1,7 @@
 //! CylinderLight (UsdLux `CylinderLight`): the lateral surface of a cylinder along local X
 //! (`inputs:length`, `inputs:radius`), no caps, emitting outward.
 
-use super::{AreaPoint, LiSample, LightBase, LightHit, Seen, box_corners, box_of, quadratic};
+use super::{LiSample, LightBase, LightHit, Seen, box_corners, box_of, quadratic};
 use glam::DVec3;
 use lux_sample::{LightBounds, Reference, Strategy};
 
@@ -60,25 +60,6 @@ impl CylinderLight {
         let s = from.sample(u)?;
         let l = self.le(self.base.to_local(s.point), -s.wi, Seen::Lit);
         Some(LiSample::new(s, l))
-    }
-
-    /// A point uniform by local area on the cylinder's side (no caps), emitting outward
-    /// ([`super::Light::sample_le`]).
-    #[inline]
-    pub(super) fn sample_area(&self, u: [f64; 2]) -> Option<AreaPoint> {
-        let (s, c) = (std::f64::consts::TAU * u[1]).sin_cos();
-        let nl = DVec3::new(0.0, c, s);
-        let local = DVec3::new((2.0 * u[0] - 1.0) * self.half_length, 0.0, 0.0) + nl * self.radius;
-        let (factor, n) =
-            AreaPoint::world_measure(&self.base.xf, DVec3::X, DVec3::new(0.0, -s, c), nl);
-        let side = std::f64::consts::TAU * self.radius * 2.0 * self.half_length;
-        Some(AreaPoint {
-            local,
-            p: self.base.xf.point(local),
-            n,
-            pdf: 1.0 / (side * factor),
-            two_sided: false,
-        })
     }
 
     /// See [`super::Light::pdf_li`].

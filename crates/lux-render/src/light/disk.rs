@@ -1,9 +1,7 @@
 //! DiskLight (UsdLux `DiskLight`): a disk of `inputs:radius` in local XY, centred, emitting
 //! from its −Z side.
 
-use super::{
-    AreaPoint, LiSample, LightBase, LightHit, Seen, box_corners, box_of, planar_emission_half_angle,
-};
+use super::{LiSample, LightBase, LightHit, Seen, box_corners, box_of, planar_emission_half_angle};
 use glam::DVec3;
 use lux_sample::{LightBounds, Reference, Strategy};
 
@@ -48,23 +46,6 @@ impl DiskLight {
         let s = from.sample(u)?;
         let l = self.le(self.base.to_local(s.point), -s.wi, Seen::Lit);
         Some(LiSample::new(s, l))
-    }
-
-    /// A point uniform by area on the disk, emitting from its −Z side
-    /// ([`super::Light::sample_le`]).
-    #[inline]
-    pub(super) fn sample_area(&self, u: [f64; 2]) -> Option<AreaPoint> {
-        let d = lux_sample::warp::sample_concentric_disk(u) * self.radius;
-        let local = DVec3::new(d.x, d.y, 0.0);
-        let (factor, n) = AreaPoint::world_measure(&self.base.xf, DVec3::X, DVec3::Y, DVec3::NEG_Z);
-        let r = self.radius;
-        Some(AreaPoint {
-            local,
-            p: self.base.xf.point(local),
-            n,
-            pdf: 1.0 / (std::f64::consts::PI * r * r * factor),
-            two_sided: false,
-        })
     }
 
     /// See [`super::Light::pdf_li`].

@@ -3,9 +3,8 @@
 //! starts from.
 //!
 //! - **Area lights** (rect, disk, sphere, cylinder, mesh): a point by area on the surface
-//!   (each kind's `sample_area`: uniform in the light's local parameters, the density carried
-//!   to the world through the transform's area factor `‖L t₁ × L t₂‖` for local unit tangents
-//!   `t₁, t₂`), a direction cosine-distributed about the emitting side's normal
+//!   (lux-sample's `sample_area` of each shape: uniform in the light's local parameters, the
+//!   density carried to the world through the transform's area scale), a direction cosine-distributed about the emitting side's normal
 //!   (`p_ω = cos θ / π`), so the weight is `Le(ω)·π / p_A` with the light's own `Le`
 //!   ([`Light::le`]: shaping, IES, texture and the emitting side included). A two-sided mesh
 //!   light picks its side with probability ½.
@@ -14,7 +13,7 @@
 //!   facing it beyond the scene, so the weight is `L·πR² / p_ω` (`E·πR²` for a delta distant
 //!   light).
 
-use super::{AreaPoint, Light, Seen};
+use super::{Light, Seen};
 use glam::DVec3;
 use lux_math::Frame;
 use lux_sample::Reference;
@@ -33,20 +32,6 @@ pub struct LeSample {
     pub weight: DVec3,
 }
 
-impl AreaPoint {
-    /// The area factor `‖L t₁ × L t₂‖` of the light transform `xf` at a point whose local
-    /// surface has the orthonormal tangents `t1`, `t2`, and the world unit normal of the local
-    /// normal `n` (the side it points to kept).
-    pub(super) fn world_measure(
-        xf: &lux_sample::LightTransform,
-        t1: DVec3,
-        t2: DVec3,
-        n: DVec3,
-    ) -> (f64, DVec3) {
-        (xf.vector(t1).cross(xf.vector(t2)).length(), xf.normal(n))
-    }
-}
-
 impl Light {
     /// A particle leaving the light with `u_pos`, `u_dir` ∈ \[0, 1)² (see the module's doc);
     /// `bounds`: the centre and radius of a sphere holding the scene (for lights at infinity).
@@ -57,34 +42,32 @@ impl Light {
         u_dir: [f64; 2],
         bounds: (DVec3, f64),
     ) -> Option<LeSample> {
-        let area = match self {
-            Light::Rect(l) => l.sample_area(u_pos),
-            Light::Disk(l) => l.sample_area(u_pos),
-            Light::Sphere(l) => l.sample_area(u_pos),
-            Light::Cylinder(l) => l.sample_area(u_pos),
-            Light::Mesh(l) => l.sample_area(u_pos),
+        let (area, two_sided) = match self {
+            Light::Rect(l) => (l.sampler.sample_area(u_pos), false),
+            Light::Disk(l) => (l.sampler.sample_area(u_pos), false),
+            Light::Sphere(l) => (l.sampler.sample_area(u_pos), false),
+            Light::Cylinder(l) => (l.sampler.sample_area(u_pos), false),
+            Light::Mesh(l) => (l.sampler.sample_area(u_pos), l.sampler.two_sided()),
             Light::Distant(_) | Light::Dome(_) => {
                 return self.sample_le_infinite(u_pos, u_dir, bounds);
             }
-        }?;
-        if !(area.pdf.is_finite() && area.pdf > 0.0) {
-            return None;
-        }
+        };
+        let area = area.filter(|a| a.pdf.is_finite() && a.pdf > 0.0)?;
         // (a two-sided surface: the side by u_dir[0], rescaled)
-        let (n, u0, sides) = match area.two_sided {
-            true if u_dir[0] < 0.5 => (area.n, 2.0 * u_dir[0], 2.0),
-            true => (-area.n, 2.0 * u_dir[0] - 1.0, 2.0),
-            false => (area.n, u_dir[0], 1.0),
+        let (n, u0, sides) = match two_sided {
+            true if u_dir[0] < 0.5 => (area.normal, 2.0 * u_dir[0], 2.0),
+            true => (-area.normal, 2.0 * u_dir[0] - 1.0, 2.0),
+            false => (area.normal, u_dir[0], 1.0),
         };
         let dir = Frame::from_normal(n).to_world(sample_cosine_hemisphere([u0, u_dir[1]]));
-        let le = self.le(area.local, dir, Seen::Lit);
+        let le = self.le(self.base().to_local(area.point), dir, Seen::Lit);
         if le == DVec3::ZERO {
             return None;
         }
         let weight = le * (sides * PI / area.pdf);
         let origin = match self {
-            Light::Mesh(_) => area.p + n * crate::geometry::offset_scale(area.p),
-            _ => area.p,
+            Light::Mesh(_) => area.point + n * crate::geometry::offset_scale(area.point),
+            _ => area.point,
         };
         weight.is_finite().then_some(LeSample {
             origin,

@@ -7,7 +7,7 @@
 //! triangles flattening the instance would give, so areas, normals and the emitting side are
 //! the world ones whatever the scale, shear or mirroring.
 
-use super::{AreaPoint, LiSample, LightBase, LightHit, Seen};
+use super::{LiSample, LightBase, LightHit, Seen};
 use glam::DVec3;
 use lux_sample::{LightBounds, Reference, Strategy};
 use lux_usd::Mesh;
@@ -30,7 +30,7 @@ pub struct MeshLight {
     pub glow: Option<DVec3>,
     /// World box of the mesh's points.
     world_box: (DVec3, DVec3),
-    sampler: lux_sample::MeshLight,
+    pub(super) sampler: lux_sample::MeshLight,
 }
 
 impl MeshLight {
@@ -77,21 +77,6 @@ impl MeshLight {
     pub fn sample_li(&self, r: &Reference, u: [f64; 2], strategy: Strategy) -> Option<LiSample> {
         let s = self.sampler.sample_with(r, u, strategy)?;
         Some(LiSample::new(s, self.le(DVec3::ZERO, -s.wi, Seen::Lit)))
-    }
-
-    /// A point on the mesh by lux-sample's triangle choice and uniform within the triangle
-    /// ([`lux_sample::MeshLight::sample_area`]), emitting from its front side, or either side
-    /// when `doubleSided` ([`super::Light::sample_le`]).
-    #[inline]
-    pub(super) fn sample_area(&self, u: [f64; 2]) -> Option<AreaPoint> {
-        let s = self.sampler.sample_area(u)?;
-        Some(AreaPoint {
-            local: self.base.to_local(s.point),
-            p: s.point,
-            n: s.normal,
-            pdf: s.pdf,
-            two_sided: self.sampler.two_sided(),
-        })
     }
 
     /// Density of the direction `wi` over every triangle it crosses (O(triangles)); after a

@@ -367,22 +367,6 @@ impl LightTexture {
     }
 }
 
-/// A point sampled on an area light's surface for emission sampling (each kind's
-/// `sample_area`; [`Light::sample_le`]).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct AreaPoint {
-    /// The point in the light's local space (what [`Light::le`] reads).
-    pub local: DVec3,
-    /// The point in the world.
-    pub p: DVec3,
-    /// Unit world normal of the emitting side.
-    pub n: DVec3,
-    /// Density per unit world area.
-    pub pdf: f64,
-    /// Both sides emit (a `doubleSided` mesh light).
-    pub two_sided: bool,
-}
-
 /// Any light ready to render (the closed set of UsdLux light kinds lux renders).
 #[derive(Clone, Debug)]
 pub enum Light {

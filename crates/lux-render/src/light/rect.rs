@@ -2,8 +2,7 @@
 //! centred, emitting from its −Z side, optionally textured (`inputs:texture:file`).
 
 use super::{
-    AreaPoint, LiSample, LightBase, LightHit, LightTexture, Seen, box_of,
-    planar_emission_half_angle,
+    LiSample, LightBase, LightHit, LightTexture, Seen, box_of, planar_emission_half_angle,
 };
 use glam::DVec3;
 use lux_sample::{LightBounds, Reference, Strategy};
@@ -97,21 +96,6 @@ impl RectLight {
         let s = from.sample(u)?;
         let l = self.le(self.base.to_local(s.point), -s.wi, Seen::Lit);
         Some(LiSample::new(s, l))
-    }
-
-    /// A point uniform by area on the rect, emitting from its −Z side ([`super::Light::sample_le`]).
-    #[inline]
-    pub(super) fn sample_area(&self, u: [f64; 2]) -> Option<AreaPoint> {
-        let [hx, hy] = self.half;
-        let local = DVec3::new((2.0 * u[0] - 1.0) * hx, (2.0 * u[1] - 1.0) * hy, 0.0);
-        let (factor, n) = AreaPoint::world_measure(&self.base.xf, DVec3::X, DVec3::Y, DVec3::NEG_Z);
-        Some(AreaPoint {
-            local,
-            p: self.base.xf.point(local),
-            n,
-            pdf: 1.0 / (4.0 * hx * hy * factor),
-            two_sided: false,
-        })
     }
 
     /// See [`super::Light::pdf_li`].

@@ -1,7 +1,7 @@
 //! SphereLight (UsdLux `SphereLight`): a sphere of `inputs:radius` (an ellipsoid under a
 //! non-uniform scale), every point emitting over its outward hemisphere.
 
-use super::{AreaPoint, LiSample, LightBase, LightHit, Seen, box_corners, box_of, quadratic};
+use super::{LiSample, LightBase, LightHit, Seen, box_corners, box_of, quadratic};
 use glam::DVec3;
 use lux_sample::{LightBounds, Reference, Strategy};
 
@@ -46,25 +46,6 @@ impl SphereLight {
         let s = from.sample(u)?;
         let l = self.le(self.base.to_local(s.point), -s.wi, Seen::Lit);
         Some(LiSample::new(s, l))
-    }
-
-    /// A point uniform by local area on the sphere (by world area under a similarity; an
-    /// ellipsoid's density carries the transform's area factor), emitting outward
-    /// ([`super::Light::sample_le`]).
-    #[inline]
-    pub(super) fn sample_area(&self, u: [f64; 2]) -> Option<AreaPoint> {
-        let nl = lux_sample::warp::sample_uniform_sphere(u);
-        let local = nl * self.radius;
-        let f = lux_math::Frame::from_normal(nl);
-        let (factor, n) = AreaPoint::world_measure(&self.base.xf, f.t, f.b, nl);
-        let r = self.radius;
-        Some(AreaPoint {
-            local,
-            p: self.base.xf.point(local),
-            n,
-            pdf: 1.0 / (4.0 * std::f64::consts::PI * r * r * factor),
-            two_sided: false,
-        })
     }
 
     /// See [`super::Light::pdf_li`].

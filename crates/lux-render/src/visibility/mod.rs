@@ -152,22 +152,6 @@ impl Visibility {
         }
     }
 
-    /// Its mode.
-    pub fn mode(&self) -> VisibilityMode {
-        match self {
-            Visibility::Rays => VisibilityMode::Rays,
-            Visibility::Exact(_) => VisibilityMode::Exact,
-        }
-    }
-
-    /// Bytes it holds beyond the geometry (the shadow BVH).
-    pub fn heap_bytes(&self) -> usize {
-        match self {
-            Visibility::Rays => 0,
-            Visibility::Exact(b) => b.heap_bytes(),
-        }
-    }
-
     /// Shadow rays over `g`: through the world BVH, or the exact visibility's BVH of card
     /// outlines (the same surfaces).
     #[inline]

@@ -131,11 +131,6 @@ impl ShadowBvh {
             .flatten()
     }
 
-    /// Bytes held by the shadow BVH.
-    pub fn heap_bytes(&self) -> usize {
-        self.shadow.as_ref().map_or(0, Blas::heap_bytes)
-    }
-
     /// The shadow rays of the scene `g` holds, through this BVH.
     pub fn view<'a>(&'a self, g: &'a Geometry) -> Shadows<'a> {
         Shadows { g, bvh: self }

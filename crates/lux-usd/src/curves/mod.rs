@@ -695,41 +695,38 @@ impl NurbsSource {
         q.truncate() / q.w
     }
 
-    /// A DVec3 primvar (colours, normals) at `u` in span `i` of curve `c`.
+    /// A DVec3 primvar (colours `which`, else normals) at `u` in span `i` of curve `c`.
     fn vec3(&mut self, which: bool, c: usize, i: usize, u: f64) -> DVec3 {
-        let curve = self.curves[c].as_ref().expect("drawn curve");
-        let (n, k, fk) = (self.counts[c], curve.order, curve.first_knot);
+        let mut scratch = std::mem::take(&mut self.scratch);
         let pv = if which { &self.colors } else { &self.normals };
-        let Some((p, weighted)) = pv else {
-            return DVec3::ZERO;
-        };
-        match p.interpolation {
-            Interpolation::Constant => p.values[0],
-            Interpolation::Uniform => p.values[c],
-            Interpolation::Varying => {
-                let knots = &self.knots[fk..];
-                let j = self.first_varying[c] + i - (k - 1);
-                let t = (u - knots[i]) / (knots[i + 1] - knots[i]);
-                p.values[j] + (p.values[j + 1] - p.values[j]) * t
-            }
-            Interpolation::Vertex => {
-                let q = nurbs::de_boor(
-                    &self.knots[fk..fk + n + k],
-                    k - 1,
-                    i,
-                    u,
-                    &weighted[self.first_vertex[c]..self.first_vertex[c] + n],
-                    &mut self.scratch,
-                );
-                q.truncate() / q.w
-            }
-        }
+        let v = pv.as_ref().map_or(DVec3::ZERO, |(p, weighted)| {
+            self.primvar_at(p, weighted, &mut scratch, [c, i], u)
+        });
+        self.scratch = scratch;
+        v
     }
 
     fn width(&mut self, c: usize, i: usize, u: f64) -> f64 {
+        let mut scratch = std::mem::take(&mut self.scratch2);
+        let (p, weighted) = &self.widths;
+        let v = self.primvar_at(p, weighted, &mut scratch, [c, i], u);
+        self.scratch2 = scratch;
+        v
+    }
+
+    /// Primvar `p` at `u` in span `i` of curve `c`: constant, per curve, linear between the
+    /// span's knots (varying), or the rational curve of its homogeneous vertex values
+    /// `weighted` (vertex).
+    fn primvar_at<T: Value, H: Homogeneous<Plain = T>>(
+        &self,
+        p: &CurvePrimvar<T>,
+        weighted: &[H],
+        scratch: &mut Vec<H>,
+        [c, i]: [usize; 2],
+        u: f64,
+    ) -> T {
         let curve = self.curves[c].as_ref().expect("drawn curve");
         let (n, k, fk) = (self.counts[c], curve.order, curve.first_knot);
-        let (p, weighted) = &self.widths;
         match p.interpolation {
             Interpolation::Constant => p.values[0],
             Interpolation::Uniform => p.values[c],
@@ -739,18 +736,38 @@ impl NurbsSource {
                 let t = (u - knots[i]) / (knots[i + 1] - knots[i]);
                 p.values[j] + (p.values[j + 1] - p.values[j]) * t
             }
-            Interpolation::Vertex => {
-                let q = nurbs::de_boor(
-                    &self.knots[fk..fk + n + k],
-                    k - 1,
-                    i,
-                    u,
-                    &weighted[self.first_vertex[c]..self.first_vertex[c] + n],
-                    &mut self.scratch2,
-                );
-                q.x / q.y
-            }
+            Interpolation::Vertex => nurbs::de_boor(
+                &self.knots[fk..fk + n + k],
+                k - 1,
+                i,
+                u,
+                &weighted[self.first_vertex[c]..self.first_vertex[c] + n],
+                scratch,
+            )
+            .project(),
         }
+    }
+}
+
+/// A homogeneous control value `(w·v, w)` and the value it stands for, `v`.
+trait Homogeneous: Value {
+    /// The value's type.
+    type Plain;
+    /// `w·v / w`.
+    fn project(self) -> Self::Plain;
+}
+
+impl Homogeneous for DVec4 {
+    type Plain = DVec3;
+    fn project(self) -> DVec3 {
+        self.truncate() / self.w
+    }
+}
+
+impl Homogeneous for DVec2 {
+    type Plain = f64;
+    fn project(self) -> f64 {
+        self.x / self.y
     }
 }
 

@@ -501,13 +501,8 @@ impl<'a> Refiner<'a> {
                     (0, j) => Some(edge_key(face.fv[3], face.fv[0], n - j, n)),
                     _ => None,
                 };
-                let (fu, fv) = (u as f64, v as f64);
-                let w = [
-                    (0, (1.0 - fu) * (1.0 - fv)),
-                    (1, fu * (1.0 - fv)),
-                    (2, fu * fv),
-                    (3, (1.0 - fu) * fv),
-                ];
+                let [w00, w10, w11, w01] = bilinear(u, v);
+                let w = [(0, w00), (1, w10), (2, w11), (3, w01)];
                 let k = (j * (n + 1) + i) as usize;
                 grid.vertices[k] = self.vertex(map, key, ptex, u, v, shared, out);
                 self.values(map, face, ptex, (u, v), &w, grid.values_mut(k));
@@ -566,13 +561,7 @@ impl<'a> Refiner<'a> {
                     };
                     // Bilinear weights of the cage corners over the sub-face (varying data):
                     // its corners are corner s, the two edge middles and the centroid.
-                    let (fu, fv) = (u as f64, v as f64);
-                    let (w00, w10, w11, w01) = (
-                        (1.0 - fu) * (1.0 - fv),
-                        fu * (1.0 - fv),
-                        fu * fv,
-                        (1.0 - fu) * fv,
-                    );
+                    let [w00, w10, w11, w01] = bilinear(u, v);
                     let mut w: Vec<(usize, f64)> = (0..k).map(|c| (c, w11 * inv)).collect();
                     w[s].1 += w00 + 0.5 * (w10 + w01);
                     w[next].1 += 0.5 * w10;
@@ -720,6 +709,12 @@ fn combine(indices: &[u32], weights: &[f32], values: &[[f64; 4]]) -> DVec4 {
         .zip(weights)
         .map(|(&i, &w)| DVec4::from(values[i as usize]) * w as f64)
         .sum()
+}
+
+/// The bilinear weights of a quad's corners `(0, 0)`, `(1, 0)`, `(1, 1)`, `(0, 1)` at `(u, v)`.
+fn bilinear(u: f32, v: f32) -> [f64; 4] {
+    let (u, v) = (u as f64, v as f64);
+    [(1.0 - u) * (1.0 - v), u * (1.0 - v), u * v, (1.0 - u) * v]
 }
 
 /// The two triangles of every cell of an `(n + 1)²` grid (row-major, `u` along rows), split
