@@ -34,6 +34,7 @@ pub mod path_guard;
 pub mod points;
 pub mod reader;
 mod resolver;
+pub mod shading;
 pub mod skel;
 pub mod spectral;
 pub mod subdiv;

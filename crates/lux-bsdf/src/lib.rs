@@ -1,0 +1,338 @@
+//! # lux-bsdf
+//!
+//! The physically based shading closures of MaterialX's PBS library (`MaterialX.PBRSpec.md`,
+//! "BSDF Nodes" and "Combining Distribution Functions") as a small BSDF library: each closure
+//! evaluated, sampled and given its density, and the combinators `layer` (albedo scaling,
+//! `f = f_top + (1 − E_top(ωo))·f_base`), `mix`, `add` and `multiply` over them.
+//!
+//! A [`Bsdf`] is one closure tree at one shading point, built bottom-up with [`Bsdf::push`]
+//! (each node may only refer to nodes pushed before it; the last pushed node is the root),
+//! for one outgoing direction `wo` (towards the viewer). Directions are world-space unit
+//! vectors; every closure carries its own shading [`Frame`] (MaterialX's per-closure `normal`
+//! and `tangent` inputs), so a coat may have another normal than its base.
+//!
+//! Conventions (Mitsuba 3's): [`Bsdf::eval`] returns `f(ωo, ωi)·|cos θi|` with each closure's
+//! cosine taken about its own normal; [`Sample::weight`] is `f·|cos θi| / pdf`; delta lobes
+//! (a dielectric, conductor or generalized Schlick lobe with roughness below
+//! [`DELTA_ALPHA`]) are only reached through [`Bsdf::sample`] and are absent from `eval` and
+//! `pdf`.
+
+#![warn(missing_docs)]
+
+use glam::{DVec2, DVec3};
+
+/// Roughness (GGX α, per axis) below which a microfacet lobe is a perfect mirror or refractor.
+pub const DELTA_ALPHA: f64 = 1.0e-4;
+
+/// Most nodes one [`Bsdf`] holds (standard_surface and open_pbr_surface need ≤ 16).
+pub const MAX_NODES: usize = 24;
+
+/// An orthonormal shading frame in world space: `n` the normal, `t` the tangent, `b = n × t`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame {
+    /// Unit normal.
+    pub n: DVec3,
+    /// Unit tangent, orthogonal to `n` (the direction of `roughness.x`).
+    pub t: DVec3,
+    /// Unit bitangent `n × t`.
+    pub b: DVec3,
+}
+
+impl Frame {
+    /// A frame about `n` with the tangent `t` made orthogonal to it (Gram–Schmidt); any
+    /// orthogonal tangent when `t` is parallel to `n` or zero.
+    pub fn new(n: DVec3, t: DVec3) -> Frame {
+        let _ = (n, t);
+        todo!()
+    }
+}
+
+/// Which hemispheres a microfacet closure scatters into (`scatter_mode`: `R`, `T`, `RT`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ScatterMode {
+    /// Reflection only.
+    R,
+    /// Transmission only.
+    T,
+    /// Both, by the Fresnel curve.
+    Rt,
+}
+
+/// Thin-film iridescence (`thinfilm_thickness` in nm, `thinfilm_ior`); thickness 0 is none.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct ThinFilm {
+    /// Thickness in nanometres.
+    pub thickness: f64,
+    /// Index of refraction of the film.
+    pub ior: f64,
+}
+
+/// Sheen model (`sheen_bsdf` `mode`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SheenMode {
+    /// Conty & Kulla 2017.
+    ContyKulla,
+    /// Zeltner et al. 2022.
+    Zeltner,
+}
+
+/// One pbrlib BSDF node with its inputs (MaterialX names; `weight` ∈ [0, 1] scales it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Closure {
+    /// `oren_nayar_diffuse_bsdf`: `color` ρ, `roughness` σ (0: Lambertian),
+    /// `energy_compensation` (EON).
+    OrenNayar {
+        /// `weight`.
+        weight: f64,
+        /// `color`.
+        color: DVec3,
+        /// `roughness`.
+        roughness: f64,
+        /// `energy_compensation`.
+        energy_compensation: bool,
+        /// `normal` (and a tangent).
+        frame: Frame,
+    },
+    /// `burley_diffuse_bsdf`.
+    Burley {
+        /// `weight`.
+        weight: f64,
+        /// `color`.
+        color: DVec3,
+        /// `roughness`.
+        roughness: f64,
+        /// `normal`.
+        frame: Frame,
+    },
+    /// `translucent_bsdf`: Lambertian transmission.
+    Translucent {
+        /// `weight`.
+        weight: f64,
+        /// `color`.
+        color: DVec3,
+        /// `normal`.
+        frame: Frame,
+    },
+    /// `dielectric_bsdf`.
+    Dielectric {
+        /// `weight`.
+        weight: f64,
+        /// `tint`.
+        tint: DVec3,
+        /// `ior` (0 disables the Fresnel curve).
+        ior: f64,
+        /// `roughness` (GGX α along `t` and `b`).
+        alpha: DVec2,
+        /// `retroreflective`.
+        retroreflective: bool,
+        /// `thinfilm_thickness`, `thinfilm_ior`.
+        thinfilm: ThinFilm,
+        /// `scatter_mode`.
+        mode: ScatterMode,
+        /// `normal`, `tangent`.
+        frame: Frame,
+    },
+    /// `conductor_bsdf`: complex IOR `ior + i·extinction` per channel.
+    Conductor {
+        /// `weight`.
+        weight: f64,
+        /// `ior` (η per channel).
+        ior: DVec3,
+        /// `extinction` (κ per channel).
+        extinction: DVec3,
+        /// `roughness` (GGX α).
+        alpha: DVec2,
+        /// `retroreflective`.
+        retroreflective: bool,
+        /// `thinfilm_thickness`, `thinfilm_ior`.
+        thinfilm: ThinFilm,
+        /// `normal`, `tangent`.
+        frame: Frame,
+    },
+    /// `generalized_schlick_bsdf` (Hoffman 2023's F82 tint).
+    GeneralizedSchlick {
+        /// `weight`.
+        weight: f64,
+        /// `color0`.
+        color0: DVec3,
+        /// `color82`.
+        color82: DVec3,
+        /// `color90`.
+        color90: DVec3,
+        /// `exponent`.
+        exponent: f64,
+        /// `roughness` (GGX α).
+        alpha: DVec2,
+        /// `retroreflective`.
+        retroreflective: bool,
+        /// `thinfilm_thickness`, `thinfilm_ior`.
+        thinfilm: ThinFilm,
+        /// `scatter_mode`.
+        mode: ScatterMode,
+        /// `normal`, `tangent`.
+        frame: Frame,
+    },
+    /// `sheen_bsdf`.
+    Sheen {
+        /// `weight`.
+        weight: f64,
+        /// `color`.
+        color: DVec3,
+        /// `roughness`.
+        roughness: f64,
+        /// `mode`.
+        mode: SheenMode,
+        /// `normal`.
+        frame: Frame,
+    },
+    /// `subsurface_bsdf`, approximated without volumes (see its module for which way).
+    Subsurface {
+        /// `weight`.
+        weight: f64,
+        /// `color`.
+        color: DVec3,
+        /// `radius` (mean free path per channel).
+        radius: DVec3,
+        /// `anisotropy`.
+        anisotropy: f64,
+        /// `normal`.
+        frame: Frame,
+    },
+}
+
+/// A node of a [`Bsdf`] tree; children are ids of nodes pushed earlier.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Node {
+    /// A closure.
+    Closure(Closure),
+    /// `layer`: `f_top + (1 − E_top(ωo))·f_base` (a `None` base is a VDF or nothing: zero).
+    Layer {
+        /// `top`.
+        top: NodeId,
+        /// `base`.
+        base: Option<NodeId>,
+    },
+    /// `mix`: `(1 − mix)·bg + mix·fg`.
+    Mix {
+        /// `fg`.
+        fg: Option<NodeId>,
+        /// `bg`.
+        bg: Option<NodeId>,
+        /// `mix` ∈ [0, 1].
+        mix: f64,
+    },
+    /// `add`: `in1 + in2`.
+    Add {
+        /// `in1`.
+        a: Option<NodeId>,
+        /// `in2`.
+        b: Option<NodeId>,
+    },
+    /// `multiply`: `in1 · in2` (a float weight as a grey colour).
+    Multiply {
+        /// `in1`.
+        a: NodeId,
+        /// `in2`.
+        weight: DVec3,
+    },
+}
+
+/// Index of a node within its [`Bsdf`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct NodeId(pub u8);
+
+/// What kind of scattering a sampled direction came from (for lights' `diffuse` / `specular`
+/// multipliers and path statistics).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LobeKind {
+    /// Diffuse reflection or transmission (Oren–Nayar, Burley, translucent, subsurface, sheen).
+    Diffuse,
+    /// Glossy (rough microfacet) reflection or transmission.
+    Glossy,
+    /// A delta lobe: mirror reflection or smooth refraction.
+    Specular,
+}
+
+/// A sampled incident direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    /// Unit world direction towards the light.
+    pub wi: DVec3,
+    /// `f·|cos θi| / pdf` (for a delta lobe: its reflectance or transmittance times the
+    /// node weights, divided by the probability of choosing it).
+    pub weight: DVec3,
+    /// Density of `wi` per unit solid angle ([`Bsdf::pdf`]; for a delta lobe, the
+    /// probability of choosing it, and `kind` is [`LobeKind::Specular`]).
+    pub pdf: f64,
+    /// The lobe that produced it.
+    pub kind: LobeKind,
+    /// Whether `wi` lies on the other side of the geometric surface than `wo`.
+    pub transmitted: bool,
+}
+
+/// `eval`'s value split by lobe kind.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Eval {
+    /// Diffuse lobes' `f·|cos θi|`.
+    pub diffuse: DVec3,
+    /// Glossy lobes' `f·|cos θi|`.
+    pub specular: DVec3,
+}
+
+/// A closure tree at one shading point for one outgoing direction.
+#[derive(Clone, Copy, Debug)]
+pub struct Bsdf {
+    nodes: [Option<Node>; MAX_NODES],
+    len: u8,
+    wo: DVec3,
+    ng: DVec3,
+    entering: bool,
+    thin_walled: bool,
+}
+
+impl Bsdf {
+    /// An empty tree (black) for the unit direction `wo` towards the viewer, at a surface
+    /// whose geometric normal `ng` faces `wo`; `entering` says whether `wo` is on the outside
+    /// of the surface (a solid dielectric's ior applies as `ior` entering, `1/ior` leaving);
+    /// `thin_walled` makes transmission pass straight through without refraction (the
+    /// `surface` node's `thin_walled`).
+    pub fn new(wo: DVec3, ng: DVec3, entering: bool, thin_walled: bool) -> Bsdf {
+        let _ = (wo, ng, entering, thin_walled);
+        todo!()
+    }
+
+    /// Adds a node (its children pushed before it); `None` when the tree is full.
+    pub fn push(&mut self, node: Node) -> Option<NodeId> {
+        let _ = node;
+        todo!()
+    }
+
+    /// Whether the tree reflects and transmits nothing.
+    pub fn is_black(&self) -> bool {
+        todo!()
+    }
+
+    /// `f(wo, wi)·|cos θi|` of the non-delta lobes, split into diffuse and glossy parts.
+    pub fn eval(&self, wi: DVec3) -> Eval {
+        let _ = wi;
+        todo!()
+    }
+
+    /// Density of [`Bsdf::sample`] producing `wi` (non-delta lobes only).
+    pub fn pdf(&self, wi: DVec3) -> f64 {
+        let _ = wi;
+        todo!()
+    }
+
+    /// Samples an incident direction: `u_lobe` chooses a lobe, `u` the direction within it.
+    pub fn sample(&self, u_lobe: f64, u: [f64; 2]) -> Option<Sample> {
+        let _ = (u_lobe, u);
+        todo!()
+    }
+
+    /// The directional albedo `E(wo) = ∫ f·|cos θi| dωi` of the whole tree (tabulated or
+    /// closed form per closure, combined as the combinators combine them).
+    pub fn albedo(&self) -> DVec3 {
+        todo!()
+    }
+}
