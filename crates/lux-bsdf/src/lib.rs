@@ -42,8 +42,12 @@ impl Frame {
     /// A frame about `n` with the tangent `t` made orthogonal to it (Gram–Schmidt); any
     /// orthogonal tangent when `t` is parallel to `n` or zero.
     pub fn new(n: DVec3, t: DVec3) -> Frame {
-        let _ = (n, t);
-        todo!()
+        let n = n.normalize();
+        let mut t = (t - n * n.dot(t)).normalize_or_zero();
+        if t == DVec3::ZERO || !t.is_finite() {
+            t = n.any_orthonormal_vector();
+        }
+        Frame { n, t, b: n.cross(t) }
     }
 }
 
@@ -297,14 +301,30 @@ impl Bsdf {
     /// `thin_walled` makes transmission pass straight through without refraction (the
     /// `surface` node's `thin_walled`).
     pub fn new(wo: DVec3, ng: DVec3, entering: bool, thin_walled: bool) -> Bsdf {
-        let _ = (wo, ng, entering, thin_walled);
-        todo!()
+        Bsdf {
+            nodes: [None; MAX_NODES],
+            len: 0,
+            wo,
+            ng,
+            entering,
+            thin_walled,
+        }
     }
 
     /// Adds a node (its children pushed before it); `None` when the tree is full.
     pub fn push(&mut self, node: Node) -> Option<NodeId> {
-        let _ = node;
-        todo!()
+        let i = self.len as usize;
+        if i >= MAX_NODES {
+            return None;
+        }
+        self.nodes[i] = Some(node);
+        self.len += 1;
+        Some(NodeId(i as u8))
+    }
+
+    /// The nodes pushed so far, in order (the last is the root).
+    pub fn nodes(&self) -> impl Iterator<Item = &Node> {
+        self.nodes[..self.len as usize].iter().flatten()
     }
 
     /// Whether the tree reflects and transmits nothing.
