@@ -47,7 +47,11 @@ impl Frame {
         if t == DVec3::ZERO || !t.is_finite() {
             t = n.any_orthonormal_vector();
         }
-        Frame { n, t, b: n.cross(t) }
+        Frame {
+            n,
+            t,
+            b: n.cross(t),
+        }
     }
 }
 

@@ -295,6 +295,11 @@ pub enum Dim {
         /// Path vertex.
         bounce: u32,
     },
+    /// Which closure of a MaterialX BSDF tree the BSDF sample follows (1D).
+    Lobe {
+        /// Path vertex.
+        bounce: u32,
+    },
     /// Russian roulette after the vertex (1D).
     Roulette {
         /// Path vertex.
@@ -313,6 +318,7 @@ impl Dim {
     pub const fn id(self) -> u32 {
         let (bounce, k) = match self {
             Dim::Camera => (0, 0),
+            Dim::Lobe { bounce } => (bounce, 1),
             Dim::Bsdf { bounce } => (bounce, 2),
             Dim::Roulette { bounce } => (bounce, 3),
             Dim::LightChoice { bounce } => (bounce, 4),
@@ -597,6 +603,7 @@ mod tests {
         let mut seen = std::collections::HashSet::new();
         for bounce in [0, 1, 2, Dim::MAX_BOUNCE] {
             for d in [
+                Dim::Lobe { bounce },
                 Dim::Bsdf { bounce },
                 Dim::Roulette { bounce },
                 Dim::LightChoice { bounce },

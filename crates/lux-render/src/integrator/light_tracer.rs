@@ -145,7 +145,7 @@ impl<'a> LightTracer<'a> {
             if depth + 1 == self.max_depth {
                 return;
             }
-            let Some(bs) = sp.bsdf.sample(st.get2(Dim::Bsdf { bounce: depth })) else {
+            let Some(bs) = super::sample_bsdf(&sp.bsdf, st, depth) else {
                 return;
             };
             let wi = -d;

@@ -116,6 +116,23 @@ pub trait Integrator: Sync {
     }
 }
 
+/// The BSDF sample of path vertex `bounce`: its 2D direction numbers `Dim::Bsdf`, and for a
+/// MaterialX closure tree the 1D closure choice `Dim::Lobe` (drawn only then).
+#[inline]
+pub(crate) fn sample_bsdf(
+    bsdf: &crate::material::Bsdf,
+    st: &crate::sampler::SampleStream,
+    bounce: u32,
+) -> Option<crate::material::BsdfSample> {
+    use crate::sampler::Dim;
+    let u_lobe = if bsdf.chooses_lobes() {
+        st.get1(Dim::Lobe { bounce })
+    } else {
+        0.0
+    };
+    bsdf.sample(st.get2(Dim::Bsdf { bounce }), u_lobe)
+}
+
 /// Power heuristic, β = 2.
 #[inline]
 pub fn power_heuristic(a: f64, b: f64) -> f64 {

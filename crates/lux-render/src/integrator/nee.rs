@@ -56,8 +56,12 @@ pub(super) struct Nee<'a> {
 struct At {
     /// The receiver lux-sample samples from.
     r: Reference,
-    /// Where its rays start (`p` off the surface by its offset).
+    /// Where its rays start (`p` off the surface by its offset, on the viewer's side).
     origin: DVec3,
+    /// Where rays through a transmitting surface start (`p` off its other side).
+    origin_back: DVec3,
+    /// Whether the BSDF transmits: lights behind the surface count too.
+    transmits: bool,
     /// Light samples per light (or light choice).
     k: u32,
     /// Every light is sampled and the BSDF is Lambertian: uniform lights go alone.
@@ -130,9 +134,17 @@ impl<'a> Nee<'a> {
             return DVec3::ZERO;
         }
         let selector = self.selector();
+        let transmits = sp.bsdf.transmits();
         let at = At {
-            r: Reference::surface(sp.p, sp.ns),
+            // A transmitting surface is lit from both sides: no hemisphere to sample within.
+            r: if transmits {
+                Reference::point(sp.p)
+            } else {
+                Reference::surface(sp.p, sp.ns)
+            },
             origin: sp.p + sp.ng * sp.offset,
+            origin_back: sp.p - sp.ng * sp.offset,
+            transmits,
             k: self.light_samples * st.light_factor(),
             lambertian: self.mis && selector.is_none() && sp.bsdf.is_lambertian(),
         };
@@ -145,8 +157,8 @@ impl<'a> Nee<'a> {
         if (at.lambertian && self.all_uniform && !w.textured_emission) || !self.mis {
             return out;
         }
-        if let Some(bs) = sp.bsdf.sample(st.get2(Dim::Bsdf { bounce }))
-            && sp.ng.dot(bs.wi) > 0.0
+        if let Some(bs) = super::sample_bsdf(&sp.bsdf, st, bounce)
+            && (sp.ng.dot(bs.wi) > 0.0 || at.transmits)
         {
             // (added to `out` term by term, in the order of the terms)
             self.bsdf_sample(sp, &bs, &at, selector, ctx, &mut out);
@@ -258,8 +270,21 @@ impl<'a> Nee<'a> {
             return DVec3::ZERO;
         };
         ctx.counters.light_samples += 1;
-        let cos = sp.ns.dot(ls.wi);
-        if cos <= 0.0 || sp.ng.dot(ls.wi) <= 0.0 || ls.pdf.is_nan() || ls.pdf <= 0.0 {
+        let mut cos = sp.ns.dot(ls.wi);
+        let side = sp.ng.dot(ls.wi);
+        let mut origin = at.origin;
+        if at.transmits && side < 0.0 {
+            // Behind a transmitting surface: the shading normal must agree on the side.
+            if cos >= 0.0 {
+                return DVec3::ZERO;
+            }
+            cos = -cos;
+            origin = at.origin_back;
+        }
+        if cos <= 0.0 || side == 0.0 || ls.pdf.is_nan() || ls.pdf <= 0.0 {
+            return DVec3::ZERO;
+        }
+        if side < 0.0 && !at.transmits {
             return DVec3::ZERO;
         }
         if ls.l == DVec3::ZERO {
@@ -268,7 +293,7 @@ impl<'a> Nee<'a> {
         // A mesh light is geometry: its shadow ray aims at the sampled point from `origin`
         // (`shadow_ray_to`); other lights are not occluders.
         let (dir, tmax) = match l {
-            Light::Mesh(_) => match shadow_ray_to(at.origin, ls.point) {
+            Light::Mesh(_) => match shadow_ray_to(origin, ls.point) {
                 Some(ray) => ray,
                 None => return DVec3::ZERO,
             },
@@ -280,7 +305,7 @@ impl<'a> Nee<'a> {
         }
         let base = l.base();
         let w = &self.world;
-        let Some(vis) = shadow_ray(w, self.vis, base, (at.origin, dir, tmax), hint, ctx) else {
+        let Some(vis) = shadow_ray(w, self.vis, base, (origin, dir, tmax), hint, ctx) else {
             return DVec3::ZERO;
         };
         let pdf = pmf * ls.pdf;
@@ -320,9 +345,22 @@ impl<'a> Nee<'a> {
         let wi = bs.wi;
         let kf = at.k as f64;
         let pmf = |li: usize| kf * selector.map_or(1.0, |s| s.pmf(&at.r, li));
+        // MIS against light sampling, which cannot reach the direction of a delta lobe.
+        let mis_weight = |pdf_l: f64| {
+            if bs.delta {
+                1.0
+            } else {
+                power_heuristic(bs.pdf, pdf_l)
+            }
+        };
+        let origin = if sp.ng.dot(wi) < 0.0 {
+            at.origin_back
+        } else {
+            at.origin
+        };
         ctx.counters.rays += 1;
         // Either side blocks, as for shadow rays.
-        let hit = super::closest(w, at.origin, wi, 0.0, f64::INFINITY, true);
+        let hit = super::closest(w, origin, wi, 0.0, f64::INFINITY, true);
         if w.textured_emission
             && let Some(h) = &hit
         {
@@ -336,7 +374,7 @@ impl<'a> Nee<'a> {
         let mut add = |l: &Light, le: DVec3, pdf_l: f64| {
             let base = l.base();
             if le != DVec3::ZERO && base.plain_shadows() && base.illuminates(sp.mesh, sp.instance) {
-                let mis = power_heuristic(bs.pdf, pdf_l);
+                let mis = mis_weight(pdf_l);
                 let contrib = if one_scale(&sp.bsdf, base) {
                     bs.weight * le * (mis * base.diffuse)
                 } else {
@@ -351,7 +389,7 @@ impl<'a> Nee<'a> {
                 }
             }
         };
-        w.lights.lights_crossed(at.origin, wi, 0.0, t_geo, |li, h| {
+        w.lights.lights_crossed(origin, wi, 0.0, t_geo, |li, h| {
             let l = &lights[li];
             if h.front && !at.alone(l) {
                 add(

@@ -7,9 +7,11 @@
 //! `b`: light sampling (MIS against BSDF sampling) and the emission found along the BSDF sample
 //! `Dim::Bsdf { bounce: b }` (MIS against light sampling). The path then continues along that
 //! same BSDF sample, β ← β·f·cos/pdf, to the first surface on either side (what blocks light
-//! for the vertex's estimate); the emission of what it meets was already counted there. The
-//! back of a single-sided surface ends the path: it blocks, but reflects nothing (camera rays
-//! do not see it either). After [`ROULETTE_DEPTH`] vertices Russian roulette ends the path
+//! for the vertex's estimate), through the surface when the sample was transmitted (a
+//! dielectric's refraction, a translucent or thin-walled surface); the emission of what it
+//! meets was already counted there. The back of a single-sided surface ends the path: it
+//! blocks, but reflects nothing (camera rays do not see it either) — except where its
+//! material transmits, whose inside a refracted path meets. After [`ROULETTE_DEPTH`] vertices Russian roulette ends the path
 //! with probability 1 − q, q = min(1, max(β)), and divides β by q; at most `max_depth`
 //! vertices are lit (`max_depth = 1` is the direct integrator, bit for bit). The reference
 //! estimator (`SamplingMode::Reference`) has no BSDF sampling to continue along: a path of it
@@ -61,10 +63,11 @@ impl Integrator for PathIntegrator<'_> {
             if bounce + 1 == self.max_depth {
                 break;
             }
-            let Some(bs) = sp.bsdf.sample(st.get2(Dim::Bsdf { bounce })) else {
+            let Some(bs) = super::sample_bsdf(&sp.bsdf, st, bounce) else {
                 break;
             };
-            if sp.ng.dot(bs.wi) <= 0.0 {
+            let side = sp.ng.dot(bs.wi);
+            if side == 0.0 || (side < 0.0 && !sp.bsdf.transmits()) {
                 break;
             }
             beta *= bs.weight;
@@ -76,13 +79,19 @@ impl Integrator for PathIntegrator<'_> {
                 beta /= q;
             }
             ctx.counters.rays += 1;
-            let origin = sp.p + sp.ng * sp.offset;
+            // Off the surface on the side the path leaves by (through it when transmitted).
+            let origin = sp.p + sp.ng * (sp.offset * side.signum());
             let Some(hit) = closest(w, origin, bs.wi, 0.0, f64::INFINITY, true) else {
                 break;
             };
             // The back of a single-sided surface blocks light (as for shadow rays) but has no
-            // material there: camera rays cull it, and the path ends on it (black).
-            if hit.back && !w.scene.meshes[hit.mesh].double_sided {
+            // material there: camera rays cull it, and the path ends on it (black) — unless
+            // its material transmits, whose inside a refracted path sees (a solid glass
+            // object is closed, whatever its `doubleSided`).
+            if hit.back
+                && !w.scene.meshes[hit.mesh].double_sided
+                && !w.materials.transmits(w.scene, &hit)
+            {
                 break;
             }
             sp = w.materials.at(w.scene, &hit, bs.wi);

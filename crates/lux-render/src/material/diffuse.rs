@@ -45,6 +45,7 @@ impl DiffuseBsdf {
             wi,
             pdf: cos * FRAC_1_PI,
             weight: self.albedo,
+            delta: false,
         })
     }
 }

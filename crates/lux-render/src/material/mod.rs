@@ -13,10 +13,12 @@
 //! `normalize(M⁻ᵀ·n)`, then interpolated and renormalised.
 
 mod diffuse;
+mod graph_bsdf;
 mod preview;
 mod texture;
 
 pub use diffuse::DiffuseBsdf;
+pub use graph_bsdf::GraphBsdf;
 pub use preview::{PreviewBsdf, PreviewParams};
 
 use crate::RenderError;
@@ -121,15 +123,21 @@ pub struct BsdfSample {
     pub pdf: f64,
     /// `f(wi)·|cos θᵢ| / pdf`.
     pub weight: DVec3,
+    /// Whether it came from a delta lobe (a mirror or smooth refraction): `pdf` is then the
+    /// probability of choosing that lobe, and no light sample can reach `wi` (MIS weight 1).
+    pub delta: bool,
 }
 
 /// The scattering function at a surface point (the closed set of lux's BSDFs).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub enum Bsdf {
     /// Lambertian reflection.
     Diffuse(DiffuseBsdf),
     /// The UsdPreviewSurface (diffuse, GGX specular, clearcoat).
     Preview(PreviewBsdf),
+    /// A MaterialX closure tree (standard_surface, open_pbr_surface, UsdPreviewSurface as
+    /// MaterialX defines it, or any graph of pbrlib closures).
+    Graph(Box<GraphBsdf>),
 }
 
 impl Bsdf {
@@ -139,6 +147,7 @@ impl Bsdf {
         match self {
             Bsdf::Diffuse(b) => b.albedo == DVec3::ZERO,
             Bsdf::Preview(b) => b.is_black(),
+            Bsdf::Graph(b) => b.bsdf.is_black(),
         }
     }
 
@@ -149,7 +158,17 @@ impl Bsdf {
     pub fn is_lambertian(&self) -> bool {
         match self {
             Bsdf::Diffuse(_) => true,
-            Bsdf::Preview(_) => false,
+            Bsdf::Preview(_) | Bsdf::Graph(_) => false,
+        }
+    }
+
+    /// Whether the BSDF transmits: light from behind the surface (the other side of the
+    /// geometric normal) reaches the viewer, and sampled directions may go through it.
+    #[inline]
+    pub fn transmits(&self) -> bool {
+        match self {
+            Bsdf::Diffuse(_) | Bsdf::Preview(_) => false,
+            Bsdf::Graph(b) => b.transmits,
         }
     }
 
@@ -160,6 +179,7 @@ impl Bsdf {
         match self {
             Bsdf::Diffuse(b) => b.f(wi),
             Bsdf::Preview(b) => b.f(wi),
+            Bsdf::Graph(b) => b.f(wi),
         }
     }
 
@@ -170,6 +190,7 @@ impl Bsdf {
         match self {
             Bsdf::Diffuse(b) => (b.f(wi), DVec3::ZERO),
             Bsdf::Preview(b) => b.f_lobes(wi),
+            Bsdf::Graph(b) => b.f_lobes(wi),
         }
     }
 
@@ -190,16 +211,26 @@ impl Bsdf {
         match self {
             Bsdf::Diffuse(b) => b.pdf(wi),
             Bsdf::Preview(b) => b.pdf(wi),
+            Bsdf::Graph(b) => b.pdf(wi),
         }
     }
 
-    /// Samples an incident direction with `u ∈ [0,1)²`; `None` below the shading horizon.
+    /// Samples an incident direction with `u ∈ [0,1)²` (`u_lobe` ∈ [0, 1) chooses the closure
+    /// of a MaterialX tree; the others ignore it); `None` below the shading horizon (or
+    /// where nothing scatters).
     #[inline]
-    pub fn sample(&self, u: [f64; 2]) -> Option<BsdfSample> {
+    pub fn sample(&self, u: [f64; 2], u_lobe: f64) -> Option<BsdfSample> {
         match self {
             Bsdf::Diffuse(b) => b.sample(u),
             Bsdf::Preview(b) => b.sample(u),
+            Bsdf::Graph(b) => b.sample(u, u_lobe),
         }
+    }
+
+    /// Whether [`Bsdf::sample`] reads its `u_lobe`.
+    #[inline]
+    pub fn chooses_lobes(&self) -> bool {
+        matches!(self, Bsdf::Graph(_))
     }
 }
 
@@ -289,7 +320,7 @@ fn reflectance_albedo(
 }
 
 /// The shading frame and BSDF at a hit.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct SurfacePoint {
     /// Position.
     pub p: DVec3,
@@ -426,6 +457,14 @@ impl Materials {
     /// `opacityThreshold` cut-out), so that rays must test the opacity of what they hit.
     pub fn any_transparent(&self) -> bool {
         self.mesh_transparent.iter().any(|&t| t) || self.instance_transparent.iter().any(|&t| t)
+    }
+
+    /// Whether the material at `hit` transmits light (a path may enter the surface and meet its
+    /// back from inside).
+    #[inline]
+    pub fn transmits(&self, scene: &Scene, hit: &Hit) -> bool {
+        let _ = (scene, hit);
+        false
     }
 
     /// Whether some material's `emissiveColor` is a texture ([`Materials::emission`]).

@@ -338,7 +338,12 @@ impl PreviewBsdf {
         if !weight.is_finite() {
             return None;
         }
-        Some(BsdfSample { wi, pdf, weight })
+        Some(BsdfSample {
+            wi,
+            pdf,
+            weight,
+            delta: false,
+        })
     }
 
     /// True when nothing is reflected towards this viewer (`wo` below the shading horizon, or an
