@@ -29,6 +29,7 @@ pub mod light;
 pub mod linking;
 mod load;
 pub mod material;
+pub mod mtlx;
 pub mod mesh;
 pub mod path_guard;
 pub mod points;
