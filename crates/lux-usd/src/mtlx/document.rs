@@ -238,13 +238,9 @@ impl Ctx<'_> {
     }
 
     pub(crate) fn name(&self, e: roxmltree::Node) -> Result<String, MtlxError> {
-        e.attribute("name").map(str::to_string).ok_or_else(|| {
-            self.invalid(
-                e,
-                e.tag_name().name().to_string(),
-                "a `name` attribute",
-            )
-        })
+        e.attribute("name")
+            .map(str::to_string)
+            .ok_or_else(|| self.invalid(e, e.tag_name().name().to_string(), "a `name` attribute"))
     }
 }
 
@@ -263,7 +259,10 @@ pub fn parse_document(text: &str, path: &Path) -> Result<Document, MtlxError> {
             message: e.to_string(),
         }
     })?;
-    let ctx = Ctx { file: path, text: &xml };
+    let ctx = Ctx {
+        file: path,
+        text: &xml,
+    };
     let root = xml.root_element();
     if root.tag_name().name() != "materialx" {
         return Err(ctx.invalid(
@@ -274,9 +273,8 @@ pub fn parse_document(text: &str, path: &Path) -> Result<Document, MtlxError> {
     }
     let version = match root.attribute("version") {
         None => (1, 39),
-        Some(v) => parse_version(v).ok_or_else(|| {
-            ctx.invalid(root, "materialx".into(), "version=\"major.minor\"")
-        })?,
+        Some(v) => parse_version(v)
+            .ok_or_else(|| ctx.invalid(root, "materialx".into(), "version=\"major.minor\""))?,
     };
     let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
     let scope = Scope::default().enter(root);
@@ -332,9 +330,10 @@ fn parse_look(ctx: &Ctx, e: roxmltree::Node) -> Result<Look, MtlxError> {
     for a in e.children().filter(|c| c.has_tag_name("materialassign")) {
         look.assigns.push(MaterialAssign {
             name: ctx.name(a)?,
-            material: a.attribute("material").map(str::to_string).ok_or_else(|| {
-                ctx.invalid(a, "materialassign".into(), "a `material` attribute")
-            })?,
+            material: a
+                .attribute("material")
+                .map(str::to_string)
+                .ok_or_else(|| ctx.invalid(a, "materialassign".into(), "a `material` attribute"))?,
             geom: a.attribute("geom").map(str::to_string),
             collection: a.attribute("collection").map(str::to_string),
         });
@@ -374,12 +373,7 @@ fn parse_nodegraph(
     Ok(g)
 }
 
-fn parse_node(
-    ctx: &Ctx,
-    e: roxmltree::Node,
-    outer: &Scope,
-    dir: &Path,
-) -> Result<Node, MtlxError> {
+fn parse_node(ctx: &Ctx, e: roxmltree::Node, outer: &Scope, dir: &Path) -> Result<Node, MtlxError> {
     let scope = outer.enter(e);
     let type_name = e.attribute("type").unwrap_or("").to_string();
     let mut node = Node {
@@ -519,7 +513,9 @@ impl Document {
             .nodes
             .iter()
             .find(|n| n.name == material && n.category == "surfacematerial")
-            .ok_or_else(|| self.network_error(format!("no surfacematerial named \"{material}\"")))?;
+            .ok_or_else(|| {
+                self.network_error(format!("no surfacematerial named \"{material}\""))
+            })?;
         let mut b = Builder {
             doc: self,
             file: self

@@ -103,7 +103,9 @@ pub(crate) fn parse_nodedef(ctx: &Ctx, e: roxmltree::Node) -> Result<NodeDef, Mt
             continue;
         }
         let default = match c.attribute("value") {
-            Some(text) if ty.components() > 0 || matches!(ty, ValueType::String | ValueType::Filename) => {
+            Some(text)
+                if ty.components() > 0 || matches!(ty, ValueType::String | ValueType::Filename) =>
+            {
                 Some(parse_value(ty, text).ok_or_else(|| {
                     ctx.invalid(
                         c,
@@ -207,7 +209,9 @@ impl Library {
             let mut depth = 0;
             while let Some(p) = parent.take() {
                 depth += 1;
-                let Some(&pi) = lib.by_name.get(&p) else { break };
+                let Some(&pi) = lib.by_name.get(&p) else {
+                    break;
+                };
                 if depth > 16 {
                     break;
                 }

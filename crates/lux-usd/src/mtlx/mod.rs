@@ -15,9 +15,7 @@ use std::path::PathBuf;
 pub use document::{
     Document, Input, Look, MaterialAssign, Node, NodeGraph, Output, parse_document, read_document,
 };
-pub use library::{
-    DefInput, Library, NodeDef, NodeGraphDef, library, nodedef_for_usd_id,
-};
+pub use library::{DefInput, Library, NodeDef, NodeGraphDef, library, nodedef_for_usd_id};
 
 use crate::shading::{Value, ValueType};
 

@@ -7,9 +7,7 @@
 
 use std::collections::HashMap;
 
-use super::{
-    GraphInput, GraphNode, NetSource, Network, ShadingGraph, Source, Value, ValueType,
-};
+use super::{GraphInput, GraphNode, NetSource, Network, ShadingGraph, Source, Value, ValueType};
 use crate::mtlx::{Library, NodeDef, NodeGraphDef, library, nodedef_for_usd_id, zero_value};
 
 /// Flattens `network` against the embedded MaterialX library: nodedefs resolved, defaults
@@ -335,9 +333,11 @@ impl<'a> Flattener<'a> {
         };
         let mut outs = Vec::new();
         for (k, (oname, _)) in def.outputs.iter().enumerate() {
-            let gout = graph
-                .output(Some(oname))
-                .or_else(|| (def.outputs.len() == 1).then(|| graph.output(None)).flatten());
+            let gout = graph.output(Some(oname)).or_else(|| {
+                (def.outputs.len() == 1)
+                    .then(|| graph.output(None))
+                    .flatten()
+            });
             let src = match gout {
                 Some(o) => {
                     if let Some(iface) = &o.interfacename {
