@@ -232,7 +232,10 @@ pub fn read_network_terminal(
                 r,
                 material,
                 WarningKind::InvalidValue,
-                format!("{terminal}: {why}; ignored"),
+                match which {
+                    Terminal::Mtlx => format!("{terminal}: {why}; outputs:surface is read instead"),
+                    Terminal::Universal => format!("{terminal}: {why}; ignored"),
+                },
             ),
         }
     }
