@@ -322,7 +322,7 @@ fn read_inputs(
             continue;
         }
         let declared = attr_type(r, &prim, attr)?;
-        let ty = declared.as_deref().and_then(usd_value_type);
+        let mut ty = declared.as_deref().and_then(usd_value_type);
         let source = match resolve(r, &path, attr)? {
             Err(why) => {
                 warn(
@@ -344,15 +344,14 @@ fn read_inputs(
                     Some((vp, va))
                 };
                 match read_value(r, &path, attr, held, ty)? {
-                    Some(v) => NetSource::Value(v),
+                    Some((t, v)) => {
+                        ty = t;
+                        NetSource::Value(v)
+                    }
                     None => continue,
                 }
             }
         };
-        let ty = ty.or_else(|| match &source {
-            NetSource::Value(Value::File(_)) => Some(ValueType::Filename),
-            _ => None,
-        });
         inputs.push(NetInput {
             name: input.to_owned(),
             ty,
@@ -394,15 +393,15 @@ fn colorspace_name(token: &str) -> String {
 }
 
 /// The value of input `attr` on the shader `shader`, held by `held` (an interface input) or
-/// by the input itself; converted to `ty` (or the held value's own type). `None` when no
-/// value is authored or (with a warning) when it does not convert.
+/// by the input itself; converted to `ty` (or the held value's own type), returned with the
+/// type. `None` when no value is authored or (with a warning) when it does not convert.
 fn read_value(
     r: &mut Reader<'_>,
     shader: &str,
     attr: &str,
     held: Option<(String, String)>,
     ty: Option<ValueType>,
-) -> Result<Option<Value>, LoadError> {
+) -> Result<Option<(Option<ValueType>, Value)>, LoadError> {
     let sprim = r.stage.prim(shader);
     // A value on the interface input; else (an interface input without one) the input's own.
     let mut holder = (shader.to_owned(), attr.to_owned());
@@ -476,7 +475,7 @@ fn read_value(
             ),
         );
     }
-    Ok(v)
+    Ok(v.map(|v| (ty, v)))
 }
 
 /// A raw value as a MaterialX value of type `ty`.
