@@ -35,6 +35,7 @@ pub mod path_guard;
 pub mod points;
 pub mod reader;
 mod resolver;
+pub mod shade_network;
 pub mod shading;
 pub mod skel;
 pub mod spectral;
@@ -60,6 +61,7 @@ pub use material::{
 };
 pub use mesh::{CornerPrimvar, Gprim, Instance, Mesh, Prototype};
 pub use reader::AssetRef;
+pub use shade_network::read_network;
 pub use spectral::{PhysicalLight, SurfaceSpectral};
 pub use walk::SKIPPED_GPRIMS;
 

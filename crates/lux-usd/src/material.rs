@@ -3,6 +3,7 @@
 
 use crate::error::{LoadError, WarningKind};
 use crate::reader::{AssetRef, Reader, is_prim_path, is_property_name};
+use crate::shade_network::{Terminal, read_network_terminal};
 use crate::spectral::{SurfaceSpectral, read_surface_spectral};
 use glam::{DVec2, DVec3, DVec4};
 use openusd::usd::Prim;
@@ -268,6 +269,13 @@ pub struct Material {
     pub emissive_texture: Option<Box<TextureInput>>,
     /// `inputs:emissiveColor` from a primvar reader (radiance per point of the surface).
     pub emissive_primvar: Option<Box<PrimvarInput>>,
+    /// The material's shading network flattened against the MaterialX library
+    /// ([`crate::shading::flatten`] of [`crate::shade_network::read_network`]): read from
+    /// `outputs:mtlx:surface` (the MaterialX render context), else `outputs:surface`, for every
+    /// material whose surface shader has an `info:id` (a UsdPreviewSurface included: its
+    /// MaterialX graph); `None` without a readable surface shader. The fields above describe
+    /// the `outputs:surface` UsdPreviewSurface as before, whatever this holds.
+    pub graph: Option<Box<crate::shading::ShadingGraph>>,
 }
 
 impl Material {
@@ -293,6 +301,7 @@ impl Material {
             emissive: DVec3::ZERO,
             emissive_texture: None,
             emissive_primvar: None,
+            graph: None,
         }
     }
 
@@ -419,24 +428,57 @@ const READ_INPUTS: [&str; 12] = [
 
 /// Reads the Material at `path`.
 pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadError> {
+    let first_warning = r.warnings.len();
+    let mut out = read_preview(r, path)?;
+    let (network, terminal) = read_network_terminal(r, path)?;
+    let surface = network
+        .surface
+        .as_ref()
+        .and_then(|c| network.nodes.get(c.node));
+    if let Some(node) = surface
+        && node.nodedef.is_some()
+    {
+        // The renderer draws a MaterialX surface from the graph: the UsdPreviewSurface
+        // fields' "default grey" does not apply to it.
+        if terminal == Some(Terminal::Mtlx) && node.nodedef.as_deref() != Some("UsdPreviewSurface")
+        {
+            r.warnings.retain(|w| {
+                !(w.prim == path && (w.message == NOT_PREVIEW_SURFACE || w.message == NO_SURFACE))
+            });
+        }
+        out.graph = Some(Box::new(crate::shading::flatten(&network)));
+    }
+    // One warning per problem, whichever of the two readings found it first.
+    let mut seen = Vec::new();
+    let mut k = first_warning;
+    while k < r.warnings.len() {
+        if seen.contains(&r.warnings[k]) {
+            r.warnings.remove(k);
+        } else {
+            seen.push(r.warnings[k].clone());
+            k += 1;
+        }
+    }
+    Ok(out)
+}
+
+/// The warning of a material whose `outputs:surface` is not a UsdPreviewSurface.
+const NOT_PREVIEW_SURFACE: &str = "surface shader is not UsdPreviewSurface; default grey";
+/// The warning of a material without `outputs:surface`.
+const NO_SURFACE: &str = "material has no connected outputs:surface; default grey";
+
+/// The UsdPreviewSurface fields of the Material at `path` (its `outputs:surface`).
+fn read_preview(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadError> {
     let mat = r.stage.prim(path);
     let mut out = Material::new(path);
     let (shader_path, _) = follow(r, path, "outputs:surface")?;
     if shader_path == path {
-        r.warn(
-            &mat,
-            WarningKind::Ignored,
-            "material has no connected outputs:surface; default grey",
-        );
+        r.warn(&mat, WarningKind::Ignored, NO_SURFACE);
         return Ok(out);
     }
     let shader = r.stage.prim(shader_path.as_str());
     if shader_id(r, &shader)?.as_deref() != Some("UsdPreviewSurface") {
-        r.warn(
-            &mat,
-            WarningKind::Unsupported,
-            "surface shader is not UsdPreviewSurface; default grey",
-        );
+        r.warn(&mat, WarningKind::Unsupported, NOT_PREVIEW_SURFACE);
         return Ok(out);
     }
     out.preview = true;
