@@ -227,30 +227,33 @@ impl Lobe {
         }
         let reflect_lobe = if self.retro_rt() {
             u_sel < self.p_reflect(self.f(wo.z))
-        } else if self.mode == ScatterMode::R {
-            true
         } else {
-            false
+            self.mode == ScatterMode::R
         };
-        let wi = if reflect_lobe || self.mode == ScatterMode::R {
+        let (wi, up) = if reflect_lobe {
             let wr = self.wo_r(wo);
             let m = self.ggx.sample_visible(wr, u);
-            reflect(wr, m)
+            (reflect(wr, m), true)
         } else {
             let m = self.ggx.sample_visible(wo, u);
             let choose_r = !self.retro_rt()
                 && self.mode == ScatterMode::Rt
                 && u_sel < self.p_reflect(self.f(wo.dot(m)));
             if choose_r {
-                reflect(wo, m)
+                (reflect(wo, m), true)
             } else if self.thin {
                 let w = reflect(wo, m);
-                DVec3::new(w.x, w.y, -w.z)
+                if w.z <= 0.0 {
+                    return None;
+                }
+                (DVec3::new(w.x, w.y, -w.z), false)
             } else {
-                refract(wo, m, self.eta)?
+                (refract(wo, m, self.eta)?, false)
             }
         };
-        if !wi.is_finite() || wi.z == 0.0 {
+        // A reflection must leave above the surface, a refraction below it; otherwise the
+        // sample falls where the lobe is zero.
+        if !wi.is_finite() || (wi.z > 0.0) != up || wi.z == 0.0 {
             return None;
         }
         Some(LobeSample { wi, delta: None })
