@@ -19,6 +19,22 @@
 
 #![warn(missing_docs)]
 
+pub mod albedo;
+pub mod burley;
+mod closure;
+pub mod conductor;
+pub mod dielectric;
+pub mod fresnel;
+mod lobe;
+pub mod microfacet;
+pub mod oren_nayar;
+pub mod schlick;
+pub mod sheen;
+pub mod subsurface;
+pub mod translucent;
+mod tree;
+pub mod warp;
+
 use glam::{DVec2, DVec3};
 
 /// Roughness (GGX α, per axis) below which a microfacet lobe is a perfect mirror or refractor.
@@ -331,32 +347,55 @@ impl Bsdf {
         self.nodes[..self.len as usize].iter().flatten()
     }
 
-    /// Whether the tree reflects and transmits nothing.
+    /// The root node (the last pushed), if any.
+    pub fn root(&self) -> Option<NodeId> {
+        self.len.checked_sub(1).map(NodeId)
+    }
+
+    pub(crate) fn node_slice(&self) -> &[Option<Node>] {
+        &self.nodes[..self.len as usize]
+    }
+    pub(crate) fn wo_dir(&self) -> DVec3 {
+        self.wo
+    }
+    pub(crate) fn is_entering(&self) -> bool {
+        self.entering
+    }
+    pub(crate) fn is_thin_walled(&self) -> bool {
+        self.thin_walled
+    }
+
+    /// Whether the tree reflects and transmits nothing (every closure's contribution
+    /// `cₖ ⊙ Eₖ(ωo)` is zero; see `tree.rs`).
     pub fn is_black(&self) -> bool {
-        todo!()
+        !(tree::Prepared::new(self).total > 0.0)
     }
 
-    /// `f(wo, wi)·|cos θi|` of the non-delta lobes, split into diffuse and glossy parts.
+    /// `f(wo, wi)·|cos θi|` of the non-delta lobes, split into diffuse and glossy parts
+    /// (never NaN or negative).
     pub fn eval(&self, wi: DVec3) -> Eval {
-        let _ = wi;
-        todo!()
+        tree::Prepared::new(self).eval(wi)
     }
 
-    /// Density of [`Bsdf::sample`] producing `wi` (non-delta lobes only).
+    /// Density of [`Bsdf::sample`] producing `wi` (non-delta lobes only): the mixture
+    /// `Σ pₖ pdfₖ(wi)` of `tree.rs`. It integrates to one minus the probability of choosing a
+    /// delta lobe.
     pub fn pdf(&self, wi: DVec3) -> f64 {
-        let _ = wi;
-        todo!()
+        tree::Prepared::new(self).pdf(wi)
     }
 
-    /// Samples an incident direction: `u_lobe` chooses a lobe, `u` the direction within it.
+    /// Samples an incident direction: `u_lobe` chooses a lobe (its remainder also chooses
+    /// reflection or transmission within a microfacet lobe), `u` the direction within it.
+    /// `None` when the tree is black or the sample falls where the lobe is zero (below the
+    /// horizon, total internal reflection).
     pub fn sample(&self, u_lobe: f64, u: [f64; 2]) -> Option<Sample> {
-        let _ = (u_lobe, u);
-        todo!()
+        tree::Prepared::new(self).sample(self.ng, u_lobe, u)
     }
 
     /// The directional albedo `E(wo) = ∫ f·|cos θi| dωi` of the whole tree (tabulated or
-    /// closed form per closure, combined as the combinators combine them).
+    /// closed form per closure, combined as the combinators combine them), delta lobes
+    /// included.
     pub fn albedo(&self) -> DVec3 {
-        todo!()
+        tree::Prepared::new(self).albedo
     }
 }
