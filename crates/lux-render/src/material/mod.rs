@@ -13,6 +13,7 @@
 //! `normalize(M⁻ᵀ·n)`, then interpolated and renormalised.
 
 mod diffuse;
+pub mod graph;
 mod graph_bsdf;
 mod preview;
 mod texture;

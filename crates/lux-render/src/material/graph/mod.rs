@@ -1,0 +1,169 @@
+//! MaterialX shading graphs on the renderer side: a flattened [`ShadingGraph`] (lux-usd's
+//! `shading` module: only "native" nodes — the pbrlib closures and helpers and the stdlib
+//! nodes) compiled once per material into a flat instruction list ([`GraphShader::compile`]),
+//! then evaluated per ray hit into a closure tree of the `lux-bsdf` crate
+//! ([`GraphShader::eval`]).
+//!
+//! Compilation:
+//!
+//! - every node output becomes an *argument*: a constant, a register written by an
+//!   instruction, or a geometric quantity of the hit (`UV0`, `Nworld`, `Tworld`, `Bworld`,
+//!   `Pworld`; [`ShadingContext`]);
+//! - **constant folding**: a node whose inputs are all constant is evaluated at compile time
+//!   (an `image` whose texture coordinate is constant included), and conditionals whose
+//!   selector is constant (`ifgreater`, `ifgreatereq`, `ifequal`, `switch`, `mix` with `mix`
+//!   0 or 1) become their selected input, so a UsdPreviewSurface or standard_surface with
+//!   constant inputs costs only the construction of its closures per hit;
+//! - a closure whose `weight` folds to 0 is dropped, and the combinators over dropped closures
+//!   simplify (`layer` over nothing is its top, `add` of one closure is that closure, …);
+//! - instructions the surface does not depend on are removed.
+//!
+//! Evaluation runs the instructions on a per-thread register file (no allocation per hit
+//! once it has grown to the largest shader), pushing the closures into a
+//! [`lux_bsdf::Bsdf`] bottom-up so that its last node is the root.
+//!
+//! Node semantics follow `MaterialX.StandardNodes.md` and `MaterialX.PBRSpec.md`, with the
+//! reference implementations (MaterialX 1.39 `genglsl`) where the text gives no formula
+//! (`rotate2d`, `rotate3d`, `normalmap`, `roughness_anisotropy`, `artistic_ior`). The files:
+//! `math.rs` (stdlib arithmetic, channel, conditional and adjustment nodes), `texture.rs`
+//! (`image`, `tiledimage`, colour spaces, the texture cache), `geometry.rs` (`texcoord`,
+//! `position`, `normal`, `tangent`, `bitangent`, `geompropvalue`), `closure.rs` (pbrlib),
+//! `compile.rs`, `eval.rs`.
+
+mod closure;
+mod compile;
+mod eval;
+mod geometry;
+mod math;
+mod texture;
+
+pub use texture::{ColorSpace, TextureCache};
+
+use glam::{DVec2, DVec3, DVec4};
+use lux_usd::shading::ShadingGraph;
+
+use eval::{Arg, Instr};
+
+/// What a ray hit provides to a [`GraphShader`]: the geometric quantities MaterialX's
+/// geometric nodes and `defaultgeomprop`s read (`MaterialX.StandardNodes.md`, "Geometric
+/// Nodes"), all in world space.
+#[derive(Clone, Copy, Debug)]
+pub struct ShadingContext<'a> {
+    /// Position (`Pworld`, `position`).
+    pub p: DVec3,
+    /// Unit shading normal facing the viewer (`Nworld`, `normal`).
+    pub n: DVec3,
+    /// Unit geometric normal facing the viewer.
+    pub ng: DVec3,
+    /// Unit tangent (`Tworld`, `tangent`): ∂p/∂u when the surface has texture coordinates,
+    /// else any tangent.
+    pub t: DVec3,
+    /// Unit bitangent (`Bworld`, `bitangent`).
+    pub b: DVec3,
+    /// Texture coordinates, set 0 (`UV0`, `texcoord`), MaterialX's convention: (0, 0) at the
+    /// lower left of an image.
+    pub uv: DVec2,
+    /// The values of the primvars of [`GraphShader::primvars`], by slot; a slot the gprim
+    /// does not have is a non-finite value (or beyond the slice's end), and the reading
+    /// `geompropvalue` node returns its `default` there.
+    pub primvars: &'a [DVec4],
+    /// Unit direction towards the viewer.
+    pub wo: DVec3,
+    /// Whether `wo` is on the outside of the surface.
+    pub entering: bool,
+}
+
+/// A material evaluated at a hit ([`GraphShader::eval`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Shaded {
+    /// The closure tree of the `surface` node's `bsdf` (empty: black).
+    pub bsdf: lux_bsdf::Bsdf,
+    /// Radiance emitted towards `wo` by the `surface` node's `edf` (`uniform_edf`: its
+    /// `color`; `generalized_schlick_edf`: `F(cos θo)·base`; `mix`/`add`/`multiply` on EDFs
+    /// combine the radiances).
+    pub emission: DVec3,
+    /// The `surface` node's `opacity` (cutout), clamped to \[0, 1\].
+    pub opacity: f64,
+    /// The `surface` node's `thin_walled`.
+    pub thin_walled: bool,
+}
+
+/// The `surface` node (`MaterialX.PBRSpec.md`, "surface") the material shades with: its inputs
+/// as arguments.
+#[derive(Clone, Debug)]
+pub(crate) struct SurfaceArgs {
+    pub(crate) bsdf: Arg,
+    pub(crate) edf: Arg,
+    pub(crate) opacity: Arg,
+    pub(crate) thin_walled: Arg,
+}
+
+/// A material's flattened MaterialX shading graph, compiled for evaluation at ray hits.
+#[derive(Clone, Debug)]
+pub struct GraphShader {
+    material: String,
+    program: Vec<Instr>,
+    registers: usize,
+    surface: Option<SurfaceArgs>,
+    primvars: Vec<String>,
+    unsupported: Vec<String>,
+}
+
+impl GraphShader {
+    /// Compiles `graph` (nodes topologically sorted, every input present): textures are
+    /// loaded through `textures` (once per file and colour space), constant nodes folded,
+    /// dead instructions removed. Never fails: what cannot be honoured (an unknown node
+    /// category — its outputs take zero, closures none —, a texture that does not load — the
+    /// `image` returns its `default` —, an unsupported input value) is a warning in
+    /// `warnings` naming material and node, and listed by [`GraphShader::unsupported`].
+    pub fn compile(
+        graph: &ShadingGraph,
+        textures: &mut TextureCache,
+        warnings: &mut Vec<String>,
+    ) -> GraphShader {
+        compile::compile(graph, textures, warnings)
+    }
+
+    /// The Material prim path.
+    pub fn material(&self) -> &str {
+        &self.material
+    }
+
+    /// The primvar names `geompropvalue` nodes (and so `UsdPrimvarReader`s) read, in the slot
+    /// order of [`ShadingContext::primvars`].
+    pub fn primvars(&self) -> &[String] {
+        &self.primvars
+    }
+
+    /// What the compiled shader could not honour as authored (nodes and inputs), for `lux
+    /// info`.
+    pub fn unsupported(&self) -> &[String] {
+        &self.unsupported
+    }
+
+    /// How many instructions run per hit (0 when everything but the closures' construction
+    /// folded away is not possible: closures are instructions; a material whose surface is
+    /// a constant colour of no closure runs none).
+    pub fn instruction_count(&self) -> usize {
+        self.program.len()
+    }
+
+    /// How many of the per-hit instructions are not closure constructions (0 for a material
+    /// whose inputs are all constant).
+    pub fn value_instruction_count(&self) -> usize {
+        self.program.iter().filter(|i| !i.op.is_closure()).count()
+    }
+
+    /// Evaluates the material at a hit.
+    pub fn eval(&self, ctx: &ShadingContext) -> Shaded {
+        eval::eval(self, ctx)
+    }
+
+    /// The albedo of the renderer's fast Lambertian path: `Some(weight·color)` when the
+    /// whole surface folds to constant `oren_nayar_diffuse_bsdf` closures of roughness 0
+    /// about the shading normal (combined by `mix`, `add` and `multiply` with constant
+    /// weights), with no other closure of nonzero weight, opacity 1 and no emission.
+    pub fn constant_lambert(&self) -> Option<DVec3> {
+        eval::constant_lambert(self)
+    }
+}
