@@ -22,6 +22,8 @@ pub use diffuse::DiffuseBsdf;
 pub use graph_bsdf::GraphBsdf;
 pub use preview::{PreviewBsdf, PreviewParams};
 
+use graph::{GraphShader, ShadingContext};
+
 use crate::RenderError;
 use crate::geometry::Hit;
 use crate::image_io::Texture;
@@ -111,6 +113,27 @@ struct Shader {
     emission: Option<Param>,
     /// The primvars its primvar readers read, by slot: name and `inputs:fallback`.
     primvars: Vec<(String, DVec4)>,
+    /// The material's MaterialX shading graph, compiled (`None`: Lambertian, or the legacy
+    /// UsdPreviewSurface of `preview` where no graph could be read).
+    graph: Option<Box<GraphMaterial>>,
+}
+
+/// A material shaded by its compiled MaterialX graph, and what the renderer must know of it
+/// before any hit.
+#[derive(Clone, Debug)]
+struct GraphMaterial {
+    shader: GraphShader,
+    /// The slot of [`Lookup::primvars`] where the graph's primvars begin.
+    primvar0: usize,
+    /// Some closure may transmit (paths enter the surface; its back faces are seen).
+    transmits: bool,
+    /// The graph's emission is the material's (a MaterialX surface's EDF that is not a
+    /// constant black; a UsdPreviewSurface's `emissiveColor` is the mesh light's or
+    /// `emission`'s instead).
+    emits: bool,
+    /// The graph's opacity is the material's and is not a constant 1 (MaterialX models; a
+    /// UsdPreviewSurface keeps `opacity`/`opacityThreshold` of [`Shader`]).
+    transparent: bool,
 }
 
 /// A BSDF sample: the incident direction, its density, and the weight `f·|cos θ|/pdf` it
@@ -273,7 +296,10 @@ fn plain_albedo(
 ) -> Option<DVec3> {
     let mesh = &scene.meshes[i];
     let shader = mesh.material.and_then(|k| materials.get(k));
-    if mesh.normals.is_some() || no_response[i] || shader.is_some_and(|m| m.preview.is_some()) {
+    if mesh.normals.is_some()
+        || no_response[i]
+        || shader.is_some_and(|m| m.preview.is_some() || m.graph.is_some())
+    {
         return None;
     }
     let albedo = match (reflectance, shader) {
@@ -286,6 +312,13 @@ fn plain_albedo(
         (None, None) => return None,
     };
     Some(clamped_albedo(albedo))
+}
+
+/// A direction into the surface at `hit` from the side the ray came from (along the geometric
+/// normal): the viewer of what does not depend on the ray's own direction (opacity, emission).
+#[inline]
+fn into_surface(hit: &Hit) -> DVec3 {
+    if hit.back { hit.ng } else { -hit.ng }
 }
 
 /// An albedo as surfaces take it: each channel clamped to `[0, 1]`, black where not finite.
@@ -381,6 +414,7 @@ impl Materials {
         let unit = scene.unit_for_wavelength;
         let mut ld = InputLoader {
             cache: HashMap::new(),
+            graph_textures: graph::TextureCache::new(),
             warnings: Vec::new(),
             strict,
             primvars: Vec::new(),
@@ -403,7 +437,9 @@ impl Materials {
         }
         let transparent = |k: Option<usize>| {
             k.and_then(|k| materials.get(k))
-                .is_some_and(|s: &Shader| s.opacity.is_some())
+                .is_some_and(|s: &Shader| {
+                    s.opacity.is_some() || s.graph.as_ref().is_some_and(|g| g.transparent)
+                })
         };
         let mesh_transparent = scene
             .meshes
@@ -464,13 +500,16 @@ impl Materials {
     /// back from inside).
     #[inline]
     pub fn transmits(&self, scene: &Scene, hit: &Hit) -> bool {
-        let _ = (scene, hit);
-        false
+        self.material_of(scene, hit)
+            .and_then(|m| m.graph.as_ref())
+            .is_some_and(|g| g.transmits)
     }
 
     /// Whether some material's `emissiveColor` is a texture ([`Materials::emission`]).
     pub fn any_textured_emission(&self) -> bool {
-        self.materials.iter().any(|m| m.emission.is_some())
+        self.materials
+            .iter()
+            .any(|m| m.emission.is_some() || m.graph.as_ref().is_some_and(|g| g.emits))
     }
 
     /// The radiance a surface emits from a texture-driven UsdPreviewSurface `emissiveColor` at
@@ -479,16 +518,22 @@ impl Materials {
     /// next-event estimation); a constant `emissiveColor` makes a mesh light instead.
     #[inline]
     pub fn emission(&self, scene: &Scene, hit: &Hit) -> DVec3 {
-        let Some(t) = self
-            .material_of(scene, hit)
-            .and_then(|m| m.emission.as_ref())
-        else {
+        let Some(shader) = self.material_of(scene, hit) else {
             return DVec3::ZERO;
         };
         if hit.back && !scene.meshes[hit.mesh].double_sided {
             return DVec3::ZERO;
         }
-        let e = t.eval(&self.lookup(scene, hit));
+        let e = match (&shader.emission, &shader.graph) {
+            (Some(t), _) => t.eval(&self.lookup(scene, hit)),
+            (None, Some(g)) if g.emits => {
+                let at = self.lookup(scene, hit);
+                let d = into_surface(hit);
+                let n = self.normals(scene, hit, d);
+                g.shader.eval(&self.context(scene, hit, &at, g, n, -d)).emission
+            }
+            _ => return DVec3::ZERO,
+        };
         if e.is_finite() {
             e.max(DVec3::ZERO)
         } else {
@@ -565,10 +610,16 @@ impl Materials {
         let Some(shader) = self.material_of(scene, hit) else {
             return 1.0;
         };
-        let Some(opacity) = &shader.opacity else {
-            return 1.0;
+        let o = match (&shader.opacity, &shader.graph) {
+            (Some(opacity), _) => opacity.eval1(&self.lookup(scene, hit)),
+            (None, Some(g)) if g.transparent => {
+                let at = self.lookup(scene, hit);
+                let d = into_surface(hit);
+                let n = self.normals(scene, hit, d);
+                g.shader.eval(&self.context(scene, hit, &at, g, n, -d)).opacity
+            }
+            _ => return 1.0,
         };
-        let o = opacity.eval1(&self.lookup(scene, hit));
         let o = if o.is_finite() {
             o.clamp(0.0, 1.0)
         } else {
@@ -602,8 +653,10 @@ impl Materials {
         self.evaluated_at(scene, hit, d)
     }
 
-    /// [`Materials::at`] with every input evaluated at the hit (normals, primvars, textures).
-    fn evaluated_at(&self, scene: &Scene, hit: &Hit, d: DVec3) -> SurfacePoint {
+    /// The geometric normal facing against `d` and the shading normal (interpolated
+    /// `normals`, through the instance's inverse transpose) on its side.
+    #[inline]
+    fn normals(&self, scene: &Scene, hit: &Hit, d: DVec3) -> (DVec3, DVec3) {
         let mesh = &scene.meshes[hit.mesh];
         let (b1, b2) = (hit.bary.x, hit.bary.y);
         let b0 = 1.0 - b1 - b2;
@@ -624,6 +677,50 @@ impl Materials {
         } else if ns.dot(ng) < 0.0 {
             ns = -ns;
         }
+        (ns, ng)
+    }
+
+    /// What a MaterialX graph reads at a hit: position, normals, the tangent `∂p/∂s` made
+    /// orthogonal to `ns` (any tangent without texture coordinates), `st`, the graph's
+    /// primvars and the viewer's side (`entering`: the hit is on the front of the surface).
+    fn context<'a>(
+        &self,
+        scene: &Scene,
+        hit: &Hit,
+        at: &'a Lookup,
+        g: &GraphMaterial,
+        (ns, ng): (DVec3, DVec3),
+        wo: DVec3,
+    ) -> ShadingContext<'a> {
+        let frame = self.dpds(scene, hit).and_then(|(dpds, dpdt)| {
+            let t = (dpds - ns * ns.dot(dpds)).normalize_or_zero();
+            let b = ns.cross(t);
+            (t != DVec3::ZERO && t.is_finite()).then_some((t, if b.dot(dpdt) < 0.0 { -b } else { b }))
+        });
+        let (t, b) = frame.unwrap_or_else(|| {
+            let t = ns.any_orthonormal_vector();
+            (t, ns.cross(t))
+        });
+        ShadingContext {
+            p: hit.p,
+            n: ns,
+            ng,
+            t,
+            b,
+            uv: at.st,
+            primvars: at.primvars.get(g.primvar0..).unwrap_or(&[]),
+            wo,
+            entering: !hit.back,
+        }
+    }
+
+    /// [`Materials::at`] with every input evaluated at the hit (normals, primvars, textures).
+    fn evaluated_at(&self, scene: &Scene, hit: &Hit, d: DVec3) -> SurfacePoint {
+        let mesh = &scene.meshes[hit.mesh];
+        let (b1, b2) = (hit.bary.x, hit.bary.y);
+        let b0 = 1.0 - b1 - b2;
+        let interp3 = |c: &[DVec3; 3]| b0 * c[0] + b1 * c[1] + b2 * c[2];
+        let (mut ns, ng) = self.normals(scene, hit, d);
         let shader = self.material_of(scene, hit);
         let at = self.lookup(scene, hit);
         let st = at.st;
@@ -648,6 +745,24 @@ impl Materials {
             tri: hit.tri,
             instance: hit.instance,
         };
+        if !self.no_response[hit.mesh]
+            && let Some(g) = shader.and_then(|m| m.graph.as_deref())
+        {
+            // An interpolated normal turned away from the viewer shades with the geometric
+            // one, as for the UsdPreviewSurface below.
+            if ns.dot(-d) <= 0.0 {
+                ns = ng;
+            }
+            let shaded = g.shader.eval(&self.context(scene, hit, &at, g, (ns, ng), -d));
+            return point(
+                ns,
+                Bsdf::Graph(Box::new(GraphBsdf {
+                    bsdf: shaded.bsdf,
+                    ns,
+                    transmits: g.transmits,
+                })),
+            );
+        }
         match shader.and_then(|m| m.preview.as_deref()) {
             _ if self.no_response[hit.mesh] => point(
                 ns,
@@ -682,6 +797,35 @@ impl Materials {
         }
     }
 
+    /// The world-space derivatives `(∂p/∂s, ∂p/∂t)` of the hit triangle's position in its
+    /// texture coordinates (`None` without texture coordinates or where they are degenerate).
+    #[inline]
+    fn dpds(&self, scene: &Scene, hit: &Hit) -> Option<(DVec3, DVec3)> {
+        let mesh = &scene.meshes[hit.mesh];
+        let uv = mesh.uvs.as_ref()?;
+        let [i0, i1, i2] = mesh.triangles[hit.tri].map(|i| i as usize);
+        let (p0, p1, p2) = (
+            mesh.positions.get(i0)?,
+            mesh.positions.get(i1)?,
+            mesh.positions.get(i2)?,
+        );
+        let c = &uv[hit.tri];
+        let (dp1, dp2) = (*p1 - *p0, *p2 - *p0);
+        let (du1, du2) = (c[1] - c[0], c[2] - c[0]);
+        let det = du1.x * du2.y - du1.y * du2.x;
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        let mut dpds = (du2.y * dp1 - du1.y * dp2) / det;
+        let mut dpdt = (du1.x * dp2 - du2.x * dp1) / det;
+        if let Some(i) = hit.instance {
+            let m = self.instance_linear[i];
+            dpds = m * dpds;
+            dpdt = m * dpdt;
+        }
+        Some((dpds, dpdt))
+    }
+
     /// The shading normal perturbed by a tangent-space normal map (UsdPreviewSurface
     /// `inputs:normal`, the texture's `scale`/`bias` mapping texels to \[−1, 1\]³): with the
     /// tangent `T = ∂p/∂s` made orthogonal to `ns`, `B = ±ns × T` (the sign of `∂p/∂t`),
@@ -696,32 +840,9 @@ impl Materials {
         ns: DVec3,
         ng: DVec3,
     ) -> DVec3 {
-        let mesh = &scene.meshes[hit.mesh];
-        let Some(uv) = &mesh.uvs else {
+        let Some((dpds, dpdt)) = self.dpds(scene, hit) else {
             return ns;
         };
-        let [i0, i1, i2] = mesh.triangles[hit.tri].map(|i| i as usize);
-        let (Some(p0), Some(p1), Some(p2)) = (
-            mesh.positions.get(i0),
-            mesh.positions.get(i1),
-            mesh.positions.get(i2),
-        ) else {
-            return ns;
-        };
-        let c = &uv[hit.tri];
-        let (dp1, dp2) = (*p1 - *p0, *p2 - *p0);
-        let (du1, du2) = (c[1] - c[0], c[2] - c[0]);
-        let det = du1.x * du2.y - du1.y * du2.x;
-        if det == 0.0 || !det.is_finite() {
-            return ns;
-        }
-        let mut dpds = (du2.y * dp1 - du1.y * dp2) / det;
-        let mut dpdt = (du1.x * dp2 - du2.x * dp1) / det;
-        if let Some(i) = hit.instance {
-            let m = self.instance_linear[i];
-            dpds = m * dpds;
-            dpdt = m * dpdt;
-        }
         let t = (dpds - ns * ns.dot(dpds)).normalize_or_zero();
         if t == DVec3::ZERO {
             return ns;
@@ -744,6 +865,94 @@ impl Materials {
 }
 
 impl InputLoader {
+    /// The shader of material `m` from its MaterialX graph `g`: compiled once; a graph that
+    /// folds to a constant Lambertian takes the renderer's plain diffuse path (with a
+    /// `wavelength:reflectance` replacing its colour, as for any diffuse surface); a
+    /// UsdPreviewSurface keeps its USD-side opacity and emission (`diffuse`, `emission`
+    /// prepared by the caller from the same inputs).
+    fn graph_shader(
+        &mut self,
+        m: &lux_usd::Material,
+        g: &lux_usd::shading::ShadingGraph,
+        diffuse: Param,
+        emission: Option<Param>,
+    ) -> Result<Shader, RenderError> {
+        let shader = GraphShader::compile(g, &mut self.graph_textures, &mut self.warnings);
+        let reflectance = !m.spectral.is_empty();
+        // UsdPreviewSurface: `opacity` / `opacityThreshold` as the USD inputs say (the graph's
+        // surface opacity is the same input).
+        let opacity = if m.preview {
+            let o = self.float(&m.path, "opacity", &m.opacity, 1.0)?;
+            let opaque = match &o {
+                Param::Value(v) if m.opacity_threshold > 0.0 => v.x >= m.opacity_threshold,
+                Param::Value(v) => v.x >= 1.0,
+                Param::Texture(_) | Param::Primvar { .. } => false,
+            };
+            (!opaque).then_some(o)
+        } else {
+            None
+        };
+        if let Some(albedo) = shader.constant_lambert() {
+            let diffuse = match (&diffuse, reflectance) {
+                (Param::Value(c), true) => Param::Value(*c),
+                _ => Param::Value(albedo),
+            };
+            return Ok(Shader {
+                diffuse,
+                preview: None,
+                opacity,
+                threshold: m.opacity_threshold,
+                emission,
+                primvars: self.primvars.clone(),
+                graph: None,
+            });
+        }
+        if reflectance {
+            self.warnings.push(format!(
+                "{}: wavelength:reflectance is not applied to a MaterialX graph that is not a \
+                 constant Lambertian; its own colours shade",
+                m.path
+            ));
+        }
+        // The USD-side readers' primvars (opacity, emission) first, then the graph's, which
+        // reads its slots from `primvar0` on (a missing one is NaN: the node's default).
+        let mut primvars = self.primvars.clone();
+        let primvar0 = primvars.len();
+        primvars.extend(
+            shader
+                .primvars()
+                .iter()
+                .take(MAX_PRIMVARS - primvar0)
+                .map(|n| (n.clone(), DVec4::NAN)),
+        );
+        if primvar0 + shader.primvars().len() > MAX_PRIMVARS {
+            self.warnings.push(format!(
+                "{}: reads {} primvars; lux reads the first {MAX_PRIMVARS}, the others take \
+                 their defaults",
+                m.path,
+                shader.primvars().len()
+            ));
+        }
+        let emits = !m.preview && shader.constant_emission() != Some(DVec3::ZERO);
+        let transparent = !m.preview && shader.constant_opacity() != Some(1.0);
+        let transmits = shader.may_transmit();
+        Ok(Shader {
+            diffuse,
+            preview: None,
+            opacity,
+            threshold: if m.preview { m.opacity_threshold } else { 0.0 },
+            emission: if m.preview { emission } else { None },
+            primvars,
+            graph: Some(Box::new(GraphMaterial {
+                shader,
+                primvar0,
+                transmits,
+                emits,
+                transparent,
+            })),
+        })
+    }
+
     /// The shader of material `m` (`unit`: the scene's wavelength unit for spectral
     /// reflectances) as `surfaces` shades it: its inputs read, textures loaded once per file.
     fn material_shader(
@@ -787,6 +996,11 @@ impl InputLoader {
                 .map(Param::Texture),
         };
         let primvars = self.primvars.clone();
+        if surfaces == SurfaceModel::Preview
+            && let Some(g) = &m.graph
+        {
+            return self.graph_shader(m, g, diffuse, emission);
+        }
         if surfaces == SurfaceModel::Lambert || !m.preview {
             return Ok(Shader {
                 diffuse,
@@ -795,6 +1009,7 @@ impl InputLoader {
                 threshold: 0.0,
                 emission,
                 primvars,
+                graph: None,
             });
         }
         // The schema defaults stand in for unreadable textures.
@@ -827,6 +1042,7 @@ impl InputLoader {
             threshold: m.opacity_threshold,
             emission,
             primvars,
+            graph: None,
         })
     }
 }
@@ -834,6 +1050,8 @@ impl InputLoader {
 /// Prepares material inputs, reading each texture file once.
 struct InputLoader {
     cache: HashMap<PathBuf, Arc<Texture>>,
+    /// The textures of MaterialX graphs (per file and colour space).
+    graph_textures: graph::TextureCache,
     warnings: Vec<String>,
     strict: bool,
     /// The primvars of the material being prepared, by slot (name, fallback).

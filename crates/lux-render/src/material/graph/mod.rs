@@ -159,6 +159,51 @@ impl GraphShader {
         eval::eval(self, ctx)
     }
 
+    /// Whether some closure of the compiled surface may transmit (`translucent_bsdf`, or a
+    /// `dielectric_bsdf` / `generalized_schlick_bsdf` whose `scatter_mode` is `T` or `RT`).
+    pub fn may_transmit(&self) -> bool {
+        use closure::BsdfOp;
+        self.program.iter().any(|i| {
+            matches!(
+                i.op,
+                eval::Op::Bsdf(
+                    BsdfOp::Translucent
+                        | BsdfOp::Dielectric {
+                            mode: lux_bsdf::ScatterMode::T | lux_bsdf::ScatterMode::Rt,
+                            ..
+                        }
+                        | BsdfOp::GeneralizedSchlick {
+                            mode: lux_bsdf::ScatterMode::T | lux_bsdf::ScatterMode::Rt,
+                            ..
+                        }
+                )
+            )
+        })
+    }
+
+    /// The surface's emission when it is a constant (`None`: it varies over the surface or
+    /// with the viewing direction); black without a surface.
+    pub fn constant_emission(&self) -> Option<DVec3> {
+        match &self.surface {
+            None => Some(DVec3::ZERO),
+            Some(s) => match s.edf {
+                eval::Arg::Const(v) => Some(v.truncate()),
+                _ => None,
+            },
+        }
+    }
+
+    /// The surface's `opacity` when it is a constant (`None`: it varies); 1 without a surface.
+    pub fn constant_opacity(&self) -> Option<f64> {
+        match &self.surface {
+            None => Some(1.0),
+            Some(s) => match s.opacity {
+                eval::Arg::Const(v) => Some(v.x),
+                _ => None,
+            },
+        }
+    }
+
     /// The albedo of the renderer's fast Lambertian path: `Some(weight·color)` when the
     /// whole surface folds to constant `oren_nayar_diffuse_bsdf` closures of roughness 0
     /// about the shading normal (combined by `mix`, `add` and `multiply` with constant
