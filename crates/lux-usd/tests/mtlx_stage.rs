@@ -52,3 +52,20 @@ fn stage_with_mtlx_arcs_loads_without_composition_warnings() {
         .collect();
     assert!(composition.is_empty(), "{composition:#?}");
 }
+
+#[test]
+fn a_malformed_document_is_a_composition_warning_with_its_line() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mtlx/stage_bad.usda");
+    let scene = lux_usd::load_stage(&path, 1.0).unwrap();
+    let w = scene
+        .warnings
+        .iter()
+        .find(|w| w.kind == WarningKind::Composition)
+        .expect("a composition warning");
+    assert_eq!(w.prim, "/L");
+    assert!(
+        w.message.contains("bad.mtlx:4:1: not well-formed XML"),
+        "{}",
+        w.message
+    );
+}

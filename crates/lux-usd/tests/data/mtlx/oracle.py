@@ -21,7 +21,7 @@ import MaterialX as mx
 HERE = os.path.dirname(os.path.abspath(__file__))
 LIB = os.path.join(HERE, "..", "..", "..", "data", "materialx")
 FILES = ["stdlib_defs", "pbrlib_defs", "standard_surface", "open_pbr_surface", "usd_preview_surface"]
-DOCS = sorted(f for f in os.listdir(HERE) if f.endswith(".mtlx"))
+DOCS = sorted(f for f in os.listdir(HERE) if f.endswith(".mtlx") and f != "bad.mtlx")
 
 
 def load_library():
