@@ -350,6 +350,10 @@ fn locate_layer(e: &openusd::pcp::Error, p: &mut ArcProblem) {
         }
         _ => return,
     };
+    // A MaterialX document's reason already names its file and line (`crate::mtlx`).
+    if reason.contains(".mtlx:") {
+        return;
+    }
     if let Some(at) = located {
         p.message = match p.message.strip_suffix(reason.as_str()) {
             Some(head) => format!("{head}{at}"),

@@ -109,7 +109,10 @@ impl Resolver for LuxResolver {
         if uri_scheme(asset_path).is_some() {
             return None;
         }
-        self.inner.resolve(asset_path)
+        let resolved = self.inner.resolve(asset_path)?;
+        // A MaterialX document resolves to a `.usda` stand-in (openusd picks a layer's format
+        // by the resolved path's extension), served as its usdMtlx translation below.
+        Some(crate::mtlx::usdmtlx::stand_in(resolved))
     }
 
     fn resolve_for_new_asset(&self, asset_path: &str) -> Option<ResolvedPath> {
@@ -127,8 +130,14 @@ impl Resolver for LuxResolver {
         let bytes = if let Some(b) = self.memory(&name) {
             b.to_vec()
         } else {
-            let mut asset = self.inner.open_asset(resolved_path)?;
+            let mtlx = crate::mtlx::usdmtlx::stand_in_source(&name);
+            let source = mtlx.map_or_else(|| resolved_path.clone(), ResolvedPath::new);
+            let mut asset = self.inner.open_asset(&source)?;
             let mut bytes = asset.read_all()?;
+            if let Some(doc) = mtlx {
+                bytes = crate::mtlx::usdmtlx::layer_bytes(doc, &bytes)
+                    .map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e.to_string()))?;
+            }
             if !is_text_layer(&name) && !bytes.starts_with(USDA_MAGIC) {
                 if bytes.starts_with(openusd::usdc::MAGIC) {
                     // a crate layer: times of old crate versions in the layout openusd reads,

@@ -4,7 +4,11 @@
 use std::path::{Path, PathBuf};
 
 use lux_usd::mtlx::{MtlxError, library, parse_document, read_document};
-use lux_usd::shading::{GraphNode, ShadingGraph, Source, Value, ValueType, flatten};
+use lux_usd::reader::AssetRef;
+use lux_usd::shading::{
+    Connection, FileValue, GraphNode, NetInput, NetNode, NetSource, Network, ShadingGraph, Source,
+    Value, ValueType, flatten,
+};
 use serde_json::Value as Json;
 
 fn data(name: &str) -> PathBuf {
@@ -110,9 +114,21 @@ fn resolve_agrees_with_materialx() {
             .iter()
             .filter_map(|p| Some((p[0].as_str()?, ValueType::parse(p[1].as_str()?)?)))
             .collect();
+        // Nodedefs declared in a test document itself are not the library's.
+        if r["nodedef"]
+            .as_str()
+            .is_some_and(|n| lib.nodedef(n).is_none())
+        {
+            continue;
+        }
         let ty = ValueType::parse(r["type"].as_str().unwrap());
         let got = lib
-            .resolve(r["category"].as_str().unwrap(), ty, &inputs)
+            .resolve_version(
+                r["category"].as_str().unwrap(),
+                ty,
+                &inputs,
+                r["version"].as_str(),
+            )
             .map(|d| d.name.as_str());
         assert_eq!(got, r["nodedef"].as_str(), "{} {}", r["where"], r["name"]);
         checked += 1;
@@ -450,4 +466,235 @@ fn bad_documents_are_typed_errors() {
         doc.network("nope"),
         Err(MtlxError::Network { .. })
     ));
+}
+
+#[test]
+fn custom_nodes_of_the_document_and_versions() {
+    let doc = read_document(&data("custom_node.mtlx")).unwrap();
+    let net = doc.network("M").unwrap();
+    let names: Vec<&str> = net.nodes.iter().map(|n| n.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "custom_node.mtlx:/SR",
+            "custom_node.mtlx:/t1/m",
+            "custom_node.mtlx:/red"
+        ]
+    );
+    // version="1.0.0" selects the older standard_surface nodedef (MaterialX agrees: oracle).
+    assert_eq!(
+        net.nodes[0].nodedef.as_deref(),
+        Some("ND_standard_surface_surfaceshader_100")
+    );
+    let g = flatten(&net);
+    assert_eq!(g.notes, Vec::<String>::new());
+    assert_eq!(g.model, "ND_standard_surface_surfaceshader_100");
+    check_sorted(&g);
+    let tint = g
+        .nodes
+        .iter()
+        .find(|n| n.name == "custom_node.mtlx:/t1/m")
+        .unwrap();
+    assert_eq!(tint.nodedef, "ND_multiply_color3FA");
+    // `amount` unauthored on t1: the document nodedef's default.
+    assert!(close(&value(tint, "in2"), &[0.5]));
+    let (red, _) = upstream(&g, tint, "in1");
+    assert!(close(&value(red, "value"), &[1.0, 0.0, 0.0]));
+    // 1.0.0's default base is 0.8 (1.0.1's is 1).
+    let metal = g
+        .nodes
+        .iter()
+        .find(|n| n.category == "conductor_bsdf")
+        .unwrap();
+    let (ior, _) = upstream(&g, metal, "ior");
+    let (refl, _) = upstream(&g, ior, "reflectivity");
+    assert!(close(&value(refl, "in2"), &[0.8]));
+    assert_eq!(upstream(&g, refl, "in1").0.name, tint.name);
+}
+
+fn usd_node(name: &str, id: &str, inputs: Vec<(&str, Option<ValueType>, NetSource)>) -> NetNode {
+    NetNode {
+        name: name.into(),
+        nodedef: Some(id.into()),
+        category: String::new(),
+        ty: None,
+        inputs: inputs
+            .into_iter()
+            .map(|(n, ty, source)| NetInput {
+                name: n.into(),
+                ty,
+                source,
+            })
+            .collect(),
+    }
+}
+
+fn conn(node: usize, output: &str) -> NetSource {
+    NetSource::Connection(Connection {
+        node,
+        output: output.into(),
+    })
+}
+
+#[test]
+fn a_usd_preview_surface_network_flattens() {
+    let file = FileValue {
+        asset: AssetRef {
+            authored: "./albedo.png".into(),
+            resolved: None,
+        },
+        colorspace: String::new(),
+    };
+    let net = Network {
+        material: "/World/Mat".into(),
+        nodes: vec![
+            usd_node(
+                "/World/Mat/Surface",
+                "UsdPreviewSurface",
+                vec![
+                    ("diffuseColor", Some(ValueType::Color3), conn(1, "rgb")),
+                    // authored as a float where the nodedef says integer: converted, noted
+                    (
+                        "useSpecularWorkflow",
+                        Some(ValueType::Float),
+                        NetSource::Value(Value::Numbers(vec![0.0])),
+                    ),
+                ],
+            ),
+            usd_node(
+                "/World/Mat/Tex",
+                "UsdUVTexture",
+                vec![
+                    (
+                        "file",
+                        Some(ValueType::Filename),
+                        NetSource::Value(Value::File(file)),
+                    ),
+                    ("st", Some(ValueType::Vector2), conn(2, "result")),
+                    (
+                        "sourceColorSpace",
+                        Some(ValueType::String),
+                        NetSource::Value(Value::String("sRGB".into())),
+                    ),
+                ],
+            ),
+            usd_node(
+                "/World/Mat/St",
+                "UsdPrimvarReader_float2",
+                vec![(
+                    "varname",
+                    Some(ValueType::String),
+                    NetSource::Value(Value::String("st".into())),
+                )],
+            ),
+        ],
+        surface: Some(Connection {
+            node: 0,
+            output: "surface".into(),
+        }),
+    };
+    let g = flatten(&net);
+    assert_eq!(g.model, "ND_UsdPreviewSurface_surfaceshader");
+    assert_eq!(g.notes.len(), 1, "{:?}", g.notes);
+    assert!(g.notes[0].contains("useSpecularWorkflow"), "{:?}", g.notes);
+    check_sorted(&g);
+    let image = g.nodes.iter().find(|n| n.category == "image").unwrap();
+    assert_eq!(image.nodedef, "ND_image_color4");
+    assert_eq!(
+        image.name,
+        "/World/Mat/Tex/IMP_UsdUVTexture_22/image_reader"
+    );
+    let Source::Value(Value::File(f)) = &image.input("file").unwrap().source else {
+        panic!()
+    };
+    assert_eq!(f.colorspace, "srgb_texture");
+    // st ← the primvar reader's implementation: a geompropvalue reading `st`.
+    let (reader, _) = upstream(&g, image, "texcoord");
+    assert_eq!(reader.category, "geompropvalue");
+    assert_eq!(
+        reader.input("geomprop").unwrap().source,
+        Source::Value(Value::String("st".into()))
+    );
+}
+
+#[test]
+fn unknown_nodes_and_cycles_are_notes() {
+    let net = Network {
+        material: "/M".into(),
+        nodes: vec![
+            NetNode {
+                name: "/M/S".into(),
+                nodedef: None,
+                category: "standard_surface".into(),
+                ty: Some(ValueType::SurfaceShader),
+                inputs: vec![
+                    NetInput {
+                        name: "base_color".into(),
+                        ty: Some(ValueType::Color3),
+                        source: conn(1, "out"),
+                    },
+                    NetInput {
+                        name: "base".into(),
+                        ty: Some(ValueType::Float),
+                        source: conn(2, "out"),
+                    },
+                ],
+            },
+            NetNode {
+                name: "/M/Mystery".into(),
+                nodedef: None,
+                category: "no_such_node".into(),
+                ty: Some(ValueType::Color3),
+                inputs: vec![],
+            },
+            NetNode {
+                name: "/M/A".into(),
+                nodedef: None,
+                category: "add".into(),
+                ty: Some(ValueType::Float),
+                inputs: vec![NetInput {
+                    name: "in1".into(),
+                    ty: Some(ValueType::Float),
+                    source: conn(3, "out"),
+                }],
+            },
+            NetNode {
+                name: "/M/B".into(),
+                nodedef: None,
+                category: "add".into(),
+                ty: Some(ValueType::Float),
+                inputs: vec![NetInput {
+                    name: "in1".into(),
+                    ty: Some(ValueType::Float),
+                    source: conn(2, "out"),
+                }],
+            },
+        ],
+        surface: Some(Connection {
+            node: 0,
+            output: "out".into(),
+        }),
+    };
+    let g = flatten(&net);
+    assert_eq!(g.model, "ND_standard_surface_surfaceshader");
+    check_sorted(&g);
+    assert_eq!(g.notes.len(), 2, "{:?}", g.notes);
+    assert!(
+        g.notes
+            .iter()
+            .any(|n| n.contains("/M/Mystery") && n.contains("/M"))
+    );
+    assert!(g.notes.iter().any(|n| n.contains("cycle")));
+    // The unknown node's consumer takes the nodedef default (base_color 0.8 grey).
+    let mult = g
+        .nodes
+        .iter()
+        .find(|n| n.name.ends_with("/metal_reflectivity"))
+        .unwrap();
+    assert!(close(&value(mult, "in1"), &[0.8, 0.8, 0.8]));
+    // The cycle A → B → A is cut at the input closing it (B.in1 takes its default, 0).
+    let b = g.nodes.iter().find(|n| n.name == "/M/B").unwrap();
+    assert!(close(&value(b, "in1"), &[0.0]));
+    let (a, _) = upstream(&g, mult, "in2");
+    assert_eq!(a.name, "/M/A");
 }

@@ -516,19 +516,27 @@ impl Document {
             .ok_or_else(|| {
                 self.network_error(format!("no surfacematerial named \"{material}\""))
             })?;
+        let file = self
+            .path
+            .file_name()
+            .map(|f| f.to_string_lossy().into_owned())
+            .unwrap_or_default();
         let mut b = Builder {
             doc: self,
-            file: self
-                .path
-                .file_name()
-                .map(|f| f.to_string_lossy().into_owned())
-                .unwrap_or_default(),
             net: Network::default(),
             index: HashMap::new(),
+            scopes: vec![ScopeInfo {
+                graph: None,
+                instance: None,
+                path: format!("{file}:"),
+            }],
+            compound: HashMap::new(),
+            instances: HashMap::new(),
+            depth: 0,
         };
-        b.net.material = format!("{}:/{}", b.file, material);
+        b.net.material = format!("{file}:/{material}");
         let surface = match mat.input("surfaceshader") {
-            Some(i) => match b.source(None, i)? {
+            Some(i) => match b.source(TOP, i)? {
                 Some(NetSource::Connection(c)) => Some(c),
                 _ => None,
             },
@@ -536,6 +544,28 @@ impl Document {
         };
         b.net.surface = surface;
         Ok(b.net)
+    }
+
+    /// The nodedef declared in this document for a node, and the document's nodegraph
+    /// implementing it (a custom node defined by a functional nodegraph, MaterialX
+    /// Specification, "Custom Node Definition Using Node Graphs").
+    fn custom_node(&self, node: &Node) -> Option<(&NodeDef, usize)> {
+        let def = self.nodedefs.iter().find(|d| match &node.nodedef {
+            Some(n) => &d.name == n,
+            None => d.category == node.category && (node.ty.is_none() || d.ty() == node.ty),
+        })?;
+        let graph = self
+            .nodegraphs
+            .iter()
+            .position(|g| g.nodedef.as_deref() == Some(def.name.as_str()))
+            .or_else(|| {
+                let (_, ng) = self
+                    .implementations
+                    .iter()
+                    .find(|(nd, _)| nd == &def.name)?;
+                self.nodegraphs.iter().position(|g| &g.name == ng)
+            })?;
+        Some((def, graph))
     }
 
     fn network_error(&self, message: String) -> MtlxError {
@@ -546,37 +576,139 @@ impl Document {
     }
 }
 
-/// Builds a [`Network`]: nodes keyed by (nodegraph index or top level, node name).
-struct Builder<'d> {
-    doc: &'d Document,
-    file: String,
-    net: Network,
-    index: HashMap<(Option<usize>, String), usize>,
+const TOP: usize = 0;
+
+/// A scope nodes are looked up in while building a [`Network`]: the document's top level, a
+/// compound nodegraph, or one instance of a custom node's functional nodegraph.
+struct ScopeInfo {
+    /// The nodegraph whose nodes the scope holds (`None`: top level).
+    graph: Option<usize>,
+    /// For an instance: the scope of the instantiating node, that node, and its nodedef.
+    instance: Option<(usize, Node, NodeDef)>,
+    /// Prefix of the names of the scope's nodes (`file.mtlx:/NG_wood`).
+    path: String,
 }
 
-impl Builder<'_> {
-    fn node(&mut self, scope: Option<usize>, name: &str) -> Result<usize, MtlxError> {
-        if let Some(&i) = self.index.get(&(scope, name.to_string())) {
+/// Builds a [`Network`]: nodes keyed by (scope, node name).
+struct Builder<'d> {
+    doc: &'d Document,
+    net: Network,
+    index: HashMap<(usize, String), usize>,
+    scopes: Vec<ScopeInfo>,
+    /// Compound nodegraph index → its scope.
+    compound: HashMap<usize, usize>,
+    /// (scope, custom node name) → the scope of its graph instance.
+    instances: HashMap<(usize, String), usize>,
+    depth: usize,
+}
+
+impl<'d> Builder<'d> {
+    fn container(&self, scope: usize) -> &'d [Node] {
+        match self.scopes[scope].graph {
+            None => &self.doc.nodes,
+            Some(g) => &self.doc.nodegraphs[g].nodes,
+        }
+    }
+
+    fn compound_scope(&mut self, g: usize) -> usize {
+        if let Some(&s) = self.compound.get(&g) {
+            return s;
+        }
+        let path = format!("{}/{}", self.scopes[TOP].path, self.doc.nodegraphs[g].name);
+        self.scopes.push(ScopeInfo {
+            graph: Some(g),
+            instance: None,
+            path,
+        });
+        let s = self.scopes.len() - 1;
+        self.compound.insert(g, s);
+        s
+    }
+
+    /// What a connection to output `output` of node `name` in `scope` reads.
+    fn connect(
+        &mut self,
+        scope: usize,
+        name: &str,
+        output: Option<&str>,
+    ) -> Result<Option<NetSource>, MtlxError> {
+        let doc = self.doc;
+        let Some(node) = self.container(scope).iter().find(|n| n.name == name) else {
+            return Err(doc.network_error(format!("no node {}/{name}", self.scopes[scope].path)));
+        };
+        if let Some((def, g)) = doc.custom_node(node) {
+            if self.depth > 32 {
+                return Err(doc.network_error(format!(
+                    "{}/{name}: custom nodes nested too deeply",
+                    self.scopes[scope].path
+                )));
+            }
+            let inst = match self.instances.get(&(scope, name.to_string())) {
+                Some(&s) => s,
+                None => {
+                    let path = format!("{}/{name}", self.scopes[scope].path);
+                    self.scopes.push(ScopeInfo {
+                        graph: Some(g),
+                        instance: Some((scope, node.clone(), def.clone())),
+                        path,
+                    });
+                    let s = self.scopes.len() - 1;
+                    self.instances.insert((scope, name.to_string()), s);
+                    s
+                }
+            };
+            let graph = &doc.nodegraphs[g];
+            let Some(out) = graph.output(output) else {
+                return Ok(None);
+            };
+            let inner = Input {
+                name: out.name.clone(),
+                ty: out.ty,
+                value: None,
+                nodename: out.nodename.clone(),
+                nodegraph: None,
+                output: out.output.clone(),
+                interfacename: out.interfacename.clone(),
+                channels: None,
+                line: out.line,
+            };
+            self.depth += 1;
+            let r = self.source(inst, &inner);
+            self.depth -= 1;
+            return r;
+        }
+        let index = self.node(scope, node)?;
+        Ok(Some(NetSource::Connection(Connection {
+            node: index,
+            output: output.unwrap_or("out").to_string(),
+        })))
+    }
+
+    fn node(&mut self, scope: usize, node: &'d Node) -> Result<usize, MtlxError> {
+        if let Some(&i) = self.index.get(&(scope, node.name.clone())) {
             return Ok(i);
         }
-        let doc = self.doc;
-        let (node, path) = match scope {
-            None => (doc.node(name), format!("{}:/{}", self.file, name)),
-            Some(g) => (
-                doc.nodegraphs[g].node(name),
-                format!("{}:/{}/{}", self.file, doc.nodegraphs[g].name, name),
-            ),
-        };
-        let node = node.ok_or_else(|| doc.network_error(format!("no node {path}")))?;
         let idx = self.net.nodes.len();
+        // A node requesting a nodedef version resolves it here (Network carries no version).
+        let nodedef = node.nodedef.clone().or_else(|| {
+            let version = node.version.as_deref()?;
+            let types: Vec<(&str, ValueType)> = node
+                .inputs
+                .iter()
+                .filter_map(|i| i.ty.map(|t| (i.name.as_str(), t)))
+                .collect();
+            super::library()
+                .resolve_version(&node.category, node.ty, &types, Some(version))
+                .map(|d| d.name.clone())
+        });
         self.net.nodes.push(NetNode {
-            name: path,
-            nodedef: node.nodedef.clone(),
+            name: format!("{}/{}", self.scopes[scope].path, node.name),
+            nodedef,
             category: node.category.clone(),
             ty: node.ty,
             inputs: Vec::new(),
         });
-        self.index.insert((scope, name.to_string()), idx);
+        self.index.insert((scope, node.name.clone()), idx);
         let mut inputs = Vec::new();
         for input in &node.inputs {
             if let Some(source) = self.source(scope, input)? {
@@ -592,34 +724,43 @@ impl Builder<'_> {
     }
 
     /// What feeds `input` (authored in `scope`): `None` when nothing does.
-    fn source(
-        &mut self,
-        scope: Option<usize>,
-        input: &Input,
-    ) -> Result<Option<NetSource>, MtlxError> {
+    fn source(&mut self, scope: usize, input: &Input) -> Result<Option<NetSource>, MtlxError> {
         let doc = self.doc;
         if let Some(iface) = &input.interfacename {
-            let Some(g) = scope else {
+            let graph = self.scopes[scope].graph;
+            if let Some((parent, node, def)) = &self.scopes[scope].instance {
+                // A custom node's graph: the instantiating node's input, else the nodedef's
+                // default.
+                let (parent, outer, default) = (
+                    *parent,
+                    node.input(iface).cloned(),
+                    def.input(iface).and_then(|d| d.default.clone()),
+                );
+                return match outer {
+                    Some(outer) => self.source(parent, &outer),
+                    None => Ok(default.map(NetSource::Value)),
+                };
+            }
+            let Some(g) = graph else {
                 return Ok(input.value.clone().map(NetSource::Value));
             };
             let graph = &doc.nodegraphs[g];
             return match graph.inputs.iter().find(|i| &i.name == iface) {
-                Some(outer) => {
-                    let outer = outer.clone();
-                    self.source(None, &outer)
-                }
+                Some(outer) => self.source(TOP, outer),
                 None => Err(doc.network_error(format!(
-                    "{}:/{}: no interface input \"{iface}\"",
-                    self.file, graph.name
+                    "{}: no interface input \"{iface}\"",
+                    self.scopes[scope].path
                 ))),
             };
         }
         if let Some(n) = &input.nodename {
-            let node = self.node(scope, n)?;
-            return Ok(Some(NetSource::Connection(Connection {
-                node,
-                output: input.output.clone().unwrap_or_else(|| "out".to_string()),
-            })));
+            // A compound nodegraph's interface input may read a top-level node.
+            let scope = if self.container(scope).iter().any(|c| &c.name == n) {
+                scope
+            } else {
+                TOP
+            };
+            return self.connect(scope, n, input.output.as_deref());
         }
         if let Some(gname) = &input.nodegraph {
             let g = doc
@@ -630,8 +771,8 @@ impl Builder<'_> {
             let graph = &doc.nodegraphs[g];
             let out = graph.output(input.output.as_deref()).ok_or_else(|| {
                 doc.network_error(format!(
-                    "{}:/{gname}: no output \"{}\"",
-                    self.file,
+                    "{}/{gname}: no output \"{}\"",
+                    self.scopes[TOP].path,
                     input.output.as_deref().unwrap_or("")
                 ))
             })?;
@@ -646,7 +787,8 @@ impl Builder<'_> {
                 channels: None,
                 line: out.line,
             };
-            return self.source(Some(g), &inner);
+            let s = self.compound_scope(g);
+            return self.source(s, &inner);
         }
         Ok(input.value.clone().map(NetSource::Value))
     }

@@ -9,6 +9,7 @@
 pub mod document;
 pub mod library;
 pub mod upgrade;
+pub mod usdmtlx;
 
 use std::path::PathBuf;
 

@@ -17,7 +17,9 @@ use crate::mtlx::{Library, NodeDef, NodeGraphDef, library, nodedef_for_usd_id, z
 /// …) that nothing feeds holds the empty value `Value::Numbers(vec![])` ("no closure"). A node
 /// whose nodedef cannot be found, a connection into a cycle, a value of another type than the
 /// nodedef's (converted: a single number spread over every channel, else components dropped
-/// or zero-filled) and an input the nodedef does not declare each leave a note.
+/// or zero-filled) and an input the nodedef does not declare each leave a note. A
+/// `UsdUVTexture`'s `sourceColorSpace` (`sRGB`, `raw`; `auto` leaves it unstated) becomes its
+/// file's colour space (`srgb_texture`, `raw`) when the file states none.
 pub fn flatten(network: &Network) -> ShadingGraph {
     let mut f = Flattener {
         lib: library(),
@@ -231,7 +233,23 @@ impl<'a> Flattener<'a> {
             self.state[i] = State::Done(Vec::new());
             return Vec::new();
         };
+        // UsdUVTexture's `sourceColorSpace` (no MaterialX input) is its file's colour space.
+        let source_colorspace = node
+            .inputs
+            .iter()
+            .find(|a| a.name == "sourceColorSpace")
+            .and_then(|a| match &a.source {
+                NetSource::Value(Value::String(s)) => match s.as_str() {
+                    "sRGB" => Some("srgb_texture"),
+                    "raw" => Some("raw"),
+                    _ => None,
+                },
+                _ => None,
+            });
         for a in &node.inputs {
+            if a.name == "sourceColorSpace" && def.category == "UsdUVTexture" {
+                continue;
+            }
             if def.input(&a.name).is_none() {
                 self.notes.push(format!(
                     "{}: input \"{}\" is not an input of {} (ignored)",
@@ -282,6 +300,15 @@ impl<'a> Flattener<'a> {
                 },
             };
             inputs.push(src);
+        }
+        if let Some(cs) = source_colorspace {
+            for src in &mut inputs {
+                if let Src::Value(Value::File(f)) = src
+                    && f.colorspace.is_empty()
+                {
+                    f.colorspace = cs.to_string();
+                }
+            }
         }
         let outs = self.instantiate(def, inputs, &node.name, 0);
         self.state[i] = State::Done(outs.clone());

@@ -9,7 +9,7 @@ documents here. Run with the PyPI `materialx` bindings (the committed oracle: Ma
   defaultgeomprop, uniform), active outputs and the nodegraph implementing it, if any;
 - `resolve`: for every node of the test documents and of the library's implementation graphs,
   the nodedef MaterialX finds for it (`Node.getNodeDef()`), with the node's category, type and
-  authored (input, type) pairs;
+  authored (input, type) pairs and requested version;
 - `upgraded`: the 1.39 form of `upgrade_138.mtlx` as MaterialX writes it (nodes per nodegraph).
 """
 
@@ -21,7 +21,7 @@ import MaterialX as mx
 HERE = os.path.dirname(os.path.abspath(__file__))
 LIB = os.path.join(HERE, "..", "..", "..", "data", "materialx")
 FILES = ["stdlib_defs", "pbrlib_defs", "standard_surface", "open_pbr_surface", "usd_preview_surface"]
-DOCS = sorted(f for f in os.listdir(HERE) if f.endswith(".mtlx"))
+DOCS = sorted(f for f in os.listdir(HERE) if f.endswith(".mtlx") and f != "bad.mtlx")
 
 
 def load_library():
@@ -81,6 +81,7 @@ def node_record(where, node):
         "name": node.getName(),
         "category": node.getCategory(),
         "type": node.getType(),
+        "version": node.getVersionString() or None,
         "inputs": [[i.getName(), i.getType()] for i in node.getInputs()],
         "nodedef": nd.getName() if nd is not None else None,
     }
