@@ -362,6 +362,20 @@ impl Compiler<'_> {
                     if konst(0).is_some_and(|w| w.x == 0.0) {
                         return Arg::Const(NONE);
                     }
+                    // A reflecting dielectric of ior 1 without a thin film reflects nothing
+                    // (F ≡ 0: an OpenPBR or standard_surface specular of weight 0), and a
+                    // layer over it is its base (E_top = 0).
+                    if matches!(
+                        b,
+                        BsdfOp::Dielectric {
+                            mode: lux_bsdf::ScatterMode::R,
+                            ..
+                        }
+                    ) && konst(2).is_some_and(|ior| ior.x == 1.0)
+                        && konst(4).is_some_and(|thickness| thickness.x == 0.0)
+                    {
+                        return Arg::Const(NONE);
+                    }
                 } else {
                     match b {
                         BsdfOp::Layer { vdf } => {
