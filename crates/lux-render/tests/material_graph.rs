@@ -1265,3 +1265,36 @@ fn pbr_helpers_feed_closures() {
             < 1e-12
     );
 }
+
+#[test]
+fn tiledimage_tiles_and_offsets() {
+    // ((uv·uvtiling − uvoffset)/realworldimagesize)·realworldtilesize, periodic: uv (0.125,
+    // 0.125) tiled 2× is (0.25, 0.25), the lower-left texel (blue); offset by (0.5, 0) it is
+    // (−0.25, 0.25) → (0.75, 0.25), the lower-right texel (white).
+    let png = png_2x2("tiledimage_tiles_and_offsets");
+    let tiled = |offset: [f64; 2]| {
+        emitting(
+            vec![node(
+                "tiledimage",
+                Color3,
+                &[
+                    ("file", ValueType::Filename, file(&png, "")),
+                    ("default", Color3, num(&[0.1, 0.2, 0.3])),
+                    ("texcoord", Vector2, geom("UV0")),
+                    ("uvtiling", Vector2, num(&[2.0, 2.0])),
+                    ("uvoffset", Vector2, num(&offset)),
+                    ("realworldimagesize", Vector2, num(&[1.0, 1.0])),
+                    ("realworldtilesize", Vector2, num(&[1.0, 1.0])),
+                    ("filtertype", ValueType::String, s("closest")),
+                ],
+            )],
+            0,
+            Color3,
+        )
+    };
+    let blue = DVec3::new(0.0, 0.0, lin(50));
+    let got = value_at(&tiled([0.0, 0.0]), DVec2::splat(0.125));
+    assert!((got - blue).abs().max_element() < 1e-6, "{got}");
+    let got = value_at(&tiled([0.5, 0.0]), DVec2::splat(0.125));
+    assert!((got - DVec3::ONE).abs().max_element() < 1e-6, "{got}");
+}
