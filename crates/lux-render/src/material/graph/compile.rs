@@ -327,27 +327,21 @@ impl Compiler<'_> {
                     }
                     MathOp::Mix => {
                         if let Some(w) = konst(2) {
-                            if w == DVec4::ZERO
-                                || (ty.components() < 4
-                                    && w.xyz() == glam::DVec3::ZERO
-                                    && w.w == 0.0)
-                            {
+                            if w == DVec4::ZERO {
                                 return pick(args[1]);
                             }
-                            if w == DVec4::ONE || canon(w, ty) == canon(DVec4::ONE, ty) {
+                            if canon(w, ty) == canon(DVec4::ONE, ty) {
                                 return pick(args[0]);
                             }
                         }
                     }
                     MathOp::Normalize if args[0] == Arg::Geom(Geom::N) => return args[0],
-                    MathOp::Normalmap => {
-                        // A flat normal (encoded (0.5, 0.5, 1)) is the frame's normal.
-                        if konst(0) == Some(DVec4::new(0.5, 0.5, 1.0, 0.0)) {
-                            if args[2] == Arg::Geom(Geom::N) {
-                                return args[2];
-                            }
-                            return self.emit(Op::Math(MathOp::Normalize), vec![args[2]], ty);
+                    // A flat normal (encoded (0.5, 0.5, 1)) is the frame's normal.
+                    MathOp::Normalmap if konst(0) == Some(DVec4::new(0.5, 0.5, 1.0, 0.0)) => {
+                        if args[2] == Arg::Geom(Geom::N) {
+                            return args[2];
                         }
+                        return self.emit(Op::Math(MathOp::Normalize), vec![args[2]], ty);
                     }
                     _ => {}
                 }

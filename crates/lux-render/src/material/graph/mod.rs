@@ -80,7 +80,7 @@ pub struct Shaded {
     pub bsdf: lux_bsdf::Bsdf,
     /// Radiance emitted towards `wo` by the `surface` node's `edf` (`uniform_edf`: its
     /// `color`; `generalized_schlick_edf`: `F(cos θo)·base`; `mix`/`add`/`multiply` on EDFs
-    /// combine the radiances).
+    /// combine the radiances); negative or non-finite channels are 0.
     pub emission: DVec3,
     /// The `surface` node's `opacity` (cutout), clamped to \[0, 1\].
     pub opacity: f64,
@@ -135,15 +135,15 @@ impl GraphShader {
         &self.primvars
     }
 
-    /// What the compiled shader could not honour as authored (nodes and inputs), for `lux
-    /// info`.
+    /// What could not be honoured as authored, each naming its node: the flattening's
+    /// [`ShadingGraph::notes`] followed by the compiler's (unknown node categories, textures
+    /// that did not load, inputs read otherwise than authored), for `lux info`.
     pub fn unsupported(&self) -> &[String] {
         &self.unsupported
     }
 
-    /// How many instructions run per hit (0 when everything but the closures' construction
-    /// folded away is not possible: closures are instructions; a material whose surface is
-    /// a constant colour of no closure runs none).
+    /// How many instructions run per hit, closure constructions included (0 for a material
+    /// whose surface folded to constants and has no closure).
     pub fn instruction_count(&self) -> usize {
         self.program.len()
     }
