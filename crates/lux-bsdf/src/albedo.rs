@@ -255,8 +255,22 @@ fn diel_lookup(mu: f64, alpha: f64, eta: f64, off: usize) -> f64 {
     let b = locate(alpha.max(0.0).sqrt(), N_ALPHA_D);
     let (k, fk, _) = eta_axis(eta);
     let n = N_MU_D * N_ALPHA_D * DIEL_STRIDE;
-    let v0 = lerp2(&tb.diel[k * n..(k + 1) * n], N_ALPHA_D, DIEL_STRIDE, off, a, b);
-    let v1 = lerp2(&tb.diel[(k + 1) * n..(k + 2) * n], N_ALPHA_D, DIEL_STRIDE, off, a, b);
+    let v0 = lerp2(
+        &tb.diel[k * n..(k + 1) * n],
+        N_ALPHA_D,
+        DIEL_STRIDE,
+        off,
+        a,
+        b,
+    );
+    let v1 = lerp2(
+        &tb.diel[(k + 1) * n..(k + 2) * n],
+        N_ALPHA_D,
+        DIEL_STRIDE,
+        off,
+        a,
+        b,
+    );
     v0 * (1.0 - fk) + v1 * fk
 }
 
@@ -264,7 +278,10 @@ fn diel_lookup(mu: f64, alpha: f64, eta: f64, off: usize) -> f64 {
 /// `eta` (`< 1` when leaving the denser medium; `η` or `1/η` clamped to `[1, 3]`).
 pub fn dielectric(mu: f64, alpha: f64, eta: f64) -> (f64, f64) {
     let off = if eta < 1.0 { 2 } else { 0 };
-    (diel_lookup(mu, alpha, eta, off), diel_lookup(mu, alpha, eta, off + 1))
+    (
+        diel_lookup(mu, alpha, eta, off),
+        diel_lookup(mu, alpha, eta, off + 1),
+    )
 }
 
 /// Single-scattering reflection albedo of the thin-walled slab (`F_slab = 2F/(1 + F)`); its
@@ -303,7 +320,14 @@ impl Table2 {
         Table2 { v }
     }
     fn get(&self, mu: f64, x: f64) -> f64 {
-        lerp2(&self.v, N_ROUGH, 1, 0, locate(mu.max(0.0).sqrt(), N_MU), locate(x, N_ROUGH))
+        lerp2(
+            &self.v,
+            N_ROUGH,
+            1,
+            0,
+            locate(mu.max(0.0).sqrt(), N_MU),
+            locate(x, N_ROUGH),
+        )
     }
 }
 

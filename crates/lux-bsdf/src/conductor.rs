@@ -8,14 +8,21 @@
 //! `ior = extinction = 0`), an approximation of a few 10⁻³ for real metals (measured in the
 //! tests). Thin film: ignored.
 
+use crate::ScatterMode;
 use crate::albedo;
 use crate::fresnel;
 use crate::lobe::{Fresnel, Lobe};
-use crate::ScatterMode;
 use glam::{DVec2, DVec3};
 
 /// The lobe for `wo` (local, `wo.z > 0`) and its directional albedo.
-pub(crate) fn lobe(weight: f64, eta: DVec3, k: DVec3, alpha: DVec2, retro: bool, wo: DVec3) -> (Lobe, DVec3) {
+pub(crate) fn lobe(
+    weight: f64,
+    eta: DVec3,
+    k: DVec3,
+    alpha: DVec2,
+    retro: bool,
+    wo: DVec3,
+) -> (Lobe, DVec3) {
     let (ggx, delta) = Lobe::new(alpha);
     let mut l = Lobe {
         ggx,

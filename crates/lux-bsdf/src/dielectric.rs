@@ -21,14 +21,22 @@ use glam::{DVec2, DVec3};
 
 /// Keeps a relative index away from 1 by at least `10⁻³`.
 pub fn snap_eta(eta: f64) -> f64 {
-    if eta >= 1.0 { eta.max(1.001) } else { eta.min(0.999) }
+    if eta >= 1.0 {
+        eta.max(1.001)
+    } else {
+        eta.min(0.999)
+    }
 }
 
 /// Hemispherical average of `F` seen from `wo`'s side: `F̄(η)` outside, and
 /// `1 − (1 − F̄(1/η))·η²` from inside (`η < 1`, reciprocity of the transmittance).
 pub fn fresnel_average(eta: f64, slab: bool) -> f64 {
     let f = albedo::dielectric_average(eta, slab);
-    if eta < 1.0 && !slab { 1.0 - (1.0 - f) * eta * eta } else { f }
+    if eta < 1.0 && !slab {
+        1.0 - (1.0 - f) * eta * eta
+    } else {
+        f
+    }
 }
 
 /// The lobe of the closure for `wo` (local, `wo.z > 0`) and its directional albedo.
@@ -58,7 +66,11 @@ pub(crate) fn lobe(
         ggx,
         delta,
         tint,
-        fresnel: if no_fresnel { Fresnel::One } else { Fresnel::Dielectric },
+        fresnel: if no_fresnel {
+            Fresnel::One
+        } else {
+            Fresnel::Dielectric
+        },
         eta,
         mode,
         thin,

@@ -436,10 +436,9 @@ impl Materials {
             });
         }
         let transparent = |k: Option<usize>| {
-            k.and_then(|k| materials.get(k))
-                .is_some_and(|s: &Shader| {
-                    s.opacity.is_some() || s.graph.as_ref().is_some_and(|g| g.transparent)
-                })
+            k.and_then(|k| materials.get(k)).is_some_and(|s: &Shader| {
+                s.opacity.is_some() || s.graph.as_ref().is_some_and(|g| g.transparent)
+            })
         };
         let mesh_transparent = scene
             .meshes
@@ -530,7 +529,9 @@ impl Materials {
                 let at = self.lookup(scene, hit);
                 let d = into_surface(hit);
                 let n = self.normals(scene, hit, d);
-                g.shader.eval(&self.context(scene, hit, &at, g, n, -d)).emission
+                g.shader
+                    .eval(&self.context(scene, hit, &at, g, n, -d))
+                    .emission
             }
             _ => return DVec3::ZERO,
         };
@@ -616,7 +617,9 @@ impl Materials {
                 let at = self.lookup(scene, hit);
                 let d = into_surface(hit);
                 let n = self.normals(scene, hit, d);
-                g.shader.eval(&self.context(scene, hit, &at, g, n, -d)).opacity
+                g.shader
+                    .eval(&self.context(scene, hit, &at, g, n, -d))
+                    .opacity
             }
             _ => return 1.0,
         };
@@ -695,7 +698,8 @@ impl Materials {
         let frame = self.dpds(scene, hit).and_then(|(dpds, dpdt)| {
             let t = (dpds - ns * ns.dot(dpds)).normalize_or_zero();
             let b = ns.cross(t);
-            (t != DVec3::ZERO && t.is_finite()).then_some((t, if b.dot(dpdt) < 0.0 { -b } else { b }))
+            (t != DVec3::ZERO && t.is_finite())
+                .then_some((t, if b.dot(dpdt) < 0.0 { -b } else { b }))
         });
         let (t, b) = frame.unwrap_or_else(|| {
             let t = ns.any_orthonormal_vector();
@@ -753,7 +757,9 @@ impl Materials {
             if ns.dot(-d) <= 0.0 {
                 ns = ng;
             }
-            let shaded = g.shader.eval(&self.context(scene, hit, &at, g, (ns, ng), -d));
+            let shaded = g
+                .shader
+                .eval(&self.context(scene, hit, &at, g, (ns, ng), -d));
             return point(
                 ns,
                 Bsdf::Graph(Box::new(GraphBsdf {

@@ -460,50 +460,44 @@ impl Compiler<'_> {
     fn node(&mut self, index: usize, node: &GraphNode) -> Vec<Arg> {
         let out_ty = node.outputs.first().map_or(ValueType::Float, |o| o.1);
         let in_ty = |name: &str| node.input(name).map_or(ValueType::Float, |i| i.ty);
+        let math = math_op(node.category.as_str(), in_ty, out_ty);
+        if let Some(args) = self.closure_node(index, node, math, out_ty) {
+            return args;
+        }
+        if let Some(op) = math
+            && out_ty.components() > 0
+            && out_ty.components() <= 4
+        {
+            let args = self.inputs(index, node, op.inputs());
+            return vec![self.emit(Op::Math(op), args, out_ty)];
+        }
+        if let Some(args) = self.structural_node(index, node, out_ty) {
+            return args;
+        }
+        if matches!(out_ty, ValueType::String | ValueType::Filename) {
+            // Uniform strings are read where they are consumed ([`Compiler::uniform`]).
+            return node.outputs.iter().map(|o| zero_of(o.1)).collect();
+        }
+        let what = format!(
+            "node category {:?} ({}) is not supported; its outputs take their defaults (zero, no closure)",
+            node.category, node.nodedef
+        );
+        self.note(node, what);
+        node.outputs.iter().map(|o| zero_of(o.1)).collect()
+    }
+
+    /// A node whose output is a closure (`BSDF`, `EDF`, `VDF`): the pbrlib nodes and the
+    /// combinators that share their categories with math nodes; `None` for any other node.
+    fn closure_node(
+        &mut self,
+        index: usize,
+        node: &GraphNode,
+        math: Option<MathOp>,
+        out_ty: ValueType,
+    ) -> Option<Vec<Arg>> {
+        let in_ty = |name: &str| node.input(name).map_or(ValueType::Float, |i| i.ty);
         let category = node.category.as_str();
-        let one = |a: Arg| vec![a];
-        // Math nodes by category.
-        let math = match category {
-            "add" | "plus" => Some(MathOp::Add),
-            "subtract" | "minus" => Some(MathOp::Subtract),
-            "multiply" => Some(MathOp::Multiply),
-            "divide" => Some(MathOp::Divide),
-            "modulo" => Some(MathOp::Modulo),
-            "power" => Some(MathOp::Power),
-            "max" => Some(MathOp::Max),
-            "min" => Some(MathOp::Min),
-            "atan2" => Some(MathOp::Atan2),
-            "invert" => Some(MathOp::Invert),
-            "clamp" => Some(MathOp::Clamp),
-            "mix" => Some(MathOp::Mix),
-            "remap" => Some(MathOp::Remap),
-            "smoothstep" => Some(MathOp::Smoothstep),
-            "normalize" => Some(MathOp::Normalize),
-            "magnitude" => Some(MathOp::Magnitude),
-            "distance" => Some(MathOp::Distance),
-            "dotproduct" => Some(MathOp::DotProduct),
-            "crossproduct" => Some(MathOp::CrossProduct),
-            "mincomponent" => Some(MathOp::MinComponent(in_ty("in").components() as u8)),
-            "maxcomponent" => Some(MathOp::MaxComponent(in_ty("in").components() as u8)),
-            "luminance" => Some(MathOp::Luminance),
-            "rotate2d" => Some(MathOp::Rotate2d),
-            "rotate3d" => Some(MathOp::Rotate3d),
-            "ifgreater" => Some(MathOp::IfGreater),
-            "ifgreatereq" => Some(MathOp::IfGreaterEq),
-            "ifequal" => Some(MathOp::IfEqual),
-            "convert" => Some(MathOp::Convert {
-                from: in_ty("in"),
-                to: out_ty,
-            }),
-            "normalmap" => Some(MathOp::Normalmap),
-            "roughness_anisotropy" => Some(MathOp::RoughnessAnisotropy),
-            "open_pbr_anisotropy" => Some(MathOp::OpenPbrAnisotropy),
-            "and" => Some(MathOp::And),
-            "or" => Some(MathOp::Or),
-            "xor" => Some(MathOp::Xor),
-            "not" => Some(MathOp::Not),
-            c => Unary::of(c).map(MathOp::Unary),
-        };
+        let one = |a: Arg| Some(vec![a]);
         match out_ty {
             // Closure combinators share categories with math nodes.
             ValueType::Bsdf => {
@@ -545,13 +539,20 @@ impl Compiler<'_> {
             }
             _ => {}
         }
-        if let Some(op) = math
-            && out_ty.components() > 0
-            && out_ty.components() <= 4
-        {
-            let args = self.inputs(index, node, op.inputs());
-            return one(self.emit(Op::Math(op), args, out_ty));
-        }
+        None
+    }
+
+    /// The stdlib nodes that are neither plain math nor closures (constructors, channels,
+    /// conditionals of many inputs, geometry, textures); `None` for an unknown category.
+    fn structural_node(
+        &mut self,
+        index: usize,
+        node: &GraphNode,
+        out_ty: ValueType,
+    ) -> Option<Vec<Arg>> {
+        let in_ty = |name: &str| node.input(name).map_or(ValueType::Float, |i| i.ty);
+        let category = node.category.as_str();
+        let one = |a: Arg| Some(vec![a]);
         match category {
             "surface" => {
                 let args = SurfaceArgs {
@@ -602,15 +603,17 @@ impl Compiler<'_> {
             }
             "separate2" | "separate3" | "separate4" => {
                 let arg = self.input_or_default(index, node, "in");
-                return (0..node.outputs.len())
-                    .map(|i| {
-                        self.emit(
-                            Op::Math(MathOp::Extract(i.min(3) as u8)),
-                            vec![arg],
-                            ValueType::Float,
-                        )
-                    })
-                    .collect();
+                return Some(
+                    (0..node.outputs.len())
+                        .map(|i| {
+                            self.emit(
+                                Op::Math(MathOp::Extract(i.min(3) as u8)),
+                                vec![arg],
+                                ValueType::Float,
+                            )
+                        })
+                        .collect(),
+                );
             }
             "combine2" | "combine3" | "combine4" => {
                 let names = ["in1", "in2", "in3", "in4"];
@@ -623,16 +626,17 @@ impl Compiler<'_> {
             }
             "artistic_ior" => {
                 let args = self.inputs(index, node, &["reflectivity", "edge_color"]);
-                return node
-                    .outputs
-                    .iter()
-                    .map(|(name, ty)| {
-                        let op = MathOp::ArtisticIor {
-                            extinction: name == "extinction",
-                        };
-                        self.emit(Op::Math(op), args.clone(), *ty)
-                    })
-                    .collect();
+                return Some(
+                    node.outputs
+                        .iter()
+                        .map(|(name, ty)| {
+                            let op = MathOp::ArtisticIor {
+                                extinction: name == "extinction",
+                            };
+                            self.emit(Op::Math(op), args.clone(), *ty)
+                        })
+                        .collect(),
+                );
             }
             "texcoord" | "position" | "normal" | "tangent" | "bitangent" => {
                 let geom = Geom::of_category(category).unwrap_or(Geom::Uv);
@@ -677,16 +681,7 @@ impl Compiler<'_> {
             "image" | "tiledimage" => return one(self.image(index, node, out_ty)),
             _ => {}
         }
-        if matches!(out_ty, ValueType::String | ValueType::Filename) {
-            // Uniform strings are read where they are consumed ([`Compiler::uniform`]).
-            return node.outputs.iter().map(|o| zero_of(o.1)).collect();
-        }
-        let what = format!(
-            "node category {:?} ({}) is not supported; its outputs take their defaults (zero, no closure)",
-            node.category, node.nodedef
-        );
-        self.note(node, what);
-        node.outputs.iter().map(|o| zero_of(o.1)).collect()
+        None
     }
 
     /// A geometric quantity as a value of type `ty` (a vector2 of `UV0`, or a vector3 of a
@@ -849,5 +844,51 @@ impl Compiler<'_> {
                 default
             }
         }
+    }
+}
+
+/// The math op of a stdlib or pbrlib value node's category (`in_ty`: the type of an input by
+/// name, `out_ty`: the node's output type); `None` for other categories.
+fn math_op(category: &str, in_ty: impl Fn(&str) -> ValueType, out_ty: ValueType) -> Option<MathOp> {
+    match category {
+        "add" | "plus" => Some(MathOp::Add),
+        "subtract" | "minus" => Some(MathOp::Subtract),
+        "multiply" => Some(MathOp::Multiply),
+        "divide" => Some(MathOp::Divide),
+        "modulo" => Some(MathOp::Modulo),
+        "power" => Some(MathOp::Power),
+        "max" => Some(MathOp::Max),
+        "min" => Some(MathOp::Min),
+        "atan2" => Some(MathOp::Atan2),
+        "invert" => Some(MathOp::Invert),
+        "clamp" => Some(MathOp::Clamp),
+        "mix" => Some(MathOp::Mix),
+        "remap" => Some(MathOp::Remap),
+        "smoothstep" => Some(MathOp::Smoothstep),
+        "normalize" => Some(MathOp::Normalize),
+        "magnitude" => Some(MathOp::Magnitude),
+        "distance" => Some(MathOp::Distance),
+        "dotproduct" => Some(MathOp::DotProduct),
+        "crossproduct" => Some(MathOp::CrossProduct),
+        "mincomponent" => Some(MathOp::MinComponent(in_ty("in").components() as u8)),
+        "maxcomponent" => Some(MathOp::MaxComponent(in_ty("in").components() as u8)),
+        "luminance" => Some(MathOp::Luminance),
+        "rotate2d" => Some(MathOp::Rotate2d),
+        "rotate3d" => Some(MathOp::Rotate3d),
+        "ifgreater" => Some(MathOp::IfGreater),
+        "ifgreatereq" => Some(MathOp::IfGreaterEq),
+        "ifequal" => Some(MathOp::IfEqual),
+        "convert" => Some(MathOp::Convert {
+            from: in_ty("in"),
+            to: out_ty,
+        }),
+        "normalmap" => Some(MathOp::Normalmap),
+        "roughness_anisotropy" => Some(MathOp::RoughnessAnisotropy),
+        "open_pbr_anisotropy" => Some(MathOp::OpenPbrAnisotropy),
+        "and" => Some(MathOp::And),
+        "or" => Some(MathOp::Or),
+        "xor" => Some(MathOp::Xor),
+        "not" => Some(MathOp::Not),
+        c => Unary::of(c).map(MathOp::Unary),
     }
 }
