@@ -30,6 +30,7 @@ pub mod linking;
 mod load;
 pub mod material;
 pub mod mesh;
+pub mod mtlx;
 pub mod path_guard;
 pub mod points;
 pub mod reader;

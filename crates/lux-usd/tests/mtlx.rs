@@ -1,0 +1,453 @@
+//! MaterialX documents, the embedded library and flattening, checked against MaterialX 1.39.5
+//! itself (`tests/data/mtlx/oracle.py` → `oracle.json`).
+
+use std::path::{Path, PathBuf};
+
+use lux_usd::mtlx::{MtlxError, library, parse_document, read_document};
+use lux_usd::shading::{GraphNode, ShadingGraph, Source, Value, ValueType, flatten};
+use serde_json::Value as Json;
+
+fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/mtlx")
+        .join(name)
+}
+
+fn oracle() -> Json {
+    let text = std::fs::read_to_string(data("oracle.json")).unwrap();
+    serde_json::from_str(&text).unwrap()
+}
+
+fn numbers(j: &Json) -> Vec<f64> {
+    j.as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect()
+}
+
+fn close(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|(x, y)| (x - y).abs() <= 1e-6 * (1.0 + y.abs()))
+}
+
+#[test]
+fn every_nodedef_matches_materialx() {
+    let oracle = oracle();
+    let lib = library();
+    let defs = oracle["nodedefs"].as_object().unwrap();
+    let mut checked = 0;
+    for (name, o) in defs {
+        let outputs: Vec<(&str, &str)> = o["outputs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| (p[0].as_str().unwrap(), p[1].as_str().unwrap()))
+            .collect();
+        let def = lib
+            .nodedef(name)
+            .unwrap_or_else(|| panic!("{name} missing"));
+        assert_eq!(def.category, o["node"].as_str().unwrap(), "{name}");
+        // Ports of types lux does not model (`lightshader`) are left out.
+        let want_out: Vec<(&str, &str)> = outputs
+            .into_iter()
+            .filter(|(_, t)| ValueType::parse(t).is_some())
+            .collect();
+        let got_out: Vec<(&str, &str)> = def
+            .outputs
+            .iter()
+            .map(|(n, t)| (n.as_str(), t.name()))
+            .collect();
+        assert_eq!(got_out, want_out, "{name} outputs");
+        let want_in: Vec<&Json> = o["inputs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|i| ValueType::parse(i["type"].as_str().unwrap()).is_some())
+            .collect();
+        assert_eq!(def.inputs.len(), want_in.len(), "{name} inputs");
+        for (got, want) in def.inputs.iter().zip(want_in) {
+            let at = format!("{name}.{}", got.name);
+            assert_eq!(got.name, want["name"].as_str().unwrap(), "{at}");
+            assert_eq!(got.ty.name(), want["type"].as_str().unwrap(), "{at}");
+            assert_eq!(got.uniform, want["uniform"].as_bool().unwrap(), "{at}");
+            assert_eq!(
+                got.defaultgeomprop.as_deref(),
+                want["defaultgeomprop"].as_str(),
+                "{at}"
+            );
+            match (&got.default, &want["value"]) {
+                (None, Json::Null) => {}
+                (Some(Value::Numbers(v)), w @ Json::Array(_)) => {
+                    assert!(close(v, &numbers(w)), "{at}: {v:?} vs {w}")
+                }
+                (Some(Value::String(s)), Json::String(w)) => assert_eq!(s, w, "{at}"),
+                (Some(Value::File(f)), Json::String(w)) => {
+                    assert_eq!(&f.asset.authored, w, "{at}")
+                }
+                (g, w) => panic!("{at}: {g:?} vs {w}"),
+            }
+        }
+        let implementation = lib.implementation(name).map(|g| g.name.as_str());
+        assert_eq!(implementation, o["implementation"].as_str(), "{name}");
+        checked += 1;
+    }
+    assert_eq!(checked, lib.nodedefs().len());
+    assert!(checked > 700);
+}
+
+#[test]
+fn resolve_agrees_with_materialx() {
+    let oracle = oracle();
+    let lib = library();
+    let mut checked = 0;
+    for r in oracle["resolve"].as_array().unwrap() {
+        let inputs: Vec<(&str, ValueType)> = r["inputs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|p| Some((p[0].as_str()?, ValueType::parse(p[1].as_str()?)?)))
+            .collect();
+        let ty = ValueType::parse(r["type"].as_str().unwrap());
+        let got = lib
+            .resolve(r["category"].as_str().unwrap(), ty, &inputs)
+            .map(|d| d.name.as_str());
+        assert_eq!(got, r["nodedef"].as_str(), "{} {}", r["where"], r["name"]);
+        checked += 1;
+    }
+    assert!(checked > 200);
+}
+
+#[test]
+fn usd_ids_name_library_nodedefs() {
+    let lib = library();
+    for id in [
+        "UsdPreviewSurface",
+        "UsdUVTexture",
+        "UsdTransform2d",
+        "UsdPrimvarReader_float",
+        "UsdPrimvarReader_float2",
+        "UsdPrimvarReader_float3",
+        "UsdPrimvarReader_float4",
+        "UsdPrimvarReader_int",
+        "UsdPrimvarReader_normal",
+        "UsdPrimvarReader_point",
+        "UsdPrimvarReader_vector",
+        "UsdPrimvarReader_string",
+    ] {
+        let nd = lux_usd::mtlx::nodedef_for_usd_id(id).unwrap();
+        assert!(lib.nodedef(nd).is_some(), "{id} → {nd}");
+    }
+    assert_eq!(
+        lux_usd::mtlx::nodedef_for_usd_id("UsdPrimvarReader_float2"),
+        Some("ND_UsdPrimvarReader_vector2")
+    );
+    assert_eq!(lux_usd::mtlx::nodedef_for_usd_id("ND_image_color3"), None);
+}
+
+fn flat(file: &str, material: &str) -> ShadingGraph {
+    let doc = read_document(&data(file)).unwrap();
+    let net = doc.network(material).unwrap();
+    flatten(&net)
+}
+
+/// The node feeding input `input` of `node`, and which of its outputs.
+fn upstream<'g>(g: &'g ShadingGraph, node: &GraphNode, input: &str) -> (&'g GraphNode, usize) {
+    match &node.input(input).unwrap().source {
+        Source::Node { node, output } => (&g.nodes[*node], *output),
+        s => panic!("{}.{input} is {s:?}", node.name),
+    }
+}
+
+fn value(node: &GraphNode, input: &str) -> Vec<f64> {
+    match &node.input(input).unwrap().source {
+        Source::Value(Value::Numbers(v)) => v.clone(),
+        s => panic!("{}.{input} is {s:?}", node.name),
+    }
+}
+
+fn check_sorted(g: &ShadingGraph) {
+    for (i, n) in g.nodes.iter().enumerate() {
+        assert!(
+            lux_usd::mtlx::library()
+                .implementation(&n.nodedef)
+                .is_none(),
+            "{} still has a graph implementation",
+            n.nodedef
+        );
+        for inp in &n.inputs {
+            if let Source::Node { node, output } = inp.source {
+                assert!(node < i, "{}.{} reads a later node", n.name, inp.name);
+                assert!(output < g.nodes[node].outputs.len());
+                assert_eq!(
+                    g.nodes[node].outputs[output].1, inp.ty,
+                    "{}.{}",
+                    n.name, inp.name
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn gold_conductor_reads_the_authored_base_color() {
+    let g = flat("gold.mtlx", "gold");
+    assert_eq!(g.notes, Vec::<String>::new());
+    assert_eq!(g.model, "ND_standard_surface_surfaceshader");
+    assert_eq!(g.material, "gold.mtlx:/gold");
+    check_sorted(&g);
+    let (s, o) = g.surface.unwrap();
+    assert_eq!(g.nodes[s].category, "surface");
+    assert_eq!(g.nodes[s].outputs[o].1, ValueType::SurfaceShader);
+    let metal = g
+        .nodes
+        .iter()
+        .find(|n| n.category == "conductor_bsdf")
+        .unwrap();
+    assert_eq!(
+        metal.name,
+        "gold.mtlx:/mtlxstandard_surface1/NG_standard_surface_surfaceshader_100/metal_bsdf"
+    );
+    let (ior, out) = upstream(&g, metal, "ior");
+    assert_eq!(ior.category, "artistic_ior");
+    assert_eq!(ior.outputs[out].0, "ior");
+    let (refl, _) = upstream(&g, ior, "reflectivity");
+    assert_eq!(refl.nodedef, "ND_multiply_color3FA");
+    assert!(close(&value(refl, "in1"), &[0.910751, 0.793992, 0.405919]));
+    assert!(close(&value(refl, "in2"), &[1.0]));
+    let (edge, _) = upstream(&g, ior, "edge_color");
+    assert!(close(&value(edge, "in1"), &[0.995348, 0.983757, 0.765725]));
+    // The roughness helper reads the authored specular_roughness; the unconnected normal
+    // reads the nodedef's defaultgeomprop.
+    let (rough, _) = upstream(&g, metal, "roughness");
+    assert_eq!(rough.category, "roughness_anisotropy");
+    let (mix, _) = upstream(&g, rough, "roughness");
+    assert_eq!(mix.nodedef, "ND_mix_float");
+    assert!(close(&value(mix, "bg"), &[0.01]));
+    assert!(close(&value(mix, "fg"), &[1.0]));
+    assert_eq!(
+        metal.input("normal").unwrap().source,
+        Source::Geomprop("Nworld".into())
+    );
+}
+
+#[test]
+fn every_example_material_flattens() {
+    for (file, material, model) in [
+        (
+            "bubblegum.mtlx",
+            "bubblegum",
+            "ND_standard_surface_surfaceshader",
+        ),
+        ("glass.mtlx", "glass", "ND_standard_surface_surfaceshader"),
+        (
+            "plastic.mtlx",
+            "plastic",
+            "ND_standard_surface_surfaceshader",
+        ),
+        (
+            "bubblegum_openpbr.mtlx",
+            "bubblegum",
+            "ND_open_pbr_surface_surfaceshader",
+        ),
+        (
+            "glass_openpbr.mtlx",
+            "glass",
+            "ND_open_pbr_surface_surfaceshader",
+        ),
+        (
+            "gold_openpbr.mtlx",
+            "gold",
+            "ND_open_pbr_surface_surfaceshader",
+        ),
+        (
+            "plastic_openpbr.mtlx",
+            "plastic",
+            "ND_open_pbr_surface_surfaceshader",
+        ),
+    ] {
+        let g = flat(file, material);
+        assert_eq!(g.model, model, "{file}");
+        assert_eq!(g.notes, Vec::<String>::new(), "{file}");
+        assert!(g.surface.is_some(), "{file}");
+        check_sorted(&g);
+        assert!(
+            g.nodes.iter().any(|n| n.category == "dielectric_bsdf"),
+            "{file}"
+        );
+    }
+}
+
+#[test]
+fn nodegraphs_fileprefix_colorspace_and_looks() {
+    let doc = read_document(&data("graph.mtlx")).unwrap();
+    assert_eq!(doc.version, (1, 39));
+    assert_eq!(doc.colorspace, "lin_rec709");
+    assert_eq!(doc.materials(), vec!["M_wood", "M_preview"]);
+    let look = &doc.looks[0];
+    assert_eq!(look.name, "L_default");
+    assert_eq!(look.assigns[0].material, "M_wood");
+    assert_eq!(
+        look.assigns[0].geom.as_deref(),
+        Some("/World/Table,/World/Chair")
+    );
+    assert_eq!(look.assigns[1].collection.as_deref(), Some("C_props"));
+
+    let net = doc.network("M_wood").unwrap();
+    let names: Vec<&str> = net.nodes.iter().map(|n| n.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "graph.mtlx:/SR_wood",
+            "graph.mtlx:/NG_wood/tinted",
+            "graph.mtlx:/NG_wood/grain",
+            "graph.mtlx:/NG_wood/uv_scaled",
+            "graph.mtlx:/NG_wood/uv",
+            "graph.mtlx:/NG_wood/rough_map",
+        ]
+    );
+    let g = flatten(&net);
+    assert_eq!(g.notes, Vec::<String>::new());
+    check_sorted(&g);
+    let image = |name: &str| {
+        g.nodes
+            .iter()
+            .find(|n| n.name == format!("graph.mtlx:/NG_wood/{name}"))
+            .unwrap()
+    };
+    let grain = image("grain");
+    assert_eq!(grain.nodedef, "ND_image_color3");
+    let Source::Value(Value::File(f)) = &grain.input("file").unwrap().source else {
+        panic!()
+    };
+    assert_eq!(f.asset.authored, "textures/wood.ppm");
+    assert_eq!(f.asset.resolved, Some(data("textures/wood.ppm")));
+    assert_eq!(f.colorspace, "srgb_texture");
+    let rough = image("rough_map");
+    let Source::Value(Value::File(f)) = &rough.input("file").unwrap().source else {
+        panic!()
+    };
+    assert_eq!(f.asset.authored, "textures/wood_rough.png");
+    assert_eq!(f.asset.resolved, None);
+    assert_eq!(f.colorspace, "raw");
+    // The interface input's value reaches the inner multiply; texcoord's default geomprop.
+    let (scaled, _) = upstream(&g, grain, "texcoord");
+    assert!(close(&value(scaled, "in2"), &[2.0, 2.0]));
+    let (uv, _) = upstream(&g, scaled, "in1");
+    assert_eq!(uv.category, "texcoord");
+    let tinted = image("tinted");
+    assert!(close(&value(tinted, "in2"), &[0.9, 0.6, 0.3]));
+
+    // UsdPreviewSurface through its library graph; the input's own empty fileprefix wins.
+    let g = flatten(&doc.network("M_preview").unwrap());
+    assert_eq!(g.model, "ND_UsdPreviewSurface_surfaceshader");
+    assert_eq!(g.notes, Vec::<String>::new());
+    check_sorted(&g);
+    let img = g.nodes.iter().find(|n| n.category == "image").unwrap();
+    assert_eq!(img.nodedef, "ND_image_color4");
+    let Source::Value(Value::File(f)) = &img.input("file").unwrap().source else {
+        panic!()
+    };
+    assert_eq!(f.asset.authored, "wood.ppm");
+    assert_eq!(
+        img.input("texcoord").unwrap().source,
+        Source::Geomprop("UV0".into())
+    );
+}
+
+#[test]
+fn a_138_document_is_upgraded_as_materialx_does() {
+    let oracle = oracle();
+    let doc = read_document(&data("upgrade_138.mtlx")).unwrap();
+    assert_eq!(doc.version, (1, 38));
+    assert_eq!(oracle["upgraded"]["version"], "1.39");
+    for (gname, want) in oracle["upgraded"]["nodegraphs"].as_object().unwrap() {
+        let graph = doc.nodegraph(gname).unwrap();
+        let want = want.as_array().unwrap();
+        assert_eq!(graph.nodes.len(), want.len(), "{gname}");
+        for w in want {
+            let name = w["name"].as_str().unwrap();
+            let node = graph.node(name).unwrap_or_else(|| panic!("{name}"));
+            assert_eq!(node.category, w["category"].as_str().unwrap(), "{name}");
+            assert_eq!(
+                node.ty.map_or("multioutput", |t| t.name()),
+                w["type"].as_str().unwrap(),
+                "{name}"
+            );
+            let wi = w["inputs"].as_array().unwrap();
+            assert_eq!(node.inputs.len(), wi.len(), "{name}");
+            for i in wi {
+                let iname = i["name"].as_str().unwrap();
+                let got = node
+                    .input(iname)
+                    .unwrap_or_else(|| panic!("{name}.{iname}"));
+                assert_eq!(
+                    got.nodename.as_deref(),
+                    i["nodename"].as_str(),
+                    "{name}.{iname}"
+                );
+                assert_eq!(
+                    got.output.as_deref(),
+                    i["output"].as_str(),
+                    "{name}.{iname}"
+                );
+                assert_eq!(
+                    got.interfacename.as_deref(),
+                    i["interfacename"].as_str(),
+                    "{name}.{iname}"
+                );
+                if let Some(v) = i["value"].as_str() {
+                    let want = lux_usd::mtlx::parse_value(got.ty.unwrap(), v);
+                    assert_eq!(got.value, want, "{name}.{iname}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn bad_documents_are_typed_errors() {
+    let err = parse_document(
+        "<?xml version=\"1.0\"?>\n<materialx version=\"1.39\">\n  <image name=\"a\" type=\"color3\">\n</materialx>\n",
+        Path::new("bad.mtlx"),
+    )
+    .unwrap_err();
+    match err {
+        MtlxError::Xml { line, ref file, .. } => {
+            assert_eq!(line, 4);
+            assert_eq!(file, Path::new("bad.mtlx"));
+        }
+        e => panic!("{e:?}"),
+    }
+    let err = parse_document(
+        "<materialx version=\"1.39\">\n<image name=\"a\" type=\"color3\">\n<input name=\"default\" type=\"color3\" value=\"1, x\"/>\n</image>\n</materialx>",
+        Path::new("bad.mtlx"),
+    )
+    .unwrap_err();
+    match &err {
+        MtlxError::Invalid { line, element, .. } => {
+            assert_eq!(*line, 3);
+            assert_eq!(element, "input \"default\"");
+        }
+        e => panic!("{e:?}"),
+    }
+    assert!(err.to_string().contains("color3"));
+    assert!(matches!(
+        parse_document("<mtlx/>", Path::new("x.mtlx")),
+        Err(MtlxError::Invalid { .. })
+    ));
+    assert!(matches!(
+        parse_document(
+            "<materialx><image type=\"float\"/></materialx>",
+            Path::new("x.mtlx")
+        ),
+        Err(MtlxError::Invalid { line: 1, .. })
+    ));
+    let doc = parse_document("<materialx/>", Path::new("x.mtlx")).unwrap();
+    assert!(matches!(
+        doc.network("nope"),
+        Err(MtlxError::Network { .. })
+    ));
+}
