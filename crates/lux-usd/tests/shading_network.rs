@@ -289,6 +289,39 @@ fn materials_carry_their_graph() {
             .unwrap_or_else(|| panic!("{path}: no graph"));
         assert_eq!(g.material, path);
     }
+    // End to end (flatten, from wt-mtlx): the shading model, the surface, the texture the
+    // NodeGraph reads with its colour space, the Material's tint reaching the multiply.
+    let standard = material("/World/Standard").graph.as_ref().unwrap();
+    assert_eq!(standard.model, "ND_standard_surface_surfaceshader");
+    assert!(
+        standard.surface.is_some() && standard.notes.is_empty(),
+        "{standard:#?}"
+    );
+    let image = standard
+        .nodes
+        .iter()
+        .find(|n| n.name == "/World/Looks/Standard/Tinted/Image")
+        .unwrap();
+    assert_eq!(image.nodedef, "ND_image_color3");
+    let Some(lux_usd::shading::Source::Value(Value::File(fv))) =
+        image.input("file").map(|i| &i.source)
+    else {
+        panic!("{image:#?}")
+    };
+    assert_eq!(fv.colorspace, "srgb_texture");
+    let mul = standard
+        .nodes
+        .iter()
+        .find(|n| n.name == "/World/Looks/Standard/Tinted/Mul")
+        .unwrap();
+    assert_eq!(
+        mul.input("in2").unwrap().source,
+        lux_usd::shading::Source::Value(Value::Numbers(vec![f(0.8), f(0.4), f(0.2)]))
+    );
+    assert_eq!(
+        material("/World/Preview").graph.as_ref().unwrap().model,
+        "ND_UsdPreviewSurface_surfaceshader"
+    );
     // The UsdPreviewSurface fields are read as before.
     let preview = material("/World/Preview");
     assert!(preview.preview);
