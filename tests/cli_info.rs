@@ -216,11 +216,17 @@ fn materials_name_their_shading_model_and_notes() {
     let m = |p: &str| materials.iter().find(|m| m["path"] == p).unwrap();
     let preview = m("/World/Looks/Preview");
     assert_eq!(preview["preview_surface"], true);
-    assert!(preview["model"].is_string(), "{preview:#}");
+    assert_eq!(preview["model"], "ND_UsdPreviewSurface_surfaceshader");
     let standard = m("/World/Looks/Standard");
     assert_eq!(standard["preview_surface"], false);
-    assert!(standard["model"].is_string(), "{standard:#}");
-    assert!(standard["notes"].is_array());
+    assert_eq!(standard["model"], "ND_standard_surface_surfaceshader");
+    // An input standard_surface does not declare is a note of the graph.
+    let notes = standard["notes"].as_array().unwrap();
+    assert_eq!(notes.len(), 1, "{notes:#?}");
+    assert!(
+        notes[0].as_str().unwrap().contains("no_such_input"),
+        "{notes:#?}"
+    );
     let warnings = v["warnings"].as_array().unwrap();
     assert!(
         warnings
@@ -230,6 +236,14 @@ fn materials_name_their_shading_model_and_notes() {
     );
     args.json = false;
     let text = info::report(&args).unwrap();
-    assert!(text.contains("material /World/Looks/Preview ("), "{text}");
-    assert!(text.contains("material /World/Looks/Standard ("), "{text}");
+    assert!(
+        text.contains("material /World/Looks/Preview (ND_UsdPreviewSurface_surfaceshader)\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains(
+            "material /World/Looks/Standard (ND_standard_surface_surfaceshader)\n  note: "
+        ),
+        "{text}"
+    );
 }

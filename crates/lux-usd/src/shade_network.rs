@@ -193,7 +193,7 @@ fn warn(r: &mut Reader<'_>, prim: &str, kind: WarningKind, message: String) {
 }
 
 /// The network of the Material at `material`: its surface shader (from `outputs:mtlx:surface`,
-/// else `outputs:surface`) and every Shader upstream, nodes in breadth-first order from the
+/// else — also when that shader has no `info:id` — `outputs:surface`) and every Shader upstream, nodes in breadth-first order from the
 /// surface shader (node 0). A material without a readable surface terminal gives a network
 /// without nodes (`surface` `None`). Dangling connections and cycles are dropped with a
 /// warning in `r.warnings` naming the prim and input.
@@ -215,6 +215,9 @@ pub fn read_network_terminal(
     }
     let mat = r.stage.prim(material);
     let mut surface = None;
+    // A MaterialX surface shader without an `info:id`: used only when `outputs:surface` gives
+    // nothing better.
+    let mut unidentified = None;
     for (terminal, which) in [
         (MTLX_SURFACE, Terminal::Mtlx),
         (UNIVERSAL_SURFACE, Terminal::Universal),
@@ -224,6 +227,11 @@ pub fn read_network_terminal(
         }
         match resolve(r, material, terminal)? {
             Ok(Producer::Output { shader, output }) => {
+                let id = r.text(&r.stage.prim(shader.as_str()), "info:id")?;
+                if which == Terminal::Mtlx && id.is_none_or(|s| s.is_empty()) {
+                    unidentified = Some((shader, output, which));
+                    continue;
+                }
                 surface = Some((shader, output, which));
                 break;
             }
@@ -239,7 +247,7 @@ pub fn read_network_terminal(
             ),
         }
     }
-    let Some((shader, output, terminal)) = surface else {
+    let Some((shader, output, terminal)) = surface.or(unidentified) else {
         return Ok((net, None));
     };
     let mut index: HashMap<String, usize> = HashMap::new();

@@ -400,3 +400,64 @@ def Xform "X"
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A MaterialX surface shader without `info:id` (a shader by source asset): the universal
+/// `outputs:surface` is read instead; without one, the unidentified shader is the surface.
+#[test]
+fn mtlx_surface_without_an_id_falls_back_to_the_universal_surface() {
+    let dir = std::env::temp_dir().join(format!("lux-usdnet-id-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("fallback.usda");
+    std::fs::write(
+        &file,
+        r#"#usda 1.0
+def Material "M"
+{
+    token outputs:mtlx:surface.connect = </M/Custom.outputs:out>
+    token outputs:surface.connect = </M/Preview.outputs:surface>
+    def Shader "Custom"
+    {
+        uniform token info:implementationSource = "sourceAsset"
+        token outputs:out
+    }
+    def Shader "Preview"
+    {
+        uniform token info:id = "UsdPreviewSurface"
+        float inputs:roughness = 0.5
+        token outputs:surface
+    }
+}
+def Material "Only"
+{
+    token outputs:mtlx:surface.connect = </M/Custom.outputs:out>
+}
+"#,
+    )
+    .unwrap();
+    let stage = Stage::open(file.to_str().unwrap()).unwrap();
+    let mut r = Reader {
+        stage: &stage,
+        file: file.clone(),
+        time: 1.0,
+        warnings: Vec::new(),
+        type_warnings: Default::default(),
+        limits: LoadOptions::default(),
+    };
+    let n = read_network(&mut r, "/M").unwrap();
+    assert_eq!(n.nodes.len(), 1, "{n:#?}");
+    assert_eq!(n.nodes[0].name, "/M/Preview");
+    assert_eq!(n.nodes[0].nodedef.as_deref(), Some("UsdPreviewSurface"));
+    assert_eq!(numbers(input(&n.nodes[0], "roughness")), [0.5]);
+    assert!(r.warnings.is_empty(), "{:#?}", r.warnings);
+    let n = read_network(&mut r, "/Only").unwrap();
+    assert_eq!(n.nodes.len(), 1, "{n:#?}");
+    assert_eq!(n.nodes[0].nodedef, None);
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| w.prim == "/M/Custom" && w.message.contains("no info:id")),
+        "{:#?}",
+        r.warnings
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
