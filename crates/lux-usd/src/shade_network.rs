@@ -331,6 +331,11 @@ fn read_inputs(
         }
         let declared = attr_type(r, &prim, attr)?;
         let mut ty = declared.as_deref().and_then(usd_value_type);
+        if declared.is_some() && ty.is_none() {
+            // Arrays (an LTESpectralAPI `wavelength:reflectance`) and other types a MaterialX
+            // input cannot hold: not part of the network (the material's own fields read them).
+            continue;
+        }
         let source = match resolve(r, &path, attr)? {
             Err(why) => {
                 warn(
