@@ -9,7 +9,9 @@
 //! typed by its USD type ([`usd_value_type`]) holding a value or a connection to another
 //! node's output. A connection into a `NodeGraph` (or a Material) is followed through its
 //! outputs (`outputs:x.connect`) and interface inputs (`inputs:y`, a value or a further
-//! connection) until a Shader output or a value. A connection cycle or a dangling connection
+//! connection) until a Shader output or a value. An asset input is a file with its colour space
+//! (its `colorSpace` metadata; a `UsdUVTexture`'s `sourceColorSpace` `sRGB` / `raw`, folded into
+//! its file as `srgb_texture` / `raw`, is not an input of its own). A connection cycle or a dangling connection
 //! (to a prim or attribute that does not exist, or to something that is neither a Shader, a
 //! NodeGraph nor a Material) drops the input with a warning naming the prim and the input.
 
@@ -251,7 +253,9 @@ pub fn read_network_terminal(
         return Ok((net, None));
     };
     let mut index: HashMap<String, usize> = HashMap::new();
-    let first = add_node(r, &mut net, &mut index, &shader)?;
+    // A universal surface without an id is the material's own warning ("not
+    // UsdPreviewSurface"); an upstream shader without one is this network's.
+    let first = add_node(r, &mut net, &mut index, &shader, terminal == Terminal::Mtlx)?;
     net.surface = Some(Connection {
         node: first,
         output,
@@ -265,19 +269,21 @@ pub fn read_network_terminal(
     Ok((net, Some(terminal)))
 }
 
-/// Adds the Shader at `path` as a node (inputs read later); its index.
+/// Adds the Shader at `path` as a node (inputs read later); its index. Without an `info:id`,
+/// a warning when `warn_unidentified`.
 fn add_node(
     r: &mut Reader<'_>,
     net: &mut Network,
     index: &mut HashMap<String, usize>,
     path: &str,
+    warn_unidentified: bool,
 ) -> Result<usize, LoadError> {
     if let Some(&i) = index.get(path) {
         return Ok(i);
     }
     let prim = r.stage.prim(path);
     let nodedef = r.text(&prim, "info:id")?.filter(|s| !s.is_empty());
-    if nodedef.is_none() {
+    if nodedef.is_none() && warn_unidentified {
         warn(
             r,
             path,
@@ -347,7 +353,7 @@ fn read_inputs(
                 continue;
             }
             Ok(Producer::Output { shader, output }) => {
-                let node = add_node(r, net, index, &shader)?;
+                let node = add_node(r, net, index, &shader, true)?;
                 NetSource::Connection(Connection { node, output })
             }
             Ok(Producer::Value { prim: vp, attr: va }) => {
@@ -371,7 +377,10 @@ fn read_inputs(
             source,
         });
     }
-    // A UsdUVTexture's file takes the colour space its sourceColorSpace states.
+    // A UsdUVTexture's file takes the colour space its sourceColorSpace states (`sRGB`,
+    // `raw`; `auto` leaves the file's `colorSpace` metadata, else none). MaterialX's
+    // ND_UsdUVTexture has no such input (the colour space is the file's), so the input itself
+    // is left out once folded into the file.
     if net.nodes[i].nodedef.as_deref() == Some("UsdUVTexture") {
         let space = inputs
             .iter()
@@ -390,6 +399,7 @@ fn read_inputs(
                 }
             }
         }
+        inputs.retain(|inp| inp.name != "sourceColorSpace");
     }
     net.nodes[i].inputs = inputs;
     Ok(())

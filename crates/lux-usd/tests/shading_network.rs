@@ -131,6 +131,12 @@ fn preview_surface_texture_and_primvar_reader() {
         Some(data("leaf.png").canonicalize().unwrap())
     );
     assert_eq!(fv.colorspace, "srgb_texture", "sourceColorSpace sRGB");
+    assert!(
+        texture.inputs.iter().all(|i| i.name != "sourceColorSpace"),
+        "folded into the file: {texture:#?}"
+    );
+    // file, wrapS, scale, st.
+    assert_eq!(texture.inputs.len(), 4, "{texture:#?}");
     let wrap = input(texture, "wrapS");
     assert_eq!(wrap.ty, Some(ValueType::String));
     assert_eq!(
