@@ -197,3 +197,53 @@ def SphereLight "Key" (
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Every bound material with its shading model (its MaterialX graph's surface nodedef) and the
+/// graph's notes; a MaterialX surface under `outputs:mtlx:surface` is not "default grey".
+#[test]
+fn materials_name_their_shading_model_and_notes() {
+    let mut args = info::InfoArgs {
+        scene: PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/materials_mtlx.usda"),
+        frame: Some(1.0),
+        json: true,
+        strict: false,
+        disable_camera_light: false,
+        subdiv_level: None,
+    };
+    let v: serde_json::Value = serde_json::from_str(&info::report(&args).unwrap()).unwrap();
+    let materials = v["materials"].as_array().unwrap();
+    assert_eq!(materials.len(), 2, "{v:#}");
+    let m = |p: &str| materials.iter().find(|m| m["path"] == p).unwrap();
+    let preview = m("/World/Looks/Preview");
+    assert_eq!(preview["preview_surface"], true);
+    assert_eq!(preview["model"], "ND_UsdPreviewSurface_surfaceshader");
+    let standard = m("/World/Looks/Standard");
+    assert_eq!(standard["preview_surface"], false);
+    assert_eq!(standard["model"], "ND_standard_surface_surfaceshader");
+    // An input standard_surface does not declare is a note of the graph.
+    let notes = standard["notes"].as_array().unwrap();
+    assert_eq!(notes.len(), 1, "{notes:#?}");
+    assert!(
+        notes[0].as_str().unwrap().contains("no_such_input"),
+        "{notes:#?}"
+    );
+    let warnings = v["warnings"].as_array().unwrap();
+    assert!(
+        warnings
+            .iter()
+            .all(|w| !w.as_str().unwrap().contains("not UsdPreviewSurface")),
+        "{warnings:#?}"
+    );
+    args.json = false;
+    let text = info::report(&args).unwrap();
+    assert!(
+        text.contains("material /World/Looks/Preview (ND_UsdPreviewSurface_surfaceshader)\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains(
+            "material /World/Looks/Standard (ND_standard_surface_surfaceshader)\n  note: "
+        ),
+        "{text}"
+    );
+}

@@ -6,7 +6,9 @@
 //! `intensity · 2^exposure · color · blackbody / sizeFactor`, or lux-spectral's conversion when
 //! physical units or spectra are authored) — a ShapingAPI summary, the physical-unit and
 //! spectral attributes as authored, light and shadow links when authored
-//! (`collection:lightLink` / `collection:shadowLink`); then every warning of the loader and of the light set-up.
+//! (`collection:lightLink` / `collection:shadowLink`); then per bound material its shading
+//! model (the MaterialX graph's surface nodedef) and the graph's notes (inputs it could not
+//! honour); then every warning of the loader and of the light set-up.
 
 use clap::Args;
 use lux_math::{Profile, size_factor};
@@ -64,6 +66,20 @@ fn physical_json(p: &PhysicalLight) -> Value {
         "quantity": p.quantity.map(|q| json!({ "attribute": q.attribute(), "value": q.value() })),
         "illuminant": format!("{:?}", p.illuminant),
         "custom_illuminant": p.custom_illuminant,
+    })
+}
+
+/// A bound material as JSON: its path, whether its `outputs:surface` is a UsdPreviewSurface,
+/// the shading model of its MaterialX graph (`ND_standard_surface_surfaceshader`,
+/// `UsdPreviewSurface`, …; `null` without a graph) and the graph's notes (inputs it could not
+/// honour).
+fn material_json(m: &lux_usd::Material) -> Value {
+    json!({
+        "path": m.path,
+        "preview_surface": m.preview,
+        "model": m.graph.as_ref().map(|g| g.model.clone()),
+        "graph_nodes": m.graph.as_ref().map(|g| g.nodes.len()),
+        "notes": m.graph.as_ref().map(|g| g.notes.clone()).unwrap_or_default(),
     })
 }
 
@@ -126,6 +142,7 @@ pub fn report_json(
             })
         })
         .collect();
+    let materials: Vec<Value> = scene.materials.iter().map(material_json).collect();
     let mut warnings: Vec<String> = scene.warnings.iter().map(|w| w.to_string()).collect();
     for (p, set) in &sets {
         if let Ok(s) = set {
@@ -169,6 +186,7 @@ pub fn report_json(
         "defaults": defaults,
         "unit_for_wavelength": format!("{:?}", scene.unit_for_wavelength),
         "lights": lights,
+        "materials": materials,
         "warnings": warnings,
     })
 }
@@ -407,6 +425,18 @@ pub fn report_text(
                 e.unit_for_wavelength,
                 e.interpolation
             );
+        }
+    }
+    for m in &scene.materials {
+        let model = match &m.graph {
+            Some(g) if !g.model.is_empty() => g.model.clone(),
+            Some(_) => "shading graph without a model".to_owned(),
+            None if m.preview => "UsdPreviewSurface fields only".to_owned(),
+            None => "no shading graph".to_owned(),
+        };
+        let _ = writeln!(s, "material {} ({model})", m.path);
+        for n in m.graph.iter().flat_map(|g| &g.notes) {
+            let _ = writeln!(s, "  note: {n}");
         }
     }
     for w in j["warnings"].as_array().into_iter().flatten() {

@@ -9,7 +9,9 @@
 //! typed by its USD type ([`usd_value_type`]) holding a value or a connection to another
 //! node's output. A connection into a `NodeGraph` (or a Material) is followed through its
 //! outputs (`outputs:x.connect`) and interface inputs (`inputs:y`, a value or a further
-//! connection) until a Shader output or a value. A connection cycle or a dangling connection
+//! connection) until a Shader output or a value. An asset input is a file with its colour space
+//! (its `colorSpace` metadata; a `UsdUVTexture`'s `sourceColorSpace` `sRGB` / `raw`, folded into
+//! its file as `srgb_texture` / `raw`, is not an input of its own). A connection cycle or a dangling connection
 //! (to a prim or attribute that does not exist, or to something that is neither a Shader, a
 //! NodeGraph nor a Material) drops the input with a warning naming the prim and the input.
 
@@ -193,7 +195,7 @@ fn warn(r: &mut Reader<'_>, prim: &str, kind: WarningKind, message: String) {
 }
 
 /// The network of the Material at `material`: its surface shader (from `outputs:mtlx:surface`,
-/// else `outputs:surface`) and every Shader upstream, nodes in breadth-first order from the
+/// else — also when that shader has no `info:id` — `outputs:surface`) and every Shader upstream, nodes in breadth-first order from the
 /// surface shader (node 0). A material without a readable surface terminal gives a network
 /// without nodes (`surface` `None`). Dangling connections and cycles are dropped with a
 /// warning in `r.warnings` naming the prim and input.
@@ -215,6 +217,9 @@ pub fn read_network_terminal(
     }
     let mat = r.stage.prim(material);
     let mut surface = None;
+    // A MaterialX surface shader without an `info:id`: used only when `outputs:surface` gives
+    // nothing better.
+    let mut unidentified = None;
     for (terminal, which) in [
         (MTLX_SURFACE, Terminal::Mtlx),
         (UNIVERSAL_SURFACE, Terminal::Universal),
@@ -224,6 +229,11 @@ pub fn read_network_terminal(
         }
         match resolve(r, material, terminal)? {
             Ok(Producer::Output { shader, output }) => {
+                let id = r.text(&r.stage.prim(shader.as_str()), "info:id")?;
+                if which == Terminal::Mtlx && id.is_none_or(|s| s.is_empty()) {
+                    unidentified = Some((shader, output, which));
+                    continue;
+                }
                 surface = Some((shader, output, which));
                 break;
             }
@@ -239,11 +249,13 @@ pub fn read_network_terminal(
             ),
         }
     }
-    let Some((shader, output, terminal)) = surface else {
+    let Some((shader, output, terminal)) = surface.or(unidentified) else {
         return Ok((net, None));
     };
     let mut index: HashMap<String, usize> = HashMap::new();
-    let first = add_node(r, &mut net, &mut index, &shader)?;
+    // A universal surface without an id is the material's own warning ("not
+    // UsdPreviewSurface"); an upstream shader without one is this network's.
+    let first = add_node(r, &mut net, &mut index, &shader, terminal == Terminal::Mtlx)?;
     net.surface = Some(Connection {
         node: first,
         output,
@@ -257,19 +269,21 @@ pub fn read_network_terminal(
     Ok((net, Some(terminal)))
 }
 
-/// Adds the Shader at `path` as a node (inputs read later); its index.
+/// Adds the Shader at `path` as a node (inputs read later); its index. Without an `info:id`,
+/// a warning when `warn_unidentified`.
 fn add_node(
     r: &mut Reader<'_>,
     net: &mut Network,
     index: &mut HashMap<String, usize>,
     path: &str,
+    warn_unidentified: bool,
 ) -> Result<usize, LoadError> {
     if let Some(&i) = index.get(path) {
         return Ok(i);
     }
     let prim = r.stage.prim(path);
     let nodedef = r.text(&prim, "info:id")?.filter(|s| !s.is_empty());
-    if nodedef.is_none() {
+    if nodedef.is_none() && warn_unidentified {
         warn(
             r,
             path,
@@ -323,6 +337,11 @@ fn read_inputs(
         }
         let declared = attr_type(r, &prim, attr)?;
         let mut ty = declared.as_deref().and_then(usd_value_type);
+        if declared.is_some() && ty.is_none() {
+            // Arrays (an LTESpectralAPI `wavelength:reflectance`) and other types a MaterialX
+            // input cannot hold: not part of the network (the material's own fields read them).
+            continue;
+        }
         let source = match resolve(r, &path, attr)? {
             Err(why) => {
                 warn(
@@ -334,7 +353,7 @@ fn read_inputs(
                 continue;
             }
             Ok(Producer::Output { shader, output }) => {
-                let node = add_node(r, net, index, &shader)?;
+                let node = add_node(r, net, index, &shader, true)?;
                 NetSource::Connection(Connection { node, output })
             }
             Ok(Producer::Value { prim: vp, attr: va }) => {
@@ -358,7 +377,10 @@ fn read_inputs(
             source,
         });
     }
-    // A UsdUVTexture's file takes the colour space its sourceColorSpace states.
+    // A UsdUVTexture's file takes the colour space its sourceColorSpace states (`sRGB`,
+    // `raw`; `auto` leaves the file's `colorSpace` metadata, else none). MaterialX's
+    // ND_UsdUVTexture has no such input (the colour space is the file's), so the input itself
+    // is left out once folded into the file.
     if net.nodes[i].nodedef.as_deref() == Some("UsdUVTexture") {
         let space = inputs
             .iter()
@@ -377,6 +399,7 @@ fn read_inputs(
                 }
             }
         }
+        inputs.retain(|inp| inp.name != "sourceColorSpace");
     }
     net.nodes[i].inputs = inputs;
     Ok(())

@@ -88,6 +88,16 @@ fn for_each_asset(scene: &mut Scene, f: &mut dyn FnMut(&mut AssetRef)) {
         {
             f(a);
         }
+        // The files of the material's MaterialX graph (the same texture, read as a network).
+        for n in m.graph.iter_mut().flat_map(|g| g.nodes.iter_mut()) {
+            for i in &mut n.inputs {
+                if let lux_usd::shading::Source::Value(lux_usd::shading::Value::File(v)) =
+                    &mut i.source
+                {
+                    f(&mut v.asset);
+                }
+            }
+        }
     }
 }
 

@@ -113,6 +113,7 @@ fn preview_surface_texture_and_primvar_reader() {
     let normal = input(surface, "normal");
     assert_eq!(normal.ty, Some(ValueType::Vector3));
     assert_eq!(numbers(normal), [0.0, 0.0, 1.0]);
+    // An array (LTESpectralAPI) is not a MaterialX input: left out, silently.
     assert_eq!(surface.inputs.len(), 5, "{surface:#?}");
 
     // Texture: the file resolved next to the layer, sRGB, tokens as strings, float4.
@@ -130,6 +131,12 @@ fn preview_surface_texture_and_primvar_reader() {
         Some(data("leaf.png").canonicalize().unwrap())
     );
     assert_eq!(fv.colorspace, "srgb_texture", "sourceColorSpace sRGB");
+    assert!(
+        texture.inputs.iter().all(|i| i.name != "sourceColorSpace"),
+        "folded into the file: {texture:#?}"
+    );
+    // file, wrapS, scale, st.
+    assert_eq!(texture.inputs.len(), 4, "{texture:#?}");
     let wrap = input(texture, "wrapS");
     assert_eq!(wrap.ty, Some(ValueType::String));
     assert_eq!(
@@ -289,6 +296,39 @@ fn materials_carry_their_graph() {
             .unwrap_or_else(|| panic!("{path}: no graph"));
         assert_eq!(g.material, path);
     }
+    // End to end (flatten, from wt-mtlx): the shading model, the surface, the texture the
+    // NodeGraph reads with its colour space, the Material's tint reaching the multiply.
+    let standard = material("/World/Standard").graph.as_ref().unwrap();
+    assert_eq!(standard.model, "ND_standard_surface_surfaceshader");
+    assert!(
+        standard.surface.is_some() && standard.notes.is_empty(),
+        "{standard:#?}"
+    );
+    let image = standard
+        .nodes
+        .iter()
+        .find(|n| n.name == "/World/Looks/Standard/Tinted/Image")
+        .unwrap();
+    assert_eq!(image.nodedef, "ND_image_color3");
+    let Some(lux_usd::shading::Source::Value(Value::File(fv))) =
+        image.input("file").map(|i| &i.source)
+    else {
+        panic!("{image:#?}")
+    };
+    assert_eq!(fv.colorspace, "srgb_texture");
+    let mul = standard
+        .nodes
+        .iter()
+        .find(|n| n.name == "/World/Looks/Standard/Tinted/Mul")
+        .unwrap();
+    assert_eq!(
+        mul.input("in2").unwrap().source,
+        lux_usd::shading::Source::Value(Value::Numbers(vec![f(0.8), f(0.4), f(0.2)]))
+    );
+    assert_eq!(
+        material("/World/Preview").graph.as_ref().unwrap().model,
+        "ND_UsdPreviewSurface_surfaceshader"
+    );
     // The UsdPreviewSurface fields are read as before.
     let preview = material("/World/Preview");
     assert!(preview.preview);
@@ -362,6 +402,67 @@ def Xform "X"
         r.warnings
             .iter()
             .any(|w| w.prim == "/ToXform" && w.message.contains("not an output or input")),
+        "{:#?}",
+        r.warnings
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A MaterialX surface shader without `info:id` (a shader by source asset): the universal
+/// `outputs:surface` is read instead; without one, the unidentified shader is the surface.
+#[test]
+fn mtlx_surface_without_an_id_falls_back_to_the_universal_surface() {
+    let dir = std::env::temp_dir().join(format!("lux-usdnet-id-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("fallback.usda");
+    std::fs::write(
+        &file,
+        r#"#usda 1.0
+def Material "M"
+{
+    token outputs:mtlx:surface.connect = </M/Custom.outputs:out>
+    token outputs:surface.connect = </M/Preview.outputs:surface>
+    def Shader "Custom"
+    {
+        uniform token info:implementationSource = "sourceAsset"
+        token outputs:out
+    }
+    def Shader "Preview"
+    {
+        uniform token info:id = "UsdPreviewSurface"
+        float inputs:roughness = 0.5
+        token outputs:surface
+    }
+}
+def Material "Only"
+{
+    token outputs:mtlx:surface.connect = </M/Custom.outputs:out>
+}
+"#,
+    )
+    .unwrap();
+    let stage = Stage::open(file.to_str().unwrap()).unwrap();
+    let mut r = Reader {
+        stage: &stage,
+        file: file.clone(),
+        time: 1.0,
+        warnings: Vec::new(),
+        type_warnings: Default::default(),
+        limits: LoadOptions::default(),
+    };
+    let n = read_network(&mut r, "/M").unwrap();
+    assert_eq!(n.nodes.len(), 1, "{n:#?}");
+    assert_eq!(n.nodes[0].name, "/M/Preview");
+    assert_eq!(n.nodes[0].nodedef.as_deref(), Some("UsdPreviewSurface"));
+    assert_eq!(numbers(input(&n.nodes[0], "roughness")), [0.5]);
+    assert!(r.warnings.is_empty(), "{:#?}", r.warnings);
+    let n = read_network(&mut r, "/Only").unwrap();
+    assert_eq!(n.nodes.len(), 1, "{n:#?}");
+    assert_eq!(n.nodes[0].nodedef, None);
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| w.prim == "/M/Custom" && w.message.contains("no info:id")),
         "{:#?}",
         r.warnings
     );
