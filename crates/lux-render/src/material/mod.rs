@@ -127,6 +127,10 @@ struct GraphMaterial {
     primvar0: usize,
     /// Some closure may transmit (paths enter the surface; its back faces are seen).
     transmits: bool,
+    /// The shader depends on the tangent frame ([`GraphShader::reads_tangent`]): only then is
+    /// the tangent `∂p/∂s` (else any tangent about the normal, which is exactly the same
+    /// for a hit through an instance and on its flattened copy).
+    tangent: bool,
     /// The graph's emission is the material's (a MaterialX surface's EDF that is not a
     /// constant black; a UsdPreviewSurface's `emissiveColor` is the mesh light's or
     /// `emission`'s instead).
@@ -695,12 +699,16 @@ impl Materials {
         (ns, ng): (DVec3, DVec3),
         wo: DVec3,
     ) -> ShadingContext<'a> {
-        let frame = self.dpds(scene, hit).and_then(|(dpds, dpdt)| {
-            let t = (dpds - ns * ns.dot(dpds)).normalize_or_zero();
-            let b = ns.cross(t);
-            (t != DVec3::ZERO && t.is_finite())
-                .then_some((t, if b.dot(dpdt) < 0.0 { -b } else { b }))
-        });
+        let frame = g
+            .tangent
+            .then(|| self.dpds(scene, hit))
+            .flatten()
+            .and_then(|(dpds, dpdt)| {
+                let t = (dpds - ns * ns.dot(dpds)).normalize_or_zero();
+                let b = ns.cross(t);
+                (t != DVec3::ZERO && t.is_finite())
+                    .then_some((t, if b.dot(dpdt) < 0.0 { -b } else { b }))
+            });
         let (t, b) = frame.unwrap_or_else(|| {
             let t = ns.any_orthonormal_vector();
             (t, ns.cross(t))
@@ -942,6 +950,7 @@ impl InputLoader {
         let emits = !m.preview && shader.constant_emission() != Some(DVec3::ZERO);
         let transparent = !m.preview && shader.constant_opacity() != Some(1.0);
         let transmits = shader.may_transmit();
+        let tangent = shader.reads_tangent();
         Ok(Shader {
             diffuse,
             preview: None,
@@ -953,6 +962,7 @@ impl InputLoader {
                 shader,
                 primvar0,
                 transmits,
+                tangent,
                 emits,
                 transparent,
             })),

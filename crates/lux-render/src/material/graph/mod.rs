@@ -181,6 +181,33 @@ impl GraphShader {
         })
     }
 
+    /// Whether the shader depends on the hit's tangent frame (`Tworld`, `Bworld`): a value
+    /// node reads it, or a microfacet closure is anisotropic (its `roughness` not a constant
+    /// with equal components). An isotropic surface is the same about any tangent, so the
+    /// renderer may then give any tangent orthogonal to the normal.
+    pub fn reads_tangent(&self) -> bool {
+        use eval::{Arg, Op};
+        use geometry::Geom;
+        let tangent = |a: &Arg| matches!(a, Arg::Geom(Geom::T | Geom::B));
+        self.program.iter().any(|i| match &i.op {
+            Op::Bsdf(op) => {
+                let names = op.inputs();
+                let at = |name: &str| {
+                    names
+                        .iter()
+                        .position(|n| *n == name)
+                        .and_then(|k| i.args.get(k))
+                };
+                match (at("roughness"), at("tangent")) {
+                    (Some(Arg::Const(r)), Some(_)) if i.args.len() == names.len() => r.x != r.y,
+                    (Some(_), Some(_)) => true,
+                    _ => false,
+                }
+            }
+            _ => i.args.iter().any(tangent),
+        })
+    }
+
     /// The surface's emission when it is a constant (`None`: it varies over the surface or
     /// with the viewing direction); black without a surface.
     pub fn constant_emission(&self) -> Option<DVec3> {
