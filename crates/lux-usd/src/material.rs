@@ -3,7 +3,7 @@
 
 use crate::error::{LoadError, WarningKind};
 use crate::reader::{AssetRef, Reader, is_prim_path, is_property_name};
-use crate::shade_network::{Terminal, read_network_terminal};
+use crate::shade_network::read_network_terminal;
 use crate::spectral::{SurfaceSpectral, read_surface_spectral};
 use glam::{DVec2, DVec3, DVec4};
 use openusd::usd::Prim;
@@ -276,6 +276,10 @@ pub struct Material {
     /// MaterialX graph); `None` without a readable surface shader. The fields above describe
     /// the `outputs:surface` UsdPreviewSurface as before, whatever this holds.
     pub graph: Option<Box<crate::shading::ShadingGraph>>,
+    /// The network [`Material::graph`] was flattened from (for a renderer that changes an
+    /// input before flattening again, such as a `wavelength:reflectance` replacing a
+    /// UsdPreviewSurface's `diffuseColor`).
+    pub network: Option<Box<crate::shading::Network>>,
 }
 
 impl Material {
@@ -302,6 +306,7 @@ impl Material {
             emissive_texture: None,
             emissive_primvar: None,
             graph: None,
+            network: None,
         }
     }
 
@@ -430,7 +435,7 @@ const READ_INPUTS: [&str; 12] = [
 pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadError> {
     let first_warning = r.warnings.len();
     let mut out = read_preview(r, path)?;
-    let (network, terminal) = read_network_terminal(r, path)?;
+    let (network, _terminal) = read_network_terminal(r, path)?;
     let surface = network
         .surface
         .as_ref()
@@ -438,15 +443,15 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
     if let Some(node) = surface
         && node.nodedef.is_some()
     {
-        // The renderer draws a MaterialX surface from the graph: the UsdPreviewSurface
-        // fields' "default grey" does not apply to it.
-        if terminal == Some(Terminal::Mtlx) && node.nodedef.as_deref() != Some("UsdPreviewSurface")
-        {
+        // The renderer draws a MaterialX surface from the graph (from either terminal): the
+        // UsdPreviewSurface fields' "default grey" does not apply to it.
+        if node.nodedef.as_deref() != Some("UsdPreviewSurface") {
             r.warnings.retain(|w| {
                 !(w.prim == path && (w.message == NOT_PREVIEW_SURFACE || w.message == NO_SURFACE))
             });
         }
         out.graph = Some(Box::new(crate::shading::flatten(&network)));
+        out.network = Some(Box::new(network));
     }
     // One warning per problem, whichever of the two readings found it first.
     let mut seen = Vec::new();

@@ -891,8 +891,29 @@ impl InputLoader {
         diffuse: Param,
         emission: Option<Param>,
     ) -> Result<Shader, RenderError> {
-        let shader = GraphShader::compile(g, &mut self.graph_textures, &mut self.warnings);
         let reflectance = !m.spectral.is_empty();
+        // A `wavelength:reflectance` replaces a UsdPreviewSurface's `diffuseColor`: the
+        // network flattened again with that colour.
+        let respectral = match (&diffuse, &m.network) {
+            (Param::Value(c), Some(net)) if reflectance && m.preview => {
+                let mut net = (**net).clone();
+                let surface = net.surface.as_ref().map(|c| c.node);
+                if let Some(node) = surface.and_then(|k| net.nodes.get_mut(k)) {
+                    node.inputs.retain(|i| i.name != "diffuseColor");
+                    node.inputs.push(lux_usd::shading::NetInput {
+                        name: "diffuseColor".to_owned(),
+                        ty: Some(lux_usd::shading::ValueType::Color3),
+                        source: lux_usd::shading::NetSource::Value(
+                            lux_usd::shading::Value::Numbers(c.to_array().to_vec()),
+                        ),
+                    });
+                }
+                Some(lux_usd::shading::flatten(&net))
+            }
+            _ => None,
+        };
+        let g = respectral.as_ref().unwrap_or(g);
+        let shader = GraphShader::compile(g, &mut self.graph_textures, &mut self.warnings);
         // UsdPreviewSurface: `opacity` / `opacityThreshold` as the USD inputs say (the graph's
         // surface opacity is the same input).
         let opacity = if m.preview {
@@ -921,7 +942,7 @@ impl InputLoader {
                 graph: None,
             });
         }
-        if reflectance {
+        if reflectance && !m.preview {
             self.warnings.push(format!(
                 "{}: wavelength:reflectance is not applied to a MaterialX graph that is not a \
                  constant Lambertian; its own colours shade",

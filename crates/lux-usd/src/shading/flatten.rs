@@ -263,7 +263,20 @@ impl<'a> Flattener<'a> {
                 None => default_src(d),
                 Some(a) => match &a.source {
                     NetSource::Value(v) => {
-                        if !value_fits(v, d.ty) || a.ty.is_some_and(|t| t != d.ty) {
+                        // A colour authored as a vector of as many components (USD's
+                        // float4 for UsdUVTexture's color4 `scale`) is the same value.
+                        let same = |t: ValueType| {
+                            t == d.ty
+                                || (t.components() == d.ty.components()
+                                    && matches!(
+                                        (t, d.ty),
+                                        (ValueType::Vector3, ValueType::Color3)
+                                            | (ValueType::Color3, ValueType::Vector3)
+                                            | (ValueType::Vector4, ValueType::Color4)
+                                            | (ValueType::Color4, ValueType::Vector4)
+                                    ))
+                        };
+                        if !value_fits(v, d.ty) || a.ty.is_some_and(|t| !same(t)) {
                             self.notes.push(format!(
                                 "{}: input \"{}\" authored as {} but {} declares {}; converted",
                                 node.name,
