@@ -77,7 +77,7 @@ pub(crate) fn lobe(
         return (l, a);
     }
     let mu = wo.z;
-    let a = ggx.projected_alpha(wo);
+    let a = ggx.albedo_alpha();
     let ess = albedo::ggx(mu, a).max(1e-6);
     if no_fresnel {
         l.k_r = DVec3::splat(1.0 / ess);

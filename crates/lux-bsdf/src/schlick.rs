@@ -64,7 +64,7 @@ pub(crate) fn lobe(i: &Inputs, wo: DVec3, entering: bool, thin_walled: bool) -> 
         return (l, a * w);
     }
     let mu = wo.z;
-    let a = ggx.projected_alpha(wo);
+    let a = ggx.albedo_alpha();
     let ess = albedo::ggx(mu, a).max(1e-6);
     let es = albedo::ggx_schlick(mu, a, i.r0, i.t, i.r90, q);
     let fbar = fresnel::schlick_average(i.r0, i.t, i.r90, q);

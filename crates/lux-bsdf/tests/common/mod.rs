@@ -221,7 +221,7 @@ pub struct Chi2 {
 }
 
 /// Chi-square test of `Bsdf::sample`'s non-delta directions against `Bsdf::pdf`, on a grid of
-/// `nt × np` bins in `(cos θ, φ)` of the world frame; the bins' expected counts integrate the
+/// `nt × np` bins in `(cos θ, φ)` about the world y axis; the bins' expected counts integrate the
 /// pdf with a `sub × sub` midpoint rule; bins expecting fewer than 5 are pooled, and one
 /// extra bin holds the delta and failed samples (expected: `n` minus the pdf's integral).
 pub fn chi2(b: &Bsdf, n: usize, seed: u64) -> Chi2 {
@@ -242,9 +242,10 @@ pub fn chi2(b: &Bsdf, n: usize, seed: u64) -> Chi2 {
                 obs[nt * np] += 1.0;
             }
             Some(s) => {
-                let z = s.wi.z.clamp(-1.0, 1.0);
+                // Bins about the y axis, so that no lobe of a `wo` in the xz-plane sits on a pole.
+                let z = s.wi.y.clamp(-1.0, 1.0);
                 let ti = (((1.0 - z) / 2.0 * nt as f64) as usize).min(nt - 1);
-                let mut phi = s.wi.y.atan2(s.wi.x);
+                let mut phi = s.wi.x.atan2(s.wi.z);
                 if phi < 0.0 {
                     phi += 2.0 * PI;
                 }
@@ -269,7 +270,7 @@ pub fn chi2(b: &Bsdf, n: usize, seed: u64) -> Chi2 {
                     let r = (1.0 - z * z).max(0.0).sqrt();
                     for c in 0..sub {
                         let phi = 2.0 * PI * (pi as f64 + (c as f64 + 0.5) / sub as f64) / np as f64;
-                        acc += b.pdf(DVec3::new(r * phi.cos(), r * phi.sin(), z));
+                        acc += b.pdf(DVec3::new(r * phi.sin(), z, r * phi.cos()));
                     }
                 }
                 acc / (sub * sub) as f64
