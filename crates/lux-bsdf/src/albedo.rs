@@ -279,8 +279,22 @@ fn diel_lookup(mu: f64, alpha: f64, eta: f64, off: usize) -> f64 {
     let b = locate(alpha.max(0.0).sqrt(), N_ALPHA_D);
     let (k, fk, _) = eta_axis(eta);
     let n = N_MU_D * N_ALPHA_D * DIEL_STRIDE;
-    let v0 = lerp2(&tb.diel[k * n..(k + 1) * n], N_ALPHA_D, DIEL_STRIDE, off, a, b);
-    let v1 = lerp2(&tb.diel[(k + 1) * n..(k + 2) * n], N_ALPHA_D, DIEL_STRIDE, off, a, b);
+    let v0 = lerp2(
+        &tb.diel[k * n..(k + 1) * n],
+        N_ALPHA_D,
+        DIEL_STRIDE,
+        off,
+        a,
+        b,
+    );
+    let v1 = lerp2(
+        &tb.diel[(k + 1) * n..(k + 2) * n],
+        N_ALPHA_D,
+        DIEL_STRIDE,
+        off,
+        a,
+        b,
+    );
     v0 * (1.0 - fk) + v1 * fk
 }
 
@@ -310,7 +324,10 @@ pub fn dielectric(mu: f64, alpha: f64, eta: f64) -> (f64, f64) {
 /// the Fresnel-angle histogram; its transmission albedo is `E_ss(μo, α)` minus this.
 pub fn dielectric_thin(mu: f64, alpha: f64, eta: f64) -> f64 {
     let e = if eta < 1.0 { 1.0 / eta } else { eta };
-    ggx_fresnel(mu, alpha, |c| fresnel::slab(DVec3::splat(fresnel::dielectric(c, e)))).x
+    ggx_fresnel(mu, alpha, |c| {
+        fresnel::slab(DVec3::splat(fresnel::dielectric(c, e)))
+    })
+    .x
 }
 
 /// Cosine-weighted hemispherical average of the dielectric Fresnel curve from the outside,
@@ -342,7 +359,14 @@ impl Table2 {
         Table2 { v }
     }
     fn get(&self, mu: f64, x: f64) -> f64 {
-        lerp2(&self.v, N_ROUGH, 1, 0, locate(mu.max(0.0).sqrt(), N_MU), locate(x, N_ROUGH))
+        lerp2(
+            &self.v,
+            N_ROUGH,
+            1,
+            0,
+            locate(mu.max(0.0).sqrt(), N_MU),
+            locate(x, N_ROUGH),
+        )
     }
 }
 
@@ -356,7 +380,7 @@ pub fn sheen(mu: f64, r: f64) -> f64 {
     let t = T.get_or_init(|| {
         Table2::build(
             |x| SHEEN_MIN_ROUGHNESS + (1.0 - SHEEN_MIN_ROUGHNESS) * x,
-            |wo, wi, r| crate::sheen::conty_kulla(wo, wi, r),
+            crate::sheen::conty_kulla,
         )
     });
     t.get(mu, (r - SHEEN_MIN_ROUGHNESS) / (1.0 - SHEEN_MIN_ROUGHNESS))
@@ -365,6 +389,6 @@ pub fn sheen(mu: f64, r: f64) -> f64 {
 /// Directional albedo of the Burley diffuse lobe with unit colour, `E(μo, σ)`.
 pub fn burley(mu: f64, sigma: f64) -> f64 {
     static T: OnceLock<Table2> = OnceLock::new();
-    let t = T.get_or_init(|| Table2::build(|x| x, |wo, wi, s| crate::burley::brdf(wo, wi, s)));
+    let t = T.get_or_init(|| Table2::build(|x| x, crate::burley::brdf));
     t.get(mu, sigma)
 }

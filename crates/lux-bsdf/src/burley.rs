@@ -14,7 +14,11 @@ pub fn brdf(wo: DVec3, wi: DVec3, sigma: f64) -> f64 {
     let h = wo + wi;
     let l2 = h.length_squared();
     // ωi·ωh = |ωi + ωo|/2; squared: (1 + ωi·ωo)/2.
-    let cd2 = if l2 > 0.0 { 0.5 * (1.0 + wi.dot(wo)) } else { 0.0 };
+    let cd2 = if l2 > 0.0 {
+        0.5 * (1.0 + wi.dot(wo))
+    } else {
+        0.0
+    };
     let fd90 = 0.5 + 2.0 * sigma * cd2;
     let fd = |c: f64| 1.0 + (fd90 - 1.0) * (1.0 - c).powi(5);
     FRAC_1_PI * fd(wi.z) * fd(wo.z)

@@ -64,7 +64,11 @@ impl Leaf {
             return None;
         }
         if f.n.dot(wo_world) < 0.0 {
-            f = Frame { n: -f.n, t: f.t, b: -f.b };
+            f = Frame {
+                n: -f.n,
+                t: f.t,
+                b: -f.b,
+            };
         }
         let wo = DVec3::new(f.t.dot(wo_world), f.b.dot(wo_world), f.n.dot(wo_world));
         if !(wo.z > 1e-9) {
@@ -72,19 +76,40 @@ impl Leaf {
         }
         let wo = wo.normalize();
         let (kind, albedo) = match *cl {
-            Closure::OrenNayar { weight, color, roughness, energy_compensation, .. } => {
+            Closure::OrenNayar {
+                weight,
+                color,
+                roughness,
+                energy_compensation,
+                ..
+            } => {
                 let mut rho = c(color) * w(weight);
                 if energy_compensation {
                     rho = rho.min(DVec3::ONE);
                 }
                 let sigma = r(roughness);
                 let a = oren_nayar::albedo(wo.z, rho, sigma, energy_compensation);
-                (Kind::OrenNayar { rho, sigma, eon: energy_compensation }, a)
+                (
+                    Kind::OrenNayar {
+                        rho,
+                        sigma,
+                        eon: energy_compensation,
+                    },
+                    a,
+                )
             }
-            Closure::Burley { weight, color, roughness, .. } => {
+            Closure::Burley {
+                weight,
+                color,
+                roughness,
+                ..
+            } => {
                 let rho = c(color) * w(weight);
                 let sigma = r(roughness);
-                (Kind::Burley { rho, sigma }, burley::albedo(wo.z, rho, sigma))
+                (
+                    Kind::Burley { rho, sigma },
+                    burley::albedo(wo.z, rho, sigma),
+                )
             }
             Closure::Translucent { weight, color, .. } => {
                 let rho = c(color) * w(weight);
@@ -94,12 +119,25 @@ impl Leaf {
                 let rho = c(color) * w(weight);
                 (Kind::Subsurface { rho }, rho)
             }
-            Closure::Sheen { weight, color, roughness, .. } => {
+            Closure::Sheen {
+                weight,
+                color,
+                roughness,
+                ..
+            } => {
                 let color = c(color) * w(weight);
                 let r = sheen::roughness(roughness);
                 (Kind::Sheen { color, r }, sheen::albedo(wo.z, color, r))
             }
-            Closure::Dielectric { weight, tint, ior, alpha, retroreflective, mode, .. } => {
+            Closure::Dielectric {
+                weight,
+                tint,
+                ior,
+                alpha,
+                retroreflective,
+                mode,
+                ..
+            } => {
                 let (l, a) = dielectric::lobe(
                     c(tint) * w(weight),
                     ior,
@@ -112,13 +150,28 @@ impl Leaf {
                 );
                 (Kind::Microfacet(l), a)
             }
-            Closure::Conductor { weight, ior, extinction, alpha, retroreflective, .. } => {
+            Closure::Conductor {
+                weight,
+                ior,
+                extinction,
+                alpha,
+                retroreflective,
+                ..
+            } => {
                 let (l, a) =
                     conductor::lobe(w(weight), c(ior), c(extinction), alpha, retroreflective, wo);
                 (Kind::Microfacet(l), a)
             }
             Closure::GeneralizedSchlick {
-                weight, color0, color82, color90, exponent, alpha, retroreflective, mode, ..
+                weight,
+                color0,
+                color82,
+                color90,
+                exponent,
+                alpha,
+                retroreflective,
+                mode,
+                ..
             } => {
                 let i = schlick::Inputs {
                     weight: w(weight),
@@ -135,13 +188,22 @@ impl Leaf {
             }
         };
         let albedo = c(albedo);
-        Some(Leaf { frame: f, wo, kind, albedo })
+        Some(Leaf {
+            frame: f,
+            wo,
+            kind,
+            albedo,
+        })
     }
 
-    pub fn to_local(&self, v: DVec3) -> DVec3 {
-        DVec3::new(self.frame.t.dot(v), self.frame.b.dot(v), self.frame.n.dot(v))
+    pub fn local(&self, v: DVec3) -> DVec3 {
+        DVec3::new(
+            self.frame.t.dot(v),
+            self.frame.b.dot(v),
+            self.frame.n.dot(v),
+        )
     }
-    pub fn to_world(&self, v: DVec3) -> DVec3 {
+    pub fn world(&self, v: DVec3) -> DVec3 {
         self.frame.t * v.x + self.frame.b * v.y + self.frame.n * v.z
     }
 
@@ -188,4 +250,3 @@ impl Leaf {
         }
     }
 }
-

@@ -8,15 +8,22 @@
 //! the GGX albedo over the Fresnel angle ([`crate::albedo::ggx_fresnel`]): exact for a white
 //! conductor (`F ≡ 1`, e.g. `ior = extinction = 0`). Thin film: ignored.
 
+use crate::ScatterMode;
 use crate::albedo;
 use crate::fresnel;
 use crate::lobe::{Fresnel, Lobe};
-use crate::ScatterMode;
 use glam::{DVec2, DVec3};
 
 /// The lobe for `wo` (local, `wo.z > 0`) and its directional albedo.
-pub(crate) fn lobe(weight: f64, eta: DVec3, k: DVec3, alpha: DVec2, retro: bool, wo: DVec3) -> (Lobe, DVec3) {
-    let (ggx, delta) = Lobe::new(alpha);
+pub(crate) fn lobe(
+    weight: f64,
+    eta: DVec3,
+    k: DVec3,
+    alpha: DVec2,
+    retro: bool,
+    wo: DVec3,
+) -> (Lobe, DVec3) {
+    let (ggx, delta) = Lobe::distribution(alpha);
     let mut l = Lobe {
         ggx,
         delta,

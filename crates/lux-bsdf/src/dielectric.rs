@@ -14,21 +14,29 @@
 //!   the hemispherical average of `F`).
 //! * Thin film: ignored.
 
+use crate::ScatterMode;
 use crate::albedo;
 use crate::lobe::{Fresnel, Lobe};
-use crate::{DELTA_ALPHA, ScatterMode};
 use glam::{DVec2, DVec3};
 
 /// Keeps a relative index away from 1 by at least `10⁻³`.
 pub fn snap_eta(eta: f64) -> f64 {
-    if eta >= 1.0 { eta.max(1.001) } else { eta.min(0.999) }
+    if eta >= 1.0 {
+        eta.max(1.001)
+    } else {
+        eta.min(0.999)
+    }
 }
 
 /// Hemispherical average of `F` seen from `wo`'s side: `F̄(η)` outside, and
 /// `1 − (1 − F̄(1/η))·η²` from inside (`η < 1`, reciprocity of the transmittance).
 pub fn fresnel_average(eta: f64, slab: bool) -> f64 {
     let f = albedo::dielectric_average(eta, slab);
-    if eta < 1.0 && !slab { 1.0 - (1.0 - f) * eta * eta } else { f }
+    if eta < 1.0 && !slab {
+        1.0 - (1.0 - f) * eta * eta
+    } else {
+        f
+    }
 }
 
 /// The lobe of the closure for `wo` (local, `wo.z > 0`) and its directional albedo.
@@ -43,7 +51,7 @@ pub(crate) fn lobe(
     entering: bool,
     thin_walled: bool,
 ) -> (Lobe, DVec3) {
-    let (ggx, delta) = Lobe::new(alpha);
+    let (ggx, delta) = Lobe::distribution(alpha);
     let no_fresnel = !(ior > 0.0) || !ior.is_finite();
     let mode = if no_fresnel { ScatterMode::R } else { mode };
     let thin = thin_walled && mode != ScatterMode::R;
@@ -58,7 +66,11 @@ pub(crate) fn lobe(
         ggx,
         delta,
         tint,
-        fresnel: if no_fresnel { Fresnel::One } else { Fresnel::Dielectric },
+        fresnel: if no_fresnel {
+            Fresnel::One
+        } else {
+            Fresnel::Dielectric
+        },
         eta,
         mode,
         thin,
@@ -66,7 +78,6 @@ pub(crate) fn lobe(
         k_r: DVec3::ONE,
         k_t: DVec3::ONE,
     };
-    let _ = DELTA_ALPHA;
     if delta {
         let f = l.f(wo.z);
         let a = match mode {

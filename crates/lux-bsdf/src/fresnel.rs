@@ -44,9 +44,17 @@ pub fn conductor_channel(cos: f64, eta: f64, k: f64) -> f64 {
     let rs = if rs_den > 0.0 { rs_num / rs_den } else { 1.0 };
     let rp_num = c2 * a2b2 - 2.0 * a * c * s2 + s2 * s2;
     let rp_den = c2 * a2b2 + 2.0 * a * c * s2 + s2 * s2;
-    let rp = if rp_den > 0.0 { rs * rp_num / rp_den } else { rs };
+    let rp = if rp_den > 0.0 {
+        rs * rp_num / rp_den
+    } else {
+        rs
+    };
     let f = 0.5 * (rs + rp);
-    if f.is_finite() { f.clamp(0.0, 1.0) } else { 0.0 }
+    if f.is_finite() {
+        f.clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
 }
 
 /// [`conductor_channel`] per colour channel.

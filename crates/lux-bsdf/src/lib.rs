@@ -18,6 +18,13 @@
 //! `pdf`.
 
 #![warn(missing_docs)]
+// `!(x > 0.0)` is written on purpose throughout: it is true for NaN, which must be rejected.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+/// The README's example, compiled and run as a doctest.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
 
 pub mod albedo;
 pub mod burley;
@@ -63,7 +70,11 @@ impl Frame {
         if t == DVec3::ZERO || !t.is_finite() {
             t = n.any_orthonormal_vector();
         }
-        Frame { n, t, b: n.cross(t) }
+        Frame {
+            n,
+            t,
+            b: n.cross(t),
+        }
     }
 }
 

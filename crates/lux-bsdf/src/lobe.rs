@@ -38,7 +38,12 @@ pub(crate) enum Fresnel {
     /// Conductor with complex index.
     Conductor { eta: DVec3, k: DVec3 },
     /// Generalized Schlick.
-    Schlick { r0: DVec3, t: DVec3, r90: DVec3, q: f64 },
+    Schlick {
+        r0: DVec3,
+        t: DVec3,
+        r90: DVec3,
+        q: f64,
+    },
     /// No Fresnel curve (`ior = 0`): reflect everything.
     One,
 }
@@ -70,7 +75,8 @@ fn mean(v: DVec3) -> f64 {
 }
 
 impl Lobe {
-    pub fn new(alpha: DVec2) -> (Ggx, bool) {
+    /// The GGX distribution for `roughness` (NaN → 0) and whether it is a delta lobe.
+    pub fn distribution(alpha: DVec2) -> (Ggx, bool) {
         let a = DVec2::new(
             if alpha.x.is_nan() { 0.0 } else { alpha.x },
             if alpha.y.is_nan() { 0.0 } else { alpha.y },
@@ -105,11 +111,19 @@ impl Lobe {
     }
 
     fn wo_r(&self, wo: DVec3) -> DVec3 {
-        if self.retro { DVec3::new(-wo.x, -wo.y, wo.z) } else { wo }
+        if self.retro {
+            DVec3::new(-wo.x, -wo.y, wo.z)
+        } else {
+            wo
+        }
     }
 
     fn p_reflect_at(&self, wo: DVec3, m_cos: f64) -> f64 {
-        if self.retro_rt() { self.p_reflect(self.f(wo.z)) } else { self.p_reflect(self.f(m_cos)) }
+        if self.retro_rt() {
+            self.p_reflect(self.f(wo.z))
+        } else {
+            self.p_reflect(self.f(m_cos))
+        }
     }
 
     /// `f cosθi` for `wo.z > 0` (zero for delta lobes).
@@ -216,9 +230,16 @@ impl Lobe {
             if u_sel < p {
                 let wr = self.wo_r(wo);
                 let wi = DVec3::new(-wr.x, -wr.y, wr.z);
-                return Some(LobeSample { wi, delta: Some((self.tint * f / p, p)) });
+                return Some(LobeSample {
+                    wi,
+                    delta: Some((self.tint * f / p, p)),
+                });
             }
-            let wi = if self.thin { -wo } else { refract(wo, DVec3::Z, self.eta)? };
+            let wi = if self.thin {
+                -wo
+            } else {
+                refract(wo, DVec3::Z, self.eta)?
+            };
             let q = 1.0 - p;
             return Some(LobeSample {
                 wi,

@@ -27,8 +27,17 @@ impl Ggx {
     /// The distribution for the `roughness` input (α per axis, no remapping), each clamped
     /// to `[MIN_ALPHA, 1]` (the spec's accepted range; NaN becomes `MIN_ALPHA`).
     pub fn new(alpha: DVec2) -> Ggx {
-        let c = |a: f64| if a.is_nan() { MIN_ALPHA } else { a.clamp(MIN_ALPHA, 1.0) };
-        Ggx { ax: c(alpha.x), ay: c(alpha.y) }
+        let c = |a: f64| {
+            if a.is_nan() {
+                MIN_ALPHA
+            } else {
+                a.clamp(MIN_ALPHA, 1.0)
+            }
+        };
+        Ggx {
+            ax: c(alpha.x),
+            ay: c(alpha.y),
+        }
     }
 
     /// `D(m) = 1 / (π αx αy ((mx/αx)² + (my/αy)² + mz²)²)` for `mz > 0`, else 0.

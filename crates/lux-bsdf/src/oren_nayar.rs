@@ -38,7 +38,11 @@ pub fn qualitative_albedo(mu: f64, sigma: f64) -> f64 {
     let mu = mu.clamp(0.0, 1.0);
     let th = mu.acos();
     let s = (1.0 - mu * mu).sqrt();
-    let tail = if mu > 1e-9 { s / mu * (1.0 - s * s * s) / 3.0 } else { 0.0 };
+    let tail = if mu > 1e-9 {
+        s / mu * (1.0 - s * s * s) / 3.0
+    } else {
+        0.0
+    };
     a + 2.0 * b / PI * (s * (th - s * mu) / 2.0 + tail)
 }
 
@@ -52,7 +56,11 @@ fn fujii_g(mu: f64) -> f64 {
     let mu = mu.clamp(0.0, 1.0);
     let s = (1.0 - mu * mu).sqrt();
     let th = mu.acos();
-    let q = if mu > 1e-9 { s * (1.0 - s * s * s) / mu } else { 0.0 };
+    let q = if mu > 1e-9 {
+        s * (1.0 - s * s * s) / mu
+    } else {
+        0.0
+    };
     s * (th - s * mu) + 2.0 / 3.0 * (q - s)
 }
 
@@ -75,12 +83,16 @@ pub fn eon(wo: DVec3, wi: DVec3, rho: DVec3, sigma: f64) -> DVec3 {
         return rho * FRAC_1_PI;
     }
     let s = s_term(wo, wi);
-    let st = if s > 0.0 { s / wi.z.max(wo.z).max(1e-12) } else { s };
+    let st = if s > 0.0 {
+        s / wi.z.max(wo.z).max(1e-12)
+    } else {
+        s
+    };
     let fss = rho * (eon_a(sigma) * (1.0 + sigma * st) * FRAC_1_PI);
     let eb = eon_e_bar(sigma);
     let rho_ms = rho * rho * eb / (DVec3::ONE - rho * (1.0 - eb));
-    let fms = rho_ms * ((1.0 - eon_e_hat(wo.z, sigma)) * (1.0 - eon_e_hat(wi.z, sigma))
-        / (PI * (1.0 - eb)));
+    let fms = rho_ms
+        * ((1.0 - eon_e_hat(wo.z, sigma)) * (1.0 - eon_e_hat(wi.z, sigma)) / (PI * (1.0 - eb)));
     (fss + fms).max(DVec3::ZERO)
 }
 
@@ -111,5 +123,9 @@ pub fn eval(wo: DVec3, wi: DVec3, rho: DVec3, sigma: f64, eon_mode: bool) -> DVe
 
 /// Directional albedo of the closure.
 pub fn albedo(mu: f64, rho: DVec3, sigma: f64, eon_mode: bool) -> DVec3 {
-    if eon_mode { eon_albedo(mu, rho, sigma) } else { rho * qualitative_albedo(mu, sigma) }
+    if eon_mode {
+        eon_albedo(mu, rho, sigma)
+    } else {
+        rho * qualitative_albedo(mu, sigma)
+    }
 }

@@ -15,11 +15,11 @@
 //!
 //! Thin film: ignored.
 
+use crate::ScatterMode;
 use crate::albedo;
 use crate::dielectric::{fresnel_average, snap_eta};
 use crate::fresnel;
 use crate::lobe::{Fresnel, Lobe};
-use crate::ScatterMode;
 use glam::{DVec2, DVec3};
 
 /// The closure's inputs.
@@ -36,17 +36,30 @@ pub(crate) struct Inputs {
 
 /// The lobe for `wo` (local, `wo.z > 0`) and its directional albedo.
 pub(crate) fn lobe(i: &Inputs, wo: DVec3, entering: bool, thin_walled: bool) -> (Lobe, DVec3) {
-    let (ggx, delta) = Lobe::new(i.alpha);
-    let q = if i.q.is_finite() && i.q > 0.0 { i.q } else { 5.0 };
+    let (ggx, delta) = Lobe::distribution(i.alpha);
+    let q = if i.q.is_finite() && i.q > 0.0 {
+        i.q
+    } else {
+        5.0
+    };
     let eta0 = fresnel::ior_from_f0((i.r0.x + i.r0.y + i.r0.z) / 3.0);
     let thin = thin_walled && i.mode != ScatterMode::R;
-    let eta = if thin || entering { snap_eta(eta0) } else { snap_eta(1.0 / eta0) };
+    let eta = if thin || entering {
+        snap_eta(eta0)
+    } else {
+        snap_eta(1.0 / eta0)
+    };
     let w = DVec3::splat(i.weight);
     let mut l = Lobe {
         ggx,
         delta,
         tint: w,
-        fresnel: Fresnel::Schlick { r0: i.r0, t: i.t, r90: i.r90, q },
+        fresnel: Fresnel::Schlick {
+            r0: i.r0,
+            t: i.t,
+            r90: i.r90,
+            q,
+        },
         eta,
         mode: i.mode,
         thin,
@@ -74,7 +87,11 @@ pub(crate) fn lobe(i: &Inputs, wo: DVec3, entering: bool, thin_walled: bool) -> 
     } else {
         let (dr, dt) = albedo::dielectric(mu, a, eta);
         let fd = fresnel_average(eta, false);
-        let scale = if fd < 1.0 { (DVec3::ONE - fbar) / (1.0 - fd) } else { DVec3::ZERO };
+        let scale = if fd < 1.0 {
+            (DVec3::ONE - fbar) / (1.0 - fd)
+        } else {
+            DVec3::ZERO
+        };
         (es, dt * scale, 1.0 / (dr + dt).max(1e-6))
     };
     let alb = match i.mode {

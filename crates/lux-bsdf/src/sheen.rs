@@ -14,7 +14,11 @@ use std::f64::consts::PI;
 
 /// The clamped roughness.
 pub fn roughness(r: f64) -> f64 {
-    if r.is_nan() { 1.0 } else { r.clamp(SHEEN_MIN_ROUGHNESS, 1.0) }
+    if r.is_nan() {
+        1.0
+    } else {
+        r.clamp(SHEEN_MIN_ROUGHNESS, 1.0)
+    }
 }
 
 /// `f` per unit colour in the local frame (zero below the horizon).

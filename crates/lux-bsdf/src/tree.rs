@@ -68,7 +68,11 @@ impl Prepared {
                     t + (DVec3::ONE - clamp01(t)) * get(base)
                 }
                 Node::Mix { fg, bg, mix } => {
-                    let m = if mix.is_nan() { 0.0 } else { mix.clamp(0.0, 1.0) };
+                    let m = if mix.is_nan() {
+                        0.0
+                    } else {
+                        mix.clamp(0.0, 1.0)
+                    };
                     get(fg) * m + get(bg) * (1.0 - m)
                 }
                 Node::Add { a, b } => get(a) + get(b),
@@ -97,7 +101,11 @@ impl Prepared {
                     add(base, DVec3::ONE - clamp01(top_albedo(top)));
                 }
                 Some(Node::Mix { fg, bg, mix }) => {
-                    let w = if mix.is_nan() { 0.0 } else { mix.clamp(0.0, 1.0) };
+                    let w = if mix.is_nan() {
+                        0.0
+                    } else {
+                        mix.clamp(0.0, 1.0)
+                    };
                     add(fg, DVec3::splat(w));
                     add(bg, DVec3::splat(1.0 - w));
                 }
@@ -124,8 +132,19 @@ impl Prepared {
                 *p /= total;
             }
         }
-        let albedo = if len > 0 { nonneg(alb[len - 1]) } else { DVec3::ZERO };
-        Prepared { leaves, mult, prob, albedo, total, len }
+        let albedo = if len > 0 {
+            nonneg(alb[len - 1])
+        } else {
+            DVec3::ZERO
+        };
+        Prepared {
+            leaves,
+            mult,
+            prob,
+            albedo,
+            total,
+            len,
+        }
     }
 
     pub fn eval(&self, wi: DVec3) -> Eval {
@@ -138,7 +157,7 @@ impl Prepared {
             if self.prob[i] <= 0.0 || l.is_delta() {
                 continue;
             }
-            let v = self.mult[i] * l.eval(l.to_local(wi));
+            let v = self.mult[i] * l.eval(l.local(wi));
             match l.lobe_kind() {
                 LobeKind::Diffuse => e.diffuse += v,
                 _ => e.specular += v,
@@ -159,7 +178,7 @@ impl Prepared {
             if self.prob[i] <= 0.0 || l.is_delta() {
                 continue;
             }
-            p += self.prob[i] * l.pdf(l.to_local(wi));
+            p += self.prob[i] * l.pdf(l.local(wi));
         }
         if p.is_finite() { p.max(0.0) } else { 0.0 }
     }
@@ -168,7 +187,11 @@ impl Prepared {
         if !(self.total > 0.0) {
             return None;
         }
-        let u_lobe = if u_lobe.is_nan() { 0.0 } else { u_lobe.clamp(0.0, 1.0 - f64::EPSILON) };
+        let u_lobe = if u_lobe.is_nan() {
+            0.0
+        } else {
+            u_lobe.clamp(0.0, 1.0 - f64::EPSILON)
+        };
         let mut acc = 0.0;
         let mut pick = None;
         for i in 0..self.len {
@@ -187,7 +210,7 @@ impl Prepared {
         let (i, u_sel) = pick?;
         let l = self.leaves[i].as_ref()?;
         let (wl, delta) = l.sample(u_sel, u)?;
-        let wi = l.to_world(wl).normalize();
+        let wi = l.world(wl).normalize();
         if !wi.is_finite() {
             return None;
         }
@@ -198,7 +221,13 @@ impl Prepared {
             if !(pdf > 0.0) {
                 return None;
             }
-            return Some(Sample { wi, weight, pdf, kind: LobeKind::Specular, transmitted });
+            return Some(Sample {
+                wi,
+                weight,
+                pdf,
+                kind: LobeKind::Specular,
+                transmitted,
+            });
         }
         let pdf = self.pdf(wi);
         if !(pdf > 0.0) {
@@ -206,6 +235,12 @@ impl Prepared {
         }
         let e = self.eval(wi);
         let weight = nonneg((e.diffuse + e.specular) / pdf);
-        Some(Sample { wi, weight, pdf, kind: l.lobe_kind(), transmitted })
+        Some(Sample {
+            wi,
+            weight,
+            pdf,
+            kind: l.lobe_kind(),
+            transmitted,
+        })
     }
 }

@@ -19,7 +19,10 @@ impl C {
     }
     fn div(self, o: C) -> C {
         let d = o.0 * o.0 + o.1 * o.1;
-        C((self.0 * o.0 + self.1 * o.1) / d, (self.1 * o.0 - self.0 * o.1) / d)
+        C(
+            (self.0 * o.0 + self.1 * o.1) / d,
+            (self.1 * o.0 - self.0 * o.1) / d,
+        )
     }
     fn sqrt(self) -> C {
         let r = (self.0 * self.0 + self.1 * self.1).sqrt();
@@ -75,7 +78,11 @@ fn total_internal_reflection_beyond_the_critical_angle() {
     let eta = 1.0 / 1.5;
     let critical = (1.0f64 / 1.5).asin().to_degrees(); // 41.81°
     for deg in [critical + 0.01, 50.0, 70.0, 89.9] {
-        assert_eq!(fresnel::dielectric(deg.to_radians().cos(), eta), 1.0, "θ={deg}");
+        assert_eq!(
+            fresnel::dielectric(deg.to_radians().cos(), eta),
+            1.0,
+            "θ={deg}"
+        );
     }
     for deg in [0.0, 20.0, critical - 0.5] {
         let f = fresnel::dielectric(deg.to_radians().cos(), eta);
@@ -92,7 +99,11 @@ fn conductor_matches_complex_fresnel_for_gold() {
         let f = fresnel::conductor(c, eta, k);
         for ch in 0..3 {
             let r = complex_fresnel(c, eta[ch], k[ch]);
-            assert!((f[ch] - r).abs() < 1e-12, "θ={deg} channel {ch}: {} vs {r}", f[ch]);
+            assert!(
+                (f[ch] - r).abs() < 1e-12,
+                "θ={deg} channel {ch}: {} vs {r}",
+                f[ch]
+            );
         }
     }
 }

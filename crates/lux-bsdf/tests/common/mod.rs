@@ -36,7 +36,13 @@ pub fn single(c: Closure, wo: DVec3) -> Bsdf {
 }
 
 pub fn lambert(color: DVec3) -> Closure {
-    Closure::OrenNayar { weight: 1.0, color, roughness: 0.0, energy_compensation: false, frame: frame() }
+    Closure::OrenNayar {
+        weight: 1.0,
+        color,
+        roughness: 0.0,
+        energy_compensation: false,
+        frame: frame(),
+    }
 }
 
 pub fn conductor(ior: DVec3, k: DVec3, a: DVec2) -> Closure {
@@ -101,7 +107,10 @@ pub fn furnace(b: &Bsdf, n: usize, seed: u64) -> (DVec3, DVec3) {
         // Stratified uniform part paired with a BSDF sample (pairs are i.i.d. across strata
         // up to the stratification, which only lowers the variance the error estimate sees).
         let (i, j) = (k / side, k % side);
-        let u = [(i as f64 + rng.next()) / side as f64, (j as f64 + rng.next()) / side as f64];
+        let u = [
+            (i as f64 + rng.next()) / side as f64,
+            (j as f64 + rng.next()) / side as f64,
+        ];
         let wu = uniform_sphere(u);
         let mix = |w: DVec3| 0.5 / (4.0 * PI) + 0.5 * b.pdf(w);
         let e = b.eval(wu);
@@ -255,7 +264,8 @@ pub fn chi2(b: &Bsdf, n: usize, seed: u64) -> Chi2 {
                 let e = b.eval(s.wi);
                 let w = (e.diffuse + e.specular) / p;
                 max_err = max_err.max((s.pdf - p).abs() / p);
-                max_err = max_err.max((s.weight - w).abs().max_element() / w.max_element().max(1e-12));
+                max_err =
+                    max_err.max((s.weight - w).abs().max_element() / w.max_element().max(1e-12));
             }
         }
     }
@@ -269,7 +279,8 @@ pub fn chi2(b: &Bsdf, n: usize, seed: u64) -> Chi2 {
                     let z = 1.0 - 2.0 * (ti as f64 + (a as f64 + 0.5) / sub as f64) / nt as f64;
                     let r = (1.0 - z * z).max(0.0).sqrt();
                     for c in 0..sub {
-                        let phi = 2.0 * PI * (pi as f64 + (c as f64 + 0.5) / sub as f64) / np as f64;
+                        let phi =
+                            2.0 * PI * (pi as f64 + (c as f64 + 0.5) / sub as f64) / np as f64;
                         acc += b.pdf(DVec3::new(r * phi.sin(), z, r * phi.cos()));
                     }
                 }
@@ -317,14 +328,36 @@ pub fn chi2(b: &Bsdf, n: usize, seed: u64) -> Chi2 {
             .map(|i| ((obs[i] - exp[i]).powi(2) / exp[i], i))
             .collect();
         worst.sort_by(|a, b| b.0.partial_cmp(&a.0).unwrap());
-        let small: Vec<usize> = (0..exp.len()).filter(|&i| exp[i] < 5.0 && obs[i] > 0.0).collect();
-        let (so, se): (f64, f64) = small.iter().fold((0.0, 0.0), |a, &i| (a.0 + obs[i], a.1 + exp[i]));
-        println!("  pooled small bins: obs {so} exp {se:.1} over {} bins", small.len());
+        let small: Vec<usize> = (0..exp.len())
+            .filter(|&i| exp[i] < 5.0 && obs[i] > 0.0)
+            .collect();
+        let (so, se): (f64, f64) = small
+            .iter()
+            .fold((0.0, 0.0), |a, &i| (a.0 + obs[i], a.1 + exp[i]));
+        println!(
+            "  pooled small bins: obs {so} exp {se:.1} over {} bins",
+            small.len()
+        );
         for &i in &small {
-            println!("    small bin {} (t {}, p {}): obs {} exp {:.2}", i, i / np, i % np, obs[i], exp[i]);
+            println!(
+                "    small bin {} (t {}, p {}): obs {} exp {:.2}",
+                i,
+                i / np,
+                i % np,
+                obs[i],
+                exp[i]
+            );
         }
         for &(c, i) in worst.iter().take(6) {
-            println!("  bin {} (t {}, p {}): obs {} exp {:.1} chi {:.1}", i, i / np, i % np, obs[i], exp[i], c);
+            println!(
+                "  bin {} (t {}, p {}): obs {} exp {:.1} chi {:.1}",
+                i,
+                i / np,
+                i % np,
+                obs[i],
+                exp[i],
+                c
+            );
         }
     }
     let dof = dof.saturating_sub(1).max(1);
