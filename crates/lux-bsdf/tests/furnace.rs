@@ -119,6 +119,22 @@ fn burley_sheen_translucent_subsurface() {
             );
             assert!(a.x <= 1.0);
         }
+        for r in [0.05, 0.3, 1.0] {
+            let c = Closure::Sheen {
+                weight: 1.0,
+                color: DVec3::ONE,
+                roughness: r,
+                mode: SheenMode::Zeltner,
+                frame: frame(),
+            };
+            // Zeltner's albedo is the closed-form fit Ê, exact for its LTC lobe.
+            let (_, a) = check(
+                &format!("zeltner sheen r={r} θ={th}"),
+                &single(c, dir(th, 30.0)),
+                0.0,
+            );
+            assert!(a.x <= 1.0);
+        }
         let c = Closure::Translucent {
             weight: 1.0,
             color: DVec3::ONE,

@@ -116,7 +116,7 @@ fn diffuse_closures() {
             },
         ),
         (
-            "sheen r=0.6",
+            "zeltner sheen r=0.6",
             Closure::Sheen {
                 weight: 1.0,
                 color: DVec3::ONE,
@@ -126,6 +126,22 @@ fn diffuse_closures() {
             },
         ),
     ];
+    // (At r = 0.05 and θ ≤ 60° the fitted albedo is ~0 and the lobe black.)
+    for (r, th) in [(0.3, 80.0), (1.0, 40.0)] {
+        let c = Closure::Sheen {
+            weight: 1.0,
+            color: DVec3::ONE,
+            roughness: r,
+            mode: SheenMode::Zeltner,
+            frame: f,
+        };
+        let res = run(
+            &format!("zeltner sheen r={r} θ={th} φ=40"),
+            &single(c, dir(th, 40.0)),
+            150,
+        );
+        assert!((res.pdf_integral - 1.0).abs() < 2e-3);
+    }
     for (k, (name, c)) in cases.into_iter().enumerate() {
         for th in [10.0, 70.0] {
             let r = run(
