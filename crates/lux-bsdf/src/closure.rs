@@ -143,6 +143,7 @@ impl Leaf {
                 alpha,
                 retroreflective,
                 mode,
+                thinfilm,
                 ..
             } => {
                 let (l, a) = dielectric::lobe(
@@ -150,6 +151,7 @@ impl Leaf {
                     ior,
                     alpha,
                     retroreflective,
+                    thinfilm,
                     mode,
                     wo,
                     entering,
@@ -163,10 +165,18 @@ impl Leaf {
                 extinction,
                 alpha,
                 retroreflective,
+                thinfilm,
                 ..
             } => {
-                let (l, a) =
-                    conductor::lobe(w(weight), c(ior), c(extinction), alpha, retroreflective, wo);
+                let (l, a) = conductor::lobe(
+                    w(weight),
+                    c(ior),
+                    c(extinction),
+                    alpha,
+                    retroreflective,
+                    thinfilm,
+                    wo,
+                );
                 (Kind::Microfacet(l), a)
             }
             Closure::GeneralizedSchlick {
@@ -178,6 +188,7 @@ impl Leaf {
                 alpha,
                 retroreflective,
                 mode,
+                thinfilm,
                 ..
             } => {
                 let i = schlick::Inputs {
@@ -189,6 +200,7 @@ impl Leaf {
                     alpha,
                     retro: retroreflective,
                     mode,
+                    thinfilm,
                 };
                 let (l, a) = schlick::lobe(&i, wo, entering, thin_walled);
                 (Kind::Microfacet(l), a)

@@ -6,21 +6,24 @@
 //! (`r0 = F(0°)`, tint matching `F` at `cos θ = 1/7`, `r90 = 1`, `q = 5`, Hoffman 2023) in
 //! closed form. The directional albedo `k · Σ_b W_b F(c̄_b)` uses the tabulated histogram of
 //! the GGX albedo over the Fresnel angle ([`crate::albedo::ggx_fresnel`]): exact for a white
-//! conductor (`F ≡ 1`, e.g. `ior = extinction = 0`). Thin film: ignored.
+//! conductor (`F ≡ 1`, e.g. `ior = extinction = 0`). With a thin film the curve is the Airy
+//! reflectance over the conductor (`thinfilm.rs`), `F̄` its quadrature average.
 
-use crate::ScatterMode;
 use crate::albedo;
 use crate::fresnel;
-use crate::lobe::{Fresnel, Lobe};
+use crate::lobe::{Fresnel, Lobe, film};
+use crate::{ScatterMode, ThinFilm};
 use glam::{DVec2, DVec3};
 
 /// The lobe for `wo` (local, `wo.z > 0`) and its directional albedo.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn lobe(
     weight: f64,
     eta: DVec3,
     k: DVec3,
     alpha: DVec2,
     retro: bool,
+    thinfilm: ThinFilm,
     wo: DVec3,
 ) -> (Lobe, DVec3) {
     let (ggx, delta) = Lobe::distribution(alpha);
@@ -35,6 +38,7 @@ pub(crate) fn lobe(
         retro,
         k_r: DVec3::ONE,
         k_t: DVec3::ONE,
+        film: film(thinfilm),
     };
     if delta {
         let a = l.f(wo.z) * weight;
@@ -42,9 +46,13 @@ pub(crate) fn lobe(
     }
     let a = ggx.albedo_alpha();
     let ess = albedo::ggx(wo.z, a).max(1e-6);
-    let (r0, t) = fresnel::conductor_as_schlick(eta, k);
-    let fbar = fresnel::schlick_average(r0, t, DVec3::ONE, 5.0);
+    let fbar = if l.film.is_some() {
+        l.fresnel_average()
+    } else {
+        let (r0, t) = fresnel::conductor_as_schlick(eta, k);
+        fresnel::schlick_average(r0, t, DVec3::ONE, 5.0)
+    };
     l.k_r = DVec3::ONE + fbar * ((1.0 - ess) / ess);
-    let e = albedo::ggx_fresnel(wo.z, a, |c| fresnel::conductor(c, eta, k));
+    let e = albedo::ggx_fresnel(wo.z, a, |c| l.f(c));
     (l, e * l.k_r * weight)
 }

@@ -38,6 +38,7 @@ pub mod oren_nayar;
 pub mod schlick;
 pub mod sheen;
 pub mod subsurface;
+pub mod thinfilm;
 pub mod translucent;
 mod tree;
 pub mod warp;

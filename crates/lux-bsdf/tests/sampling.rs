@@ -232,6 +232,21 @@ fn dielectrics() {
         &single(c, dir(50.0, 0.0)),
         7,
     );
+    // A thin film: the reflect/refract choice follows the coloured Airy reflectance.
+    let c = Closure::Dielectric {
+        weight: 1.0,
+        tint: DVec3::ONE,
+        ior: 1.5,
+        alpha: DVec2::splat(0.25),
+        retroreflective: false,
+        thinfilm: ThinFilm {
+            thickness: 500.0,
+            ior: 1.3,
+        },
+        mode: ScatterMode::Rt,
+        frame: frame(),
+    };
+    run("filmed dielectric RT θ=35", &single(c, dir(35.0, 0.0)), 9);
     // A smooth dielectric: only delta samples (the pdf integrates to 0).
     let r = run(
         "smooth dielectric RT θ=30",
