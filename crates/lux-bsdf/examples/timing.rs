@@ -119,5 +119,35 @@ fn main() {
         black_box(black_box(&b).albedo());
     }
     println!("albedo: {:.0} ns", t.elapsed().as_nanos() as f64 / n as f64);
+    let p = b.prepare();
+    let t = Instant::now();
+    for i in 0..n {
+        black_box(black_box(&p).eval(black_box(wi + DVec3::X * (i as f64 * 1e-9))));
+    }
+    println!(
+        "prepared eval:   {:.0} ns",
+        t.elapsed().as_nanos() as f64 / n as f64
+    );
+    let t = Instant::now();
+    for i in 0..n {
+        let u = (i as f64 + 0.5) / n as f64;
+        black_box(black_box(&p).sample(u, [u * 7.0 % 1.0, u * 13.0 % 1.0]));
+    }
+    println!(
+        "prepared sample: {:.0} ns",
+        t.elapsed().as_nanos() as f64 / n as f64
+    );
+    let t = Instant::now();
+    for _ in 0..n {
+        black_box(black_box(&b).prepare());
+    }
+    println!(
+        "prepare: {:.0} ns",
+        t.elapsed().as_nanos() as f64 / n as f64
+    );
     println!("size_of::<Bsdf>() = {} bytes", std::mem::size_of::<Bsdf>());
+    println!(
+        "size_of::<PreparedBsdf>() = {} bytes",
+        std::mem::size_of::<PreparedBsdf>()
+    );
 }

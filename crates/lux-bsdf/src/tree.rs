@@ -32,6 +32,7 @@ fn mean(v: DVec3) -> f64 {
 }
 
 /// The tree resolved for `ωo`.
+#[derive(Clone, Copy, Debug)]
 pub(crate) struct Prepared {
     pub leaves: [Option<Leaf>; MAX_NODES],
     /// `cₖ` per node (the coefficient of that node's `f` in the root's).
