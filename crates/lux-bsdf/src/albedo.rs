@@ -24,9 +24,9 @@ use std::sync::OnceLock;
 
 const N_MU: usize = 32;
 const N_ALPHA: usize = 32;
-const N_MU_D: usize = 24;
-const N_ALPHA_D: usize = 24;
-const N_ETA: usize = 12;
+const N_MU_D: usize = 32;
+const N_ALPHA_D: usize = 20;
+const N_ETA: usize = 24;
 const N_Q: usize = 10;
 const N_ROUGH: usize = 32;
 /// Sampler grid per axis for the microfacet integrals.
@@ -114,16 +114,19 @@ fn visible_mean(ggx: &Ggx, wo: DVec3, n: usize, mut h: impl FnMut(DVec3)) {
 }
 
 struct Tables {
-    /// Per (μ, α): `[E_ss, T2, T1(q_0..q_9)]` — the F = 1 albedo and the Schlick bases.
+    /// Per (μ, α): `[E_ss, T2, T1(q_0..q_9), (W_b, W_b c̄_b) × N_C]` — the F = 1 albedo, the
+    /// Schlick bases, and the albedo's histogram over the Fresnel angle's offset `ωo·m − μo`.
     ggx: Vec<f64>,
-    /// Per (r, μ, α): `[E_R, E_T]` entering (η ≥ 1), `[E_R, E_T]` leaving (1/η), thin `E_R`.
+    /// Per (r, μ, α): `[E_R, E_T]` entering (η ≥ 1), `[E_R, E_T]` leaving (1/η).
     diel: Vec<f64>,
     /// Per r: hemispherical average of `F` and of the slab's `2F/(1 + F)`.
     favg: Vec<f64>,
 }
 
-const GGX_STRIDE: usize = 2 + N_Q;
-const DIEL_STRIDE: usize = 5;
+/// Bins of `c = ωo·m` in the Fresnel-angle histogram.
+pub const N_C: usize = 32;
+const GGX_STRIDE: usize = 2 + N_Q + 2 * N_C;
+const DIEL_STRIDE: usize = 4;
 
 fn q_of(k: usize) -> f64 {
     1.0 + 9.0 * k as f64 / (N_Q - 1) as f64
@@ -156,9 +159,13 @@ fn build() -> Tables {
                 let c = wo.dot(m).clamp(0.0, 1.0);
                 acc[0] += w;
                 acc[1] += w * c * (1.0 - c).powi(6);
-                for (k, v) in acc[2..].iter_mut().enumerate() {
-                    *v += w * (1.0 - c).powf(q_of(k));
+                for k in 0..N_Q {
+                    acc[2 + k] += w * (1.0 - c).powf(q_of(k));
                 }
+                let dc = c - wo.z;
+                let b = (((dc + 1.0) * 0.5 * N_C as f64) as usize).min(N_C - 1);
+                acc[2 + N_Q + 2 * b] += w;
+                acc[3 + N_Q + 2 * b] += w * dc;
             });
             let o = (i * N_ALPHA + j) * GGX_STRIDE;
             for k in 0..GGX_STRIDE {
@@ -190,10 +197,6 @@ fn build() -> Tables {
                         {
                             acc[side + 1] += (1.0 - f) * d.g2(wo, wt) / g1;
                         }
-                    }
-                    if wr.z > 0.0 {
-                        let f = fresnel::dielectric(c, eta);
-                        acc[4] += 2.0 * f / (1.0 + f) * d.g2(wo, wr) / g1;
                     }
                 });
                 let o = ((e * N_MU_D + i) * N_ALPHA_D + j) * DIEL_STRIDE;
@@ -241,6 +244,27 @@ pub fn ggx_schlick(mu: f64, alpha: f64, r0: DVec3, t: DVec3, r90: DVec3, q: f64)
     (r0 * e0 + (r90 - r0) * e1 - dip * e2).max(DVec3::ZERO)
 }
 
+/// Albedo of the single-scattering GGX BRDF with an arbitrary smooth Fresnel curve `f(c)`:
+/// `Σ_b W_b f(μo + δ̄_b)` over the tabulated histogram of the F = 1 albedo in the offset
+/// `δ = ωo·m − μo` of the Fresnel angle from the macro angle (`N_C` bins over `[−1, 1]`,
+/// each at its weighted mean; second-order accurate in the bin width for a smooth curve such
+/// as a conductor's, and exact in the smooth limit where `ωo·m → μo`: storing offsets rather
+/// than angles keeps interpolation in `μo` from smearing the curve).
+pub fn ggx_fresnel(mu: f64, alpha: f64, f: impl Fn(f64) -> DVec3) -> DVec3 {
+    let tb = ggx_tables();
+    let a = locate(mu.max(0.0).sqrt(), N_MU);
+    let b = locate(alpha.max(0.0).sqrt(), N_ALPHA);
+    let mut e = DVec3::ZERO;
+    for k in 0..N_C {
+        let w = lerp2(&tb.ggx, N_ALPHA, GGX_STRIDE, 2 + N_Q + 2 * k, a, b);
+        if w > 0.0 {
+            let wdc = lerp2(&tb.ggx, N_ALPHA, GGX_STRIDE, 3 + N_Q + 2 * k, a, b);
+            e += w * f((mu + wdc / w).clamp(0.0, 1.0));
+        }
+    }
+    e
+}
+
 fn eta_axis(eta: f64) -> (usize, f64, bool) {
     let leaving = eta < 1.0;
     let e = if leaving { 1.0 / eta } else { eta };
@@ -276,19 +300,34 @@ fn diel_lookup(mu: f64, alpha: f64, eta: f64, off: usize) -> f64 {
 
 /// Single-scattering albedos `(E_R, E_T)` of a rough dielectric interface of relative index
 /// `eta` (`< 1` when leaving the denser medium; `η` or `1/η` clamped to `[1, 3]`).
+///
+/// Near the critical angle (leaving) `E_R` rises steeply with `μo`, too steeply for the
+/// `(μo, α, η)` table when the lobe is narrow. So `E_R` is the table's for `α ≥ 0.3`, the
+/// Fresnel-angle histogram's ([`ggx_fresnel`], exact in the smooth limit) for `α ≤ 0.1`,
+/// blended linearly in between; `E_T` is the tabulated `E_R + E_T` (smooth: the Fresnel
+/// split only moves energy between the two lobes) minus that `E_R`.
 pub fn dielectric(mu: f64, alpha: f64, eta: f64) -> (f64, f64) {
     let off = if eta < 1.0 { 2 } else { 0 };
-    (
-        diel_lookup(mu, alpha, eta, off),
-        diel_lookup(mu, alpha, eta, off + 1),
-    )
+    let tr = diel_lookup(mu, alpha, eta, off);
+    let sum = tr + diel_lookup(mu, alpha, eta, off + 1);
+    let s = ((alpha - 0.1) / 0.2).clamp(0.0, 1.0);
+    let er = if s >= 1.0 {
+        tr
+    } else {
+        let h = ggx_fresnel(mu, alpha, |c| DVec3::splat(fresnel::dielectric(c, eta))).x;
+        h + (tr - h) * s
+    };
+    (er, (sum - er).max(0.0))
 }
 
-/// Single-scattering reflection albedo of the thin-walled slab (`F_slab = 2F/(1 + F)`); its
-/// transmission albedo is `E_ss(μo, α)` minus this.
+/// Single-scattering reflection albedo of the thin-walled slab (`F_slab = 2F/(1 + F)`), from
+/// the Fresnel-angle histogram; its transmission albedo is `E_ss(μo, α)` minus this.
 pub fn dielectric_thin(mu: f64, alpha: f64, eta: f64) -> f64 {
     let e = if eta < 1.0 { 1.0 / eta } else { eta };
-    diel_lookup(mu, alpha, e, 4)
+    ggx_fresnel(mu, alpha, |c| {
+        fresnel::slab(DVec3::splat(fresnel::dielectric(c, e)))
+    })
+    .x
 }
 
 /// Cosine-weighted hemispherical average of the dielectric Fresnel curve from the outside,
@@ -341,7 +380,7 @@ pub fn sheen(mu: f64, r: f64) -> f64 {
     let t = T.get_or_init(|| {
         Table2::build(
             |x| SHEEN_MIN_ROUGHNESS + (1.0 - SHEEN_MIN_ROUGHNESS) * x,
-            |wo, wi, r| crate::sheen::conty_kulla(wo, wi, r),
+            crate::sheen::conty_kulla,
         )
     });
     t.get(mu, (r - SHEEN_MIN_ROUGHNESS) / (1.0 - SHEEN_MIN_ROUGHNESS))
@@ -350,6 +389,6 @@ pub fn sheen(mu: f64, r: f64) -> f64 {
 /// Directional albedo of the Burley diffuse lobe with unit colour, `E(μo, σ)`.
 pub fn burley(mu: f64, sigma: f64) -> f64 {
     static T: OnceLock<Table2> = OnceLock::new();
-    let t = T.get_or_init(|| Table2::build(|x| x, |wo, wi, s| crate::burley::brdf(wo, wi, s)));
+    let t = T.get_or_init(|| Table2::build(|x| x, crate::burley::brdf));
     t.get(mu, sigma)
 }

@@ -8,7 +8,7 @@
 use crate::lobe::Lobe;
 use crate::schlick;
 use crate::warp::{cosine_hemisphere, cosine_pdf};
-use crate::{Closure, Frame, LobeKind};
+use crate::{Closure, Frame, LobeKind, SheenMode};
 use crate::{burley, conductor, dielectric, oren_nayar, sheen, subsurface, translucent};
 use glam::DVec3;
 
@@ -30,6 +30,7 @@ pub(crate) enum Kind {
     Translucent { rho: DVec3 },
     Subsurface { rho: DVec3 },
     Sheen { color: DVec3, r: f64 },
+    Zeltner { color: DVec3, lobe: sheen::Zeltner },
     Microfacet(Lobe),
 }
 
@@ -123,11 +124,17 @@ impl Leaf {
                 weight,
                 color,
                 roughness,
+                mode,
                 ..
             } => {
                 let color = c(color) * w(weight);
-                let r = sheen::roughness(roughness);
-                (Kind::Sheen { color, r }, sheen::albedo(wo.z, color, r))
+                if mode == SheenMode::Zeltner {
+                    let lobe = sheen::Zeltner::new(wo.z, roughness);
+                    (Kind::Zeltner { color, lobe }, color * lobe.albedo)
+                } else {
+                    let r = sheen::roughness(roughness);
+                    (Kind::Sheen { color, r }, sheen::albedo(wo.z, color, r))
+                }
             }
             Closure::Dielectric {
                 weight,
@@ -136,6 +143,7 @@ impl Leaf {
                 alpha,
                 retroreflective,
                 mode,
+                thinfilm,
                 ..
             } => {
                 let (l, a) = dielectric::lobe(
@@ -143,6 +151,7 @@ impl Leaf {
                     ior,
                     alpha,
                     retroreflective,
+                    thinfilm,
                     mode,
                     wo,
                     entering,
@@ -156,10 +165,18 @@ impl Leaf {
                 extinction,
                 alpha,
                 retroreflective,
+                thinfilm,
                 ..
             } => {
-                let (l, a) =
-                    conductor::lobe(w(weight), c(ior), c(extinction), alpha, retroreflective, wo);
+                let (l, a) = conductor::lobe(
+                    w(weight),
+                    c(ior),
+                    c(extinction),
+                    alpha,
+                    retroreflective,
+                    thinfilm,
+                    wo,
+                );
                 (Kind::Microfacet(l), a)
             }
             Closure::GeneralizedSchlick {
@@ -171,6 +188,7 @@ impl Leaf {
                 alpha,
                 retroreflective,
                 mode,
+                thinfilm,
                 ..
             } => {
                 let i = schlick::Inputs {
@@ -182,6 +200,7 @@ impl Leaf {
                     alpha,
                     retro: retroreflective,
                     mode,
+                    thinfilm,
                 };
                 let (l, a) = schlick::lobe(&i, wo, entering, thin_walled);
                 (Kind::Microfacet(l), a)
@@ -196,14 +215,14 @@ impl Leaf {
         })
     }
 
-    pub fn to_local(&self, v: DVec3) -> DVec3 {
+    pub fn local(&self, v: DVec3) -> DVec3 {
         DVec3::new(
             self.frame.t.dot(v),
             self.frame.b.dot(v),
             self.frame.n.dot(v),
         )
     }
-    pub fn to_world(&self, v: DVec3) -> DVec3 {
+    pub fn world(&self, v: DVec3) -> DVec3 {
         self.frame.t * v.x + self.frame.b * v.y + self.frame.n * v.z
     }
 
@@ -228,6 +247,9 @@ impl Leaf {
             Kind::Translucent { rho } => translucent::eval(wi, rho),
             Kind::Subsurface { rho } => subsurface::eval(wi, rho),
             Kind::Sheen { color, r } => sheen::eval(wo, wi, color, r),
+            Kind::Zeltner { color, lobe } => {
+                color * (lobe.albedo * lobe.pdf(sheen::to_lobe(wo, wi)))
+            }
             Kind::Microfacet(l) => l.eval(wo, wi),
         }
     }
@@ -236,6 +258,7 @@ impl Leaf {
     pub fn pdf(&self, wi: DVec3) -> f64 {
         match self.kind {
             Kind::Translucent { .. } => cosine_pdf(-wi),
+            Kind::Zeltner { lobe, .. } => lobe.pdf(sheen::to_lobe(self.wo, wi)),
             Kind::Microfacet(l) => l.pdf(self.wo, wi),
             _ => cosine_pdf(wi),
         }
@@ -245,6 +268,10 @@ impl Leaf {
     pub fn sample(&self, u_sel: f64, u: [f64; 2]) -> Option<(DVec3, Option<(DVec3, f64)>)> {
         match self.kind {
             Kind::Translucent { .. } => Some((-cosine_hemisphere(u), None)),
+            Kind::Zeltner { lobe, .. } => {
+                let v = lobe.warp(cosine_hemisphere(u));
+                Some((sheen::from_lobe(self.wo, v), None))
+            }
             Kind::Microfacet(l) => l.sample(self.wo, u_sel, u).map(|s| (s.wi, s.delta)),
             _ => Some((cosine_hemisphere(u), None)),
         }

@@ -12,11 +12,13 @@
 //!   white `RT` furnace is 1 at every roughness (thin-walled: by `E_ss`); in `R` mode the
 //!   reflection is multiplied by `1 + F̄ (1 − E_ss)/E_ss` (spec: "Energy Compensation", `F̄`
 //!   the hemispherical average of `F`).
-//! * Thin film: ignored.
+//! * Thin film (entering or thin-walled; ignored seen from inside): the Airy reflectance
+//!   over the dielectric (`thinfilm.rs`); `E_R` then comes from the Fresnel-angle histogram
+//!   and `E_T` is approximated as the film-less `E_R + E_T` minus it.
 
 use crate::albedo;
-use crate::lobe::{Fresnel, Lobe};
-use crate::{DELTA_ALPHA, ScatterMode};
+use crate::lobe::{Fresnel, Lobe, film};
+use crate::{ScatterMode, ThinFilm};
 use glam::{DVec2, DVec3};
 
 /// Keeps a relative index away from 1 by at least `10⁻³`.
@@ -46,12 +48,13 @@ pub(crate) fn lobe(
     ior: f64,
     alpha: DVec2,
     retro: bool,
+    thinfilm: ThinFilm,
     mode: ScatterMode,
     wo: DVec3,
     entering: bool,
     thin_walled: bool,
 ) -> (Lobe, DVec3) {
-    let (ggx, delta) = Lobe::new(alpha);
+    let (ggx, delta) = Lobe::distribution(alpha);
     let no_fresnel = !(ior > 0.0) || !ior.is_finite();
     let mode = if no_fresnel { ScatterMode::R } else { mode };
     let thin = thin_walled && mode != ScatterMode::R;
@@ -77,8 +80,13 @@ pub(crate) fn lobe(
         retro,
         k_r: DVec3::ONE,
         k_t: DVec3::ONE,
+        // The film sits on the outside: seen from inside it is ignored.
+        film: if entering || thin_walled {
+            film(thinfilm)
+        } else {
+            None
+        },
     };
-    let _ = DELTA_ALPHA;
     if delta {
         let f = l.f(wo.z);
         let a = match mode {
@@ -89,34 +97,45 @@ pub(crate) fn lobe(
         return (l, a);
     }
     let mu = wo.z;
-    let a = ggx.projected_alpha(wo);
+    let a = ggx.albedo_alpha();
     let ess = albedo::ggx(mu, a).max(1e-6);
     if no_fresnel {
         l.k_r = DVec3::splat(1.0 / ess);
         return (l, tint);
     }
-    let (er, et, k) = if thin {
-        let er = albedo::dielectric_thin(mu, a, eta);
-        (er, (ess - er).max(0.0), 1.0 / ess)
+    // Single-scattering E_R (per channel with a film) and E_R + E_T.
+    let (er, sum) = if thin {
+        let er = if l.film.is_some() {
+            albedo::ggx_fresnel(mu, a, |c| l.f(c))
+        } else {
+            DVec3::splat(albedo::dielectric_thin(mu, a, eta))
+        };
+        (er, ess)
     } else {
         let (er, et) = albedo::dielectric(mu, a, eta);
-        (er, et, 1.0 / (er + et).max(1e-6))
+        let er_film = l.film.map(|_| albedo::ggx_fresnel(mu, a, |c| l.f(c)));
+        (er_film.unwrap_or(DVec3::splat(er)), er + et)
     };
+    let et = (DVec3::splat(sum) - er).max(DVec3::ZERO);
+    let k = 1.0 / sum.max(1e-6);
     let alb = match mode {
         ScatterMode::R => {
-            let fbar = fresnel_average(eta, false);
-            let kr = 1.0 + fbar * (1.0 - ess) / ess;
-            l.k_r = DVec3::splat(kr);
-            tint * (er * kr)
+            let fbar = if l.film.is_some() {
+                l.fresnel_average()
+            } else {
+                DVec3::splat(fresnel_average(eta, false))
+            };
+            l.k_r = DVec3::ONE + fbar * ((1.0 - ess) / ess);
+            tint * er * l.k_r
         }
         ScatterMode::T => {
             l.k_t = DVec3::splat(k);
-            tint * (et * k)
+            tint * et * k
         }
         ScatterMode::Rt => {
             l.k_r = DVec3::splat(k);
             l.k_t = DVec3::splat(k);
-            tint * ((er + et) * k)
+            tint * (er + et) * k
         }
     };
     (l, alb)

@@ -4,8 +4,8 @@
 //! its 82° tint ("Generalized Schlick Equations"); plus the incoherent thin-slab sum used for
 //! thin-walled transmission.
 //!
-//! Thin-film iridescence (Belcour 2017, the spec's "Thin-Film Iridescence") is **not**
-//! implemented: the `thinfilm` inputs are ignored and the plain curves below are used.
+//! Thin-film iridescence (Belcour 2017) replaces these curves by the Airy reflectance of
+//! `thinfilm.rs` when a film is present.
 
 use glam::DVec3;
 
@@ -33,6 +33,17 @@ pub fn dielectric(cos: f64, eta: f64) -> f64 {
 /// `Rp = Rs (cos²θ(a² + b²) − 2a cosθ sin²θ + sin⁴θ)/(cos²θ(a² + b²) + 2a cosθ sin²θ + sin⁴θ)`,
 /// `F = ½(Rs + Rp)`.
 pub fn conductor_channel(cos: f64, eta: f64, k: f64) -> f64 {
+    let (rs, rp) = conductor_polarized(cos, eta, k);
+    let f = 0.5 * (rs + rp);
+    if f.is_finite() {
+        f.clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
+/// The s- and p-polarized reflectances `(Rs, Rp)` of [`conductor_channel`].
+pub fn conductor_polarized(cos: f64, eta: f64, k: f64) -> (f64, f64) {
     let c = cos.abs().min(1.0);
     let c2 = c * c;
     let s2 = 1.0 - c2;
@@ -49,12 +60,22 @@ pub fn conductor_channel(cos: f64, eta: f64, k: f64) -> f64 {
     } else {
         rs
     };
-    let f = 0.5 * (rs + rp);
-    if f.is_finite() {
-        f.clamp(0.0, 1.0)
-    } else {
-        0.0
+    (rs.clamp(0.0, 1.0), rp.clamp(0.0, 1.0))
+}
+
+/// The s- and p-polarized reflectances `(Rs, Rp)` of a dielectric interface of relative index
+/// `eta` at `cos = |cos θ|`: `rs = (c − η c_t)/(c + η c_t)`, `rp = (η c − c_t)/(η c + c_t)`,
+/// squared; `(1, 1)` on total internal reflection. Their mean is [`dielectric`].
+pub fn dielectric_polarized(cos: f64, eta: f64) -> (f64, f64) {
+    let c = cos.abs().min(1.0);
+    let st2 = (1.0 - c * c) / (eta * eta);
+    if !(st2 < 1.0) {
+        return (1.0, 1.0);
     }
+    let ct = (1.0 - st2).sqrt();
+    let rs = (c - eta * ct) / (c + eta * ct);
+    let rp = (eta * c - ct) / (eta * c + ct);
+    ((rs * rs).min(1.0), (rp * rp).min(1.0))
 }
 
 /// [`conductor_channel`] per colour channel.

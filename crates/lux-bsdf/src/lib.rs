@@ -16,8 +16,28 @@
 //! (a dielectric, conductor or generalized Schlick lobe with roughness below
 //! [`DELTA_ALPHA`]) are only reached through [`Bsdf::sample`] and are absent from `eval` and
 //! `pdf`.
+//!
+//! One module per concept: [`microfacet`] (GGX, Smith, visible normals), [`fresnel`],
+//! [`thinfilm`] (Airy reflectance), [`albedo`] (directional-albedo tables), one module per
+//! closure ([`oren_nayar`], [`burley`], [`translucent`], [`dielectric`], [`conductor`],
+//! [`schlick`], [`sheen`], [`subsurface`]), the shared microfacet lobe (`lobe.rs`) and the
+//! tree (`tree.rs`). For several queries at one shading point, [`Bsdf::prepare`] resolves the
+//! tree once.
+//!
+//! Approximations, each documented where it is made and measured by the tests:
+//! `subsurface_bsdf` is Lambertian reflection of its colour (no volumes); anisotropic lobes
+//! read the isotropic albedo tables at the RMS roughness; generalized-Schlick and filmed
+//! transmission albedos borrow the dielectric tables; dielectric `R`-only/`T`-only albedos
+//! seen from inside are least accurate near the critical angle for 0.1 < α < 0.3.
 
 #![warn(missing_docs)]
+// `!(x > 0.0)` is written on purpose throughout: it is true for NaN, which must be rejected.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+/// The README's example, compiled and run as a doctest.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
 
 pub mod albedo;
 pub mod burley;
@@ -31,6 +51,7 @@ pub mod oren_nayar;
 pub mod schlick;
 pub mod sheen;
 pub mod subsurface;
+pub mod thinfilm;
 pub mod translucent;
 mod tree;
 pub mod warp;
@@ -365,23 +386,34 @@ impl Bsdf {
         self.thin_walled
     }
 
+    /// The tree resolved for its `wo` (every closure's frame, inputs, albedo and the
+    /// combinators' coefficients), for several queries at one shading point: each method of
+    /// [`Bsdf`] resolves the tree anew, [`PreparedBsdf`]'s do not.
+    pub fn prepare(&self) -> PreparedBsdf {
+        PreparedBsdf {
+            tree: tree::Prepared::new(self),
+            ng: self.ng,
+        }
+    }
+
     /// Whether the tree reflects and transmits nothing (every closure's contribution
     /// `cₖ ⊙ Eₖ(ωo)` is zero; see `tree.rs`).
     pub fn is_black(&self) -> bool {
-        !(tree::Prepared::new(self).total > 0.0)
+        self.prepare().is_black()
     }
 
     /// `f(wo, wi)·|cos θi|` of the non-delta lobes, split into diffuse and glossy parts
     /// (never NaN or negative).
     pub fn eval(&self, wi: DVec3) -> Eval {
-        tree::Prepared::new(self).eval(wi)
+        self.prepare().eval(wi)
     }
 
     /// Density of [`Bsdf::sample`] producing `wi` (non-delta lobes only): the mixture
     /// `Σ pₖ pdfₖ(wi)` of `tree.rs`. It integrates to one minus the probability of choosing a
-    /// delta lobe.
+    /// delta lobe (minus that of samples that fail, e.g. a microfacet reflection below the
+    /// horizon).
     pub fn pdf(&self, wi: DVec3) -> f64 {
-        tree::Prepared::new(self).pdf(wi)
+        self.prepare().pdf(wi)
     }
 
     /// Samples an incident direction: `u_lobe` chooses a lobe (its remainder also chooses
@@ -389,13 +421,44 @@ impl Bsdf {
     /// `None` when the tree is black or the sample falls where the lobe is zero (below the
     /// horizon, total internal reflection).
     pub fn sample(&self, u_lobe: f64, u: [f64; 2]) -> Option<Sample> {
-        tree::Prepared::new(self).sample(self.ng, u_lobe, u)
+        self.prepare().sample(u_lobe, u)
     }
 
     /// The directional albedo `E(wo) = ∫ f·|cos θi| dωi` of the whole tree (tabulated or
     /// closed form per closure, combined as the combinators combine them), delta lobes
     /// included.
     pub fn albedo(&self) -> DVec3 {
-        tree::Prepared::new(self).albedo
+        self.prepare().albedo()
+    }
+}
+
+/// A [`Bsdf`] resolved for its `wo` ([`Bsdf::prepare`]): the same queries without redoing
+/// the per-closure set-up (table lookups, Fresnel averages) each time. `Copy`, no allocation.
+#[derive(Clone, Copy, Debug)]
+pub struct PreparedBsdf {
+    tree: tree::Prepared,
+    ng: DVec3,
+}
+
+impl PreparedBsdf {
+    /// [`Bsdf::is_black`].
+    pub fn is_black(&self) -> bool {
+        !(self.tree.total > 0.0)
+    }
+    /// [`Bsdf::eval`].
+    pub fn eval(&self, wi: DVec3) -> Eval {
+        self.tree.eval(wi)
+    }
+    /// [`Bsdf::pdf`].
+    pub fn pdf(&self, wi: DVec3) -> f64 {
+        self.tree.pdf(wi)
+    }
+    /// [`Bsdf::sample`].
+    pub fn sample(&self, u_lobe: f64, u: [f64; 2]) -> Option<Sample> {
+        self.tree.sample(self.ng, u_lobe, u)
+    }
+    /// [`Bsdf::albedo`].
+    pub fn albedo(&self) -> DVec3 {
+        self.tree.albedo
     }
 }

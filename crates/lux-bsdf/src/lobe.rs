@@ -19,6 +19,8 @@
 //!   so that it is centred on `ωo`.
 //! * `k_r`, `k_t`: Turquin 2019 energy compensation factors, set by each closure.
 //! * Total internal reflection makes `F = 1` for every Fresnel curve.
+//! * A thin film replaces the curve by the Airy reflectance (`thinfilm.rs`), transmission
+//!   by `1 − F_airy`.
 //!
 //! Sampling draws a visible normal (Dupuy–Benyoub 2023), then reflection with probability
 //! `P_R = mean(F(ωo·m))` (1 in `R` mode, 0 in `T` mode) or refraction; with retroreflection in
@@ -27,8 +29,10 @@
 
 use crate::fresnel;
 use crate::microfacet::{Ggx, half_vector_t, jacobian_reflect, jacobian_refract, reflect, refract};
-use crate::{DELTA_ALPHA, ScatterMode};
+use crate::thinfilm::{Substrate, airy};
+use crate::{DELTA_ALPHA, ScatterMode, ThinFilm};
 use glam::{DVec2, DVec3};
+use std::sync::OnceLock;
 
 /// The Fresnel curve of a lobe.
 #[derive(Clone, Copy, Debug)]
@@ -61,6 +65,14 @@ pub(crate) struct Lobe {
     pub retro: bool,
     pub k_r: DVec3,
     pub k_t: DVec3,
+    /// Thin film `(thickness nm, ior)` over the substrate, if any.
+    pub film: Option<(f64, f64)>,
+}
+
+/// The film of a closure's `thinfilm` inputs: `None` for thickness 0 (or invalid numbers).
+pub(crate) fn film(tf: ThinFilm) -> Option<(f64, f64)> {
+    (tf.thickness > 0.0 && tf.thickness.is_finite() && tf.ior > 0.0 && tf.ior.is_finite())
+        .then_some((tf.thickness, tf.ior))
 }
 
 /// What a lobe's sampling produced: a direction of the rough lobe, or a delta direction with
@@ -75,7 +87,8 @@ fn mean(v: DVec3) -> f64 {
 }
 
 impl Lobe {
-    pub fn new(alpha: DVec2) -> (Ggx, bool) {
+    /// The GGX distribution for `roughness` (NaN → 0) and whether it is a delta lobe.
+    pub fn distribution(alpha: DVec2) -> (Ggx, bool) {
         let a = DVec2::new(
             if alpha.x.is_nan() { 0.0 } else { alpha.x },
             if alpha.y.is_nan() { 0.0 } else { alpha.y },
@@ -90,11 +103,37 @@ impl Lobe {
         let f = match self.fresnel {
             Fresnel::One => return DVec3::ONE,
             _ if tir && self.mode != ScatterMode::R => return DVec3::ONE,
-            Fresnel::Dielectric => DVec3::splat(fresnel::dielectric(cos, self.eta)),
-            Fresnel::Conductor { eta, k } => fresnel::conductor(cos, eta, k),
-            Fresnel::Schlick { r0, t, r90, q } => fresnel::schlick(cos, r0, t, r90, q),
+            Fresnel::Dielectric => match self.film {
+                Some((d, n)) => airy(cos, d, n, Substrate::Dielectric(self.eta)),
+                None => DVec3::splat(fresnel::dielectric(cos, self.eta)),
+            },
+            Fresnel::Conductor { eta, k } => match self.film {
+                Some((d, n)) => airy(cos, d, n, Substrate::Conductor(eta, k)),
+                None => fresnel::conductor(cos, eta, k),
+            },
+            Fresnel::Schlick { r0, t, r90, q } => match self.film {
+                Some((d, n)) => {
+                    let s = Substrate::Schlick {
+                        r0,
+                        t,
+                        r90,
+                        q,
+                        eta3: self.eta,
+                    };
+                    airy(cos, d, n, s)
+                }
+                None => fresnel::schlick(cos, r0, t, r90, q),
+            },
         };
         if self.thin { fresnel::slab(f) } else { f }
+    }
+
+    /// Cosine-weighted hemispherical average `2∫₀¹ F(μ) μ dμ` of [`Lobe::f`] (8-point
+    /// Gauss–Legendre), the `F̄` of Turquin's compensation when no closed form applies.
+    pub fn fresnel_average(&self) -> DVec3 {
+        static GL: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
+        let gl = GL.get_or_init(|| crate::albedo::gauss_legendre(8));
+        gl.iter().map(|&(mu, w)| self.f(mu) * (2.0 * w * mu)).sum()
     }
 
     fn p_reflect(&self, f: DVec3) -> f64 {

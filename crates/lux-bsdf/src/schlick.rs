@@ -13,13 +13,15 @@
 //! * Thin-walled `T`/`RT` (approximation): divided by `E_ss`; reflection albedo
 //!   `E_ss · slab(E_schlick/E_ss)`.
 //!
-//! Thin film: ignored.
+//! Thin film (entering or thin-walled): the Airy reflectance over the Schlick substrate
+//! (`thinfilm.rs`, effective index from `color0`); the reflection albedo then comes from the
+//! Fresnel-angle histogram and `F̄` from quadrature.
 
-use crate::ScatterMode;
 use crate::albedo;
 use crate::dielectric::{fresnel_average, snap_eta};
 use crate::fresnel;
-use crate::lobe::{Fresnel, Lobe};
+use crate::lobe::{Fresnel, Lobe, film};
+use crate::{ScatterMode, ThinFilm};
 use glam::{DVec2, DVec3};
 
 /// The closure's inputs.
@@ -32,11 +34,12 @@ pub(crate) struct Inputs {
     pub alpha: DVec2,
     pub retro: bool,
     pub mode: ScatterMode,
+    pub thinfilm: ThinFilm,
 }
 
 /// The lobe for `wo` (local, `wo.z > 0`) and its directional albedo.
 pub(crate) fn lobe(i: &Inputs, wo: DVec3, entering: bool, thin_walled: bool) -> (Lobe, DVec3) {
-    let (ggx, delta) = Lobe::new(i.alpha);
+    let (ggx, delta) = Lobe::distribution(i.alpha);
     let q = if i.q.is_finite() && i.q > 0.0 {
         i.q
     } else {
@@ -66,6 +69,11 @@ pub(crate) fn lobe(i: &Inputs, wo: DVec3, entering: bool, thin_walled: bool) -> 
         retro: i.retro,
         k_r: DVec3::ONE,
         k_t: DVec3::ONE,
+        film: if entering || thin_walled {
+            film(i.thinfilm)
+        } else {
+            None
+        },
     };
     if delta {
         let f = l.f(wo.z);
@@ -77,10 +85,16 @@ pub(crate) fn lobe(i: &Inputs, wo: DVec3, entering: bool, thin_walled: bool) -> 
         return (l, a * w);
     }
     let mu = wo.z;
-    let a = ggx.projected_alpha(wo);
+    let a = ggx.albedo_alpha();
     let ess = albedo::ggx(mu, a).max(1e-6);
-    let es = albedo::ggx_schlick(mu, a, i.r0, i.t, i.r90, q);
-    let fbar = fresnel::schlick_average(i.r0, i.t, i.r90, q);
+    let (es, fbar) = if l.film.is_some() {
+        (albedo::ggx_fresnel(mu, a, |c| l.f(c)), l.fresnel_average())
+    } else {
+        (
+            albedo::ggx_schlick(mu, a, i.r0, i.t, i.r90, q),
+            fresnel::schlick_average(i.r0, i.t, i.r90, q),
+        )
+    };
     let (er, et, k) = if thin {
         let er = ess * fresnel::slab((es / ess).min(DVec3::ONE));
         (er, DVec3::splat(ess) - er, 1.0 / ess)

@@ -32,6 +32,7 @@ fn mean(v: DVec3) -> f64 {
 }
 
 /// The tree resolved for `ωo`.
+#[derive(Clone, Copy, Debug)]
 pub(crate) struct Prepared {
     pub leaves: [Option<Leaf>; MAX_NODES],
     /// `cₖ` per node (the coefficient of that node's `f` in the root's).
@@ -157,7 +158,7 @@ impl Prepared {
             if self.prob[i] <= 0.0 || l.is_delta() {
                 continue;
             }
-            let v = self.mult[i] * l.eval(l.to_local(wi));
+            let v = self.mult[i] * l.eval(l.local(wi));
             match l.lobe_kind() {
                 LobeKind::Diffuse => e.diffuse += v,
                 _ => e.specular += v,
@@ -178,7 +179,7 @@ impl Prepared {
             if self.prob[i] <= 0.0 || l.is_delta() {
                 continue;
             }
-            p += self.prob[i] * l.pdf(l.to_local(wi));
+            p += self.prob[i] * l.pdf(l.local(wi));
         }
         if p.is_finite() { p.max(0.0) } else { 0.0 }
     }
@@ -210,7 +211,7 @@ impl Prepared {
         let (i, u_sel) = pick?;
         let l = self.leaves[i].as_ref()?;
         let (wl, delta) = l.sample(u_sel, u)?;
-        let wi = l.to_world(wl).normalize();
+        let wi = l.world(wl).normalize();
         if !wi.is_finite() {
             return None;
         }

@@ -230,11 +230,11 @@ pub struct Chi2 {
 }
 
 /// Chi-square test of `Bsdf::sample`'s non-delta directions against `Bsdf::pdf`, on a grid of
-/// `nt × np` bins in `(cos θ, φ)` of the world frame; the bins' expected counts integrate the
+/// `nt × np` bins in `(cos θ, φ)` about the world y axis; the bins' expected counts integrate the
 /// pdf with a `sub × sub` midpoint rule; bins expecting fewer than 5 are pooled, and one
 /// extra bin holds the delta and failed samples (expected: `n` minus the pdf's integral).
 pub fn chi2(b: &Bsdf, n: usize, seed: u64) -> Chi2 {
-    let (nt, np, sub) = (24usize, 48usize, 4usize);
+    let (nt, np, sub) = (24usize, 48usize, 12usize);
     let mut obs = vec![0.0f64; nt * np + 1];
     let mut rng = Rng(seed);
     let mut deltas = 0usize;
@@ -251,9 +251,10 @@ pub fn chi2(b: &Bsdf, n: usize, seed: u64) -> Chi2 {
                 obs[nt * np] += 1.0;
             }
             Some(s) => {
-                let z = s.wi.z.clamp(-1.0, 1.0);
+                // Bins about the y axis, so that no lobe of a `wo` in the xz-plane sits on a pole.
+                let z = s.wi.y.clamp(-1.0, 1.0);
                 let ti = (((1.0 - z) / 2.0 * nt as f64) as usize).min(nt - 1);
-                let mut phi = s.wi.y.atan2(s.wi.x);
+                let mut phi = s.wi.x.atan2(s.wi.z);
                 if phi < 0.0 {
                     phi += 2.0 * PI;
                 }
@@ -280,7 +281,7 @@ pub fn chi2(b: &Bsdf, n: usize, seed: u64) -> Chi2 {
                     for c in 0..sub {
                         let phi =
                             2.0 * PI * (pi as f64 + (c as f64 + 0.5) / sub as f64) / np as f64;
-                        acc += b.pdf(DVec3::new(r * phi.cos(), r * phi.sin(), z));
+                        acc += b.pdf(DVec3::new(r * phi.sin(), z, r * phi.cos()));
                     }
                 }
                 acc / (sub * sub) as f64
@@ -291,7 +292,7 @@ pub fn chi2(b: &Bsdf, n: usize, seed: u64) -> Chi2 {
             let acc = loop {
                 let v1 = cell(2 * s);
                 s *= 2;
-                if (v1 - v0).abs() <= 1e-4 * v1.abs() + 1e-9 || s >= 256 {
+                if (v1 - v0).abs() <= 1e-4 * v1.abs() + 1e-9 || s >= 96 {
                     break v1;
                 }
                 v0 = v1;
@@ -320,6 +321,44 @@ pub fn chi2(b: &Bsdf, n: usize, seed: u64) -> Chi2 {
     if pe > 0.0 {
         chi += (po - pe).powi(2) / pe;
         dof += 1;
+    }
+    if std::env::var("CHI2_DEBUG").is_ok() {
+        let mut worst: Vec<(f64, usize)> = (0..exp.len())
+            .filter(|&i| exp[i] >= 5.0)
+            .map(|i| ((obs[i] - exp[i]).powi(2) / exp[i], i))
+            .collect();
+        worst.sort_by(|a, b| b.0.partial_cmp(&a.0).unwrap());
+        let small: Vec<usize> = (0..exp.len())
+            .filter(|&i| exp[i] < 5.0 && obs[i] > 0.0)
+            .collect();
+        let (so, se): (f64, f64) = small
+            .iter()
+            .fold((0.0, 0.0), |a, &i| (a.0 + obs[i], a.1 + exp[i]));
+        println!(
+            "  pooled small bins: obs {so} exp {se:.1} over {} bins",
+            small.len()
+        );
+        for &i in &small {
+            println!(
+                "    small bin {} (t {}, p {}): obs {} exp {:.2}",
+                i,
+                i / np,
+                i % np,
+                obs[i],
+                exp[i]
+            );
+        }
+        for &(c, i) in worst.iter().take(6) {
+            println!(
+                "  bin {} (t {}, p {}): obs {} exp {:.1} chi {:.1}",
+                i,
+                i / np,
+                i % np,
+                obs[i],
+                exp[i],
+                c
+            );
+        }
     }
     let dof = dof.saturating_sub(1).max(1);
     Chi2 {
