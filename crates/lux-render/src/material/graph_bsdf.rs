@@ -14,8 +14,8 @@ const GRAZING: f64 = 1.0e-9;
 /// A closure tree at a hit, with the shading normal the integrators take cosines about.
 #[derive(Clone, Debug)]
 pub struct GraphBsdf {
-    /// The closure tree (built for the viewer's direction).
-    pub bsdf: lux_bsdf::Bsdf,
+    /// The closure tree, resolved for the viewer's direction once per hit.
+    pub bsdf: lux_bsdf::PreparedBsdf,
     /// The shading normal `ns` of the [`super::SurfacePoint`].
     pub ns: DVec3,
     /// Whether some closure of the tree transmits.

@@ -771,7 +771,7 @@ impl Materials {
             return point(
                 ns,
                 Bsdf::Graph(Box::new(GraphBsdf {
-                    bsdf: shaded.bsdf,
+                    bsdf: shaded.bsdf.prepare(),
                     ns,
                     transmits: g.transmits,
                 })),
