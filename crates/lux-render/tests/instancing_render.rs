@@ -73,11 +73,22 @@ fn render_scene(mut s: Scene) -> Scene {
 }
 
 fn render(s: &Scene, threads: usize) -> Vec<[f32; 4]> {
+    render_with(s, threads, lux_render::settings::SamplingMode::Lux)
+}
+
+use lux_render::settings::SamplingMode;
+
+fn render_with(
+    s: &Scene,
+    threads: usize,
+    sampling: lux_render::settings::SamplingMode,
+) -> Vec<[f32; 4]> {
     let mut o = RenderOptions::new(ResolvedProfile {
         profile: Profile::Spec,
         source: ProfileSource::CommandLine,
     });
     o.spp = 8;
+    o.sampling = sampling;
     o.resolution = Some([80, 60]);
     // Direct lighting: every secondary ray is a shadow or BSDF ray from a first hit, whose
     // exactness the comparison below is about.
@@ -97,10 +108,10 @@ fn render(s: &Scene, threads: usize) -> Vec<[f32; 4]> {
 }
 
 /// Renders `s` and its flattened copy: (pixels that differ, worst relative difference).
-fn render_difference(s: &Scene) -> (usize, f64) {
+fn render_difference(s: &Scene, sampling: lux_render::settings::SamplingMode) -> (usize, f64) {
     let (f, _) = flatten(s);
-    let a = render(s, 2);
-    let b = render(&f, 2);
+    let a = render_with(s, 2, sampling);
+    let b = render_with(&f, 2, sampling);
     let covered = a.iter().filter(|p| p[3] > 0.0).count();
     let lit = a.iter().filter(|p| p[0] + p[1] + p[2] > 0.0).count();
     assert!(
@@ -129,9 +140,13 @@ fn instanced_render_equals_flattened_render() {
     assert_eq!(render(&s, 2), render(&s, 1));
     // Without mirroring instances and without the ShadowAPI falloff (which reads the f32
     // first-occluder distance), every hit, normal, albedo and light sample is the same f64
-    // value as in the flattened scene (see the module doc), and so is every pixel. (The
-    // instances' larger ray clearance moves secondary ray origins, which changes no
-    // visibility here and no emission: the lights' emission does not depend on the point.)
+    // value as in the flattened scene (see the module doc), and so is every pixel of the
+    // reference estimator (light samples and their shadow rays only). The instances' larger
+    // ray clearance moves secondary ray origins, which changes no shadow ray's visibility
+    // here and no emission (the lights' emission does not depend on the point); a BSDF ray
+    // of lux's sampling, though, may graze the glowing mesh's edge from one origin and miss
+    // it from the other (one pixel of 4800 at 2e-3 with some BSDFs' directions), so lux's
+    // sampling is compared below, to rounding.
     let mut exact = s.clone();
     exact
         .instances
@@ -144,7 +159,7 @@ fn instanced_render_equals_flattened_render() {
         .unwrap();
     tinted.shadow.color = DVec3::ZERO;
     tinted.shadow.distance = -1.0;
-    assert_eq!(render_difference(&exact), (0, 0.0));
+    assert_eq!(render_difference(&exact, SamplingMode::Reference), (0, 0.0));
     // The full scene differs by rounding only:
     // - the ShadowAPI falloff of /Tinted reads first_occluder's f32 distance, which for an
     //   instance is computed in prototype space: the same distance up to f32 rounding
@@ -153,6 +168,6 @@ fn instanced_render_equals_flattened_render() {
     //   prototype's corner order (b0 = 1 − b1 − b2 and the sum in that order), flattening in
     //   the reversed order: the same up to f64 rounding.
     // Pixels (f32) therefore differ by at most a few ulps (2⁻²³ ≈ 1.2e-7 relative).
-    let (_, worst) = render_difference(&s);
+    let (_, worst) = render_difference(&s, SamplingMode::Lux);
     assert!(worst < 1e-6, "{worst}");
 }
