@@ -98,6 +98,16 @@ fn for_each_asset(scene: &mut Scene, f: &mut dyn FnMut(&mut AssetRef)) {
                 }
             }
         }
+        // …and of the network it was flattened from.
+        for n in m.network.iter_mut().flat_map(|g| g.nodes.iter_mut()) {
+            for i in &mut n.inputs {
+                if let lux_usd::shading::NetSource::Value(lux_usd::shading::Value::File(v)) =
+                    &mut i.source
+                {
+                    f(&mut v.asset);
+                }
+            }
+        }
     }
 }
 
