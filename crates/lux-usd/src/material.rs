@@ -443,14 +443,16 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
     if let Some(node) = surface
         && node.nodedef.is_some()
     {
+        let graph = crate::shading::flatten(&network);
         // The renderer draws a MaterialX surface from the graph (from either terminal): the
-        // UsdPreviewSurface fields' "default grey" does not apply to it.
-        if node.nodedef.as_deref() != Some("UsdPreviewSurface") {
+        // UsdPreviewSurface fields' "default grey" does not apply to it — unless the shader
+        // is none MaterialX knows (a `PxrSurface`), whose graph has no surface.
+        if node.nodedef.as_deref() != Some("UsdPreviewSurface") && graph.surface.is_some() {
             r.warnings.retain(|w| {
                 !(w.prim == path && (w.message == NOT_PREVIEW_SURFACE || w.message == NO_SURFACE))
             });
         }
-        out.graph = Some(Box::new(crate::shading::flatten(&network)));
+        out.graph = Some(Box::new(graph));
         out.network = Some(Box::new(network));
     }
     // One warning per problem, whichever of the two readings found it first.

@@ -1033,8 +1033,10 @@ impl InputLoader {
                 .map(Param::Texture),
         };
         let primvars = self.primvars.clone();
+        // A graph whose surface shader MaterialX does not define (a `PxrSurface`) has no
+        // surface: such a material stays the default grey, as lux-usd warned.
         if surfaces == SurfaceModel::Preview
-            && let Some(g) = &m.graph
+            && let Some(g) = m.graph.as_deref().filter(|g| g.surface.is_some())
         {
             return self.graph_shader(m, g, diffuse, emission);
         }
