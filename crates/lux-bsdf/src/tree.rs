@@ -63,7 +63,21 @@ fn children(n: &Option<Node>, i: usize) -> [Option<usize>; 2] {
 }
 
 impl Prepared {
-    pub fn new(b: &Bsdf) -> Prepared {
+    /// No closure (black); [`Prepared::fill`] resolves a tree into it.
+    pub fn empty() -> Prepared {
+        Prepared {
+            leaves: [None; MAX_LEAVES],
+            mult: [DVec3::ZERO; MAX_LEAVES],
+            prob: [0.0; MAX_LEAVES],
+            albedo: DVec3::ZERO,
+            total: 0.0,
+            len: 0,
+        }
+    }
+
+    /// Resolves `b` into `self` (which must be [`Prepared::empty`]), in place: the leaves are
+    /// written where they stay rather than moved there.
+    pub fn fill(&mut self, b: &Bsdf) {
         let nodes = b.node_slice();
         let len = nodes.len();
         // Which nodes the root reaches (only their closures are prepared).
@@ -78,7 +92,7 @@ impl Prepared {
                 }
             }
         }
-        let mut leaves: [Option<Leaf>; MAX_LEAVES] = [None; MAX_LEAVES];
+        let leaves = &mut self.leaves;
         let mut leaf_albedo = [DVec3::ZERO; MAX_LEAVES];
         let mut leaf_node = [0usize; MAX_LEAVES];
         let mut n_leaves = 0;
@@ -162,8 +176,8 @@ impl Prepared {
                 Some(Node::Multiply { a, weight }) => add(Some(a), nonneg(weight)),
             }
         }
-        let mut mult = [DVec3::ZERO; MAX_LEAVES];
-        let mut prob = [0.0; MAX_LEAVES];
+        let mult = &mut self.mult;
+        let prob = &mut self.prob;
         let mut total = 0.0;
         for k in 0..n_leaves {
             mult[k] = node_mult[leaf_node[k]];
@@ -183,14 +197,9 @@ impl Prepared {
         } else {
             DVec3::ZERO
         };
-        Prepared {
-            leaves,
-            mult,
-            prob,
-            albedo,
-            total,
-            len: n_leaves,
-        }
+        self.albedo = albedo;
+        self.total = total;
+        self.len = n_leaves;
     }
 
     pub fn eval(&self, wi: DVec3) -> Eval {
