@@ -466,6 +466,9 @@ mod tests {
             .zip(super::TABLES_BIN.chunks_exact(8))
             .filter(|(a, b)| a != b)
             .count();
-        assert_eq!(differ, 0, "{differ} table entries differ from albedo_tables.bin");
+        assert_eq!(
+            differ, 0,
+            "{differ} table entries differ from albedo_tables.bin"
+        );
     }
 }

@@ -210,14 +210,7 @@ impl Leaf {
                 (Kind::Microfacet(l), a)
             }
         };
-        Some((
-            Leaf {
-                frame: f,
-                wo,
-                kind,
-            },
-            c(albedo),
-        ))
+        Some((Leaf { frame: f, wo, kind }, c(albedo)))
     }
 
     pub fn local(&self, v: DVec3) -> DVec3 {
