@@ -40,7 +40,6 @@ pub(crate) struct Leaf {
     pub frame: Frame,
     pub wo: DVec3,
     pub kind: Kind,
-    pub albedo: DVec3,
 }
 
 fn frame_of(c: &Closure) -> Frame {
@@ -57,9 +56,14 @@ fn frame_of(c: &Closure) -> Frame {
 }
 
 impl Leaf {
-    /// Prepares `cl` for the world direction `wo`; `None` when `ωo` grazes its frame or the
-    /// frame is broken.
-    pub fn new(cl: &Closure, wo_world: DVec3, entering: bool, thin_walled: bool) -> Option<Leaf> {
+    /// Prepares `cl` for the world direction `wo`, with its directional albedo; `None` when
+    /// `ωo` grazes its frame or the frame is broken.
+    pub fn new(
+        cl: &Closure,
+        wo_world: DVec3,
+        entering: bool,
+        thin_walled: bool,
+    ) -> Option<(Leaf, DVec3)> {
         let mut f = frame_of(cl);
         if !(f.n.is_finite() && f.t.is_finite() && f.b.is_finite()) {
             return None;
@@ -206,13 +210,7 @@ impl Leaf {
                 (Kind::Microfacet(l), a)
             }
         };
-        let albedo = c(albedo);
-        Some(Leaf {
-            frame: f,
-            wo,
-            kind,
-            albedo,
-        })
+        Some((Leaf { frame: f, wo, kind }, c(albedo)))
     }
 
     pub fn local(&self, v: DVec3) -> DVec3 {

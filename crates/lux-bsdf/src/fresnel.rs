@@ -93,7 +93,7 @@ const COS_MAX: f64 = 1.0 / 7.0;
 /// The dip coefficient of the generalized Schlick curve,
 /// `a = [r0 + (r90 − r0)(1 − cosθmax)^q](1 − t) / (cosθmax (1 − cosθmax)⁶)`.
 pub fn schlick_dip(r0: DVec3, t: DVec3, r90: DVec3, q: f64) -> DVec3 {
-    let base = r0 + (r90 - r0) * (1.0 - COS_MAX).powf(q);
+    let base = r0 + (r90 - r0) * pow_q(1.0 - COS_MAX, q);
     base * (DVec3::ONE - t) / (COS_MAX * (1.0 - COS_MAX).powi(6))
 }
 
@@ -101,10 +101,27 @@ pub fn schlick_dip(r0: DVec3, t: DVec3, r90: DVec3, q: f64) -> DVec3 {
 /// `F = r0 + (r90 − r0)(1 − c)^q − a c (1 − c)⁶` with `a` from [`schlick_dip`], clamped to
 /// `[0, 1]` per channel so that `1 − F` stays a transmittance.
 pub fn schlick(cos: f64, r0: DVec3, t: DVec3, r90: DVec3, q: f64) -> DVec3 {
+    schlick_with_dip(cos, r0, r90, q, schlick_dip(r0, t, r90, q))
+}
+
+/// [`schlick`] with its dip coefficient `a` ([`schlick_dip`]) computed beforehand.
+pub(crate) fn schlick_with_dip(cos: f64, r0: DVec3, r90: DVec3, q: f64, a: DVec3) -> DVec3 {
     let c = cos.abs().min(1.0);
-    let a = schlick_dip(r0, t, r90, q);
-    let f = r0 + (r90 - r0) * (1.0 - c).powf(q) - a * (c * (1.0 - c).powi(6));
+    let m = 1.0 - c;
+    let m2 = m * m;
+    let f = r0 + (r90 - r0) * pow_q(m, q) - a * (c * (m2 * m2 * m2));
     f.clamp(DVec3::ZERO, DVec3::ONE)
+}
+
+/// `x^q` by multiplications for Schlick's usual exponent 5, else `powf`.
+#[inline]
+pub(crate) fn pow_q(x: f64, q: f64) -> f64 {
+    if q == 5.0 {
+        let x2 = x * x;
+        x2 * x2 * x
+    } else {
+        x.powf(q)
+    }
 }
 
 /// Cosine-weighted hemispherical average `2∫₀¹ F(μ) μ dμ` of the generalized Schlick curve, in

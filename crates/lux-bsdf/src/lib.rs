@@ -390,10 +390,12 @@ impl Bsdf {
     /// combinators' coefficients), for several queries at one shading point: each method of
     /// [`Bsdf`] resolves the tree anew, [`PreparedBsdf`]'s do not.
     pub fn prepare(&self) -> PreparedBsdf {
-        PreparedBsdf {
-            tree: tree::Prepared::new(self),
+        let mut out = PreparedBsdf {
+            tree: tree::Prepared::empty(),
             ng: self.ng,
-        }
+        };
+        out.tree.fill(self);
+        out
     }
 
     /// Whether the tree reflects and transmits nothing (every closure's contribution

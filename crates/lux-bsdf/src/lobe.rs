@@ -47,6 +47,8 @@ pub(crate) enum Fresnel {
         t: DVec3,
         r90: DVec3,
         q: f64,
+        /// [`fresnel::schlick_dip`] of the four.
+        dip: DVec3,
     },
     /// No Fresnel curve (`ior = 0`): reflect everything.
     One,
@@ -111,7 +113,7 @@ impl Lobe {
                 Some((d, n)) => airy(cos, d, n, Substrate::Conductor(eta, k)),
                 None => fresnel::conductor(cos, eta, k),
             },
-            Fresnel::Schlick { r0, t, r90, q } => match self.film {
+            Fresnel::Schlick { r0, t, r90, q, dip } => match self.film {
                 Some((d, n)) => {
                     let s = Substrate::Schlick {
                         r0,
@@ -122,7 +124,7 @@ impl Lobe {
                     };
                     airy(cos, d, n, s)
                 }
-                None => fresnel::schlick(cos, r0, t, r90, q),
+                None => fresnel::schlick_with_dip(cos, r0, r90, q, dip),
             },
         };
         if self.thin { fresnel::slab(f) } else { f }

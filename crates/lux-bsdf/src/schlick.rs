@@ -62,6 +62,7 @@ pub(crate) fn lobe(i: &Inputs, wo: DVec3, entering: bool, thin_walled: bool) -> 
             t: i.t,
             r90: i.r90,
             q,
+            dip: fresnel::schlick_dip(i.r0, i.t, i.r90, q),
         },
         eta,
         mode: i.mode,
@@ -95,18 +96,22 @@ pub(crate) fn lobe(i: &Inputs, wo: DVec3, entering: bool, thin_walled: bool) -> 
             fresnel::schlick_average(i.r0, i.t, i.r90, q),
         )
     };
-    let (er, et, k) = if thin {
-        let er = ess * fresnel::slab((es / ess).min(DVec3::ONE));
-        (er, DVec3::splat(ess) - er, 1.0 / ess)
-    } else {
-        let (dr, dt) = albedo::dielectric(mu, a, eta);
-        let fd = fresnel_average(eta, false);
-        let scale = if fd < 1.0 {
-            (DVec3::ONE - fbar) / (1.0 - fd)
+    // Reflection and transmission albedos and the normalisation of `T`/`RT` (unused by `R`,
+    // whose compensation needs neither: skipping them spares the dielectric lookups).
+    let split = || {
+        if thin {
+            let er = ess * fresnel::slab((es / ess).min(DVec3::ONE));
+            (er, DVec3::splat(ess) - er, 1.0 / ess)
         } else {
-            DVec3::ZERO
-        };
-        (es, dt * scale, 1.0 / (dr + dt).max(1e-6))
+            let (dr, dt) = albedo::dielectric(mu, a, eta);
+            let fd = fresnel_average(eta, false);
+            let scale = if fd < 1.0 {
+                (DVec3::ONE - fbar) / (1.0 - fd)
+            } else {
+                DVec3::ZERO
+            };
+            (es, dt * scale, 1.0 / (dr + dt).max(1e-6))
+        }
     };
     let alb = match i.mode {
         ScatterMode::R => {
@@ -114,10 +119,12 @@ pub(crate) fn lobe(i: &Inputs, wo: DVec3, entering: bool, thin_walled: bool) -> 
             es * l.k_r
         }
         ScatterMode::T => {
+            let (_, et, k) = split();
             l.k_t = DVec3::splat(k);
             et * k
         }
         ScatterMode::Rt => {
+            let (er, et, k) = split();
             l.k_r = DVec3::splat(k);
             l.k_t = DVec3::splat(k);
             (er + et) * k

@@ -31,38 +31,97 @@ fn mean(v: DVec3) -> f64 {
     (v.x + v.y + v.z) / 3.0
 }
 
-/// The tree resolved for `ωo`.
+/// Most closures reachable from the root: each of `L` reachable closures needs its own path
+/// of two-input combinators to the root, at least `L − 1` of them, so `2L − 1 ≤ MAX_NODES`.
+const MAX_LEAVES: usize = MAX_NODES.div_ceil(2);
+
+/// The tree resolved for `ωo`: its reachable closures in node order, each with its `cₖ` and
+/// selection probability (nodes the root does not reach are left out; they contribute
+/// nothing).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Prepared {
-    pub leaves: [Option<Leaf>; MAX_NODES],
-    /// `cₖ` per node (the coefficient of that node's `f` in the root's).
-    pub mult: [DVec3; MAX_NODES],
-    /// Selection probability per node (leaves only).
-    pub prob: [f64; MAX_NODES],
+    pub leaves: [Option<Leaf>; MAX_LEAVES],
+    /// `cₖ` per leaf (the coefficient of that closure's `f` in the root's).
+    pub mult: [DVec3; MAX_LEAVES],
+    /// Selection probability per leaf.
+    pub prob: [f64; MAX_LEAVES],
     pub albedo: DVec3,
     pub total: f64,
     pub len: usize,
 }
 
+/// The children of node `i` (those with smaller ids; others are absent), in order.
+fn children(n: &Option<Node>, i: usize) -> [Option<usize>; 2] {
+    let child = |c: Option<NodeId>| c.map(|c| c.0 as usize).filter(|&c| c < i);
+    match *n {
+        None | Some(Node::Closure(_)) => [None, None],
+        Some(Node::Layer { top, base }) => [child(Some(top)), child(base)],
+        Some(Node::Mix { fg, bg, .. }) => [child(fg), child(bg)],
+        Some(Node::Add { a, b }) => [child(a), child(b)],
+        Some(Node::Multiply { a, .. }) => [child(Some(a)), None],
+    }
+}
+
 impl Prepared {
-    pub fn new(b: &Bsdf) -> Prepared {
+    /// No closure (black); [`Prepared::fill`] resolves a tree into it.
+    pub fn empty() -> Prepared {
+        Prepared {
+            leaves: [None; MAX_LEAVES],
+            mult: [DVec3::ZERO; MAX_LEAVES],
+            prob: [0.0; MAX_LEAVES],
+            albedo: DVec3::ZERO,
+            total: 0.0,
+            len: 0,
+        }
+    }
+
+    /// Resolves `b` into `self` (which must be [`Prepared::empty`]), in place: the leaves are
+    /// written where they stay rather than moved there.
+    pub fn fill(&mut self, b: &Bsdf) {
         let nodes = b.node_slice();
         let len = nodes.len();
-        let mut leaves: [Option<Leaf>; MAX_NODES] = [None; MAX_NODES];
+        // Which nodes the root reaches (only their closures are prepared).
+        let mut reach = [false; MAX_NODES];
+        if len > 0 {
+            reach[len - 1] = true;
+        }
+        for i in (0..len).rev() {
+            if reach[i] {
+                for c in children(&nodes[i], i).into_iter().flatten() {
+                    reach[c] = true;
+                }
+            }
+        }
+        let leaves = &mut self.leaves;
+        let mut leaf_albedo = [DVec3::ZERO; MAX_LEAVES];
+        let mut leaf_node = [0usize; MAX_LEAVES];
+        let mut n_leaves = 0;
         let mut alb = [DVec3::ZERO; MAX_NODES];
         let child = |c: Option<NodeId>, i: usize| c.map(|c| c.0 as usize).filter(|&c| c < i);
         let wo = b.wo_dir();
         for (i, n) in nodes.iter().enumerate() {
             let get = |c: Option<NodeId>| child(c, i).map(|c| alb[c]).unwrap_or(DVec3::ZERO);
             let Some(n) = n else { continue };
+            if !reach[i] {
+                continue;
+            }
             alb[i] = match *n {
                 Node::Closure(cl) => {
-                    leaves[i] = if wo.is_finite() {
+                    let leaf = if wo.is_finite() {
                         Leaf::new(&cl, wo, b.is_entering(), b.is_thin_walled())
                     } else {
                         None
                     };
-                    leaves[i].map(|l| l.albedo).unwrap_or(DVec3::ZERO)
+                    match leaf {
+                        Some((l, a)) if n_leaves < MAX_LEAVES => {
+                            leaves[n_leaves] = Some(l);
+                            leaf_albedo[n_leaves] = a;
+                            leaf_node[n_leaves] = i;
+                            n_leaves += 1;
+                            a
+                        }
+                        _ => DVec3::ZERO,
+                    }
                 }
                 Node::Layer { top, base } => {
                     let t = get(Some(top));
@@ -80,18 +139,18 @@ impl Prepared {
                 Node::Multiply { a, weight } => get(Some(a)) * nonneg(weight),
             };
         }
-        let mut mult = [DVec3::ZERO; MAX_NODES];
+        let mut node_mult = [DVec3::ZERO; MAX_NODES];
         if len > 0 {
-            mult[len - 1] = DVec3::ONE;
+            node_mult[len - 1] = DVec3::ONE;
         }
         for i in (0..len).rev() {
-            let m = mult[i];
+            let m = node_mult[i];
             if m == DVec3::ZERO {
                 continue;
             }
             let mut add = |c: Option<NodeId>, f: DVec3| {
                 if let Some(c) = child(c, i) {
-                    mult[c] += m * f;
+                    node_mult[c] += m * f;
                 }
             };
             let top_albedo = |t: NodeId| child(Some(t), i).map(|t| alb[t]).unwrap_or(DVec3::ZERO);
@@ -117,19 +176,19 @@ impl Prepared {
                 Some(Node::Multiply { a, weight }) => add(Some(a), nonneg(weight)),
             }
         }
-        let mut prob = [0.0; MAX_NODES];
+        let mult = &mut self.mult;
+        let prob = &mut self.prob;
         let mut total = 0.0;
-        for i in 0..len {
-            if let Some(l) = &leaves[i] {
-                let c = mean(mult[i] * l.albedo);
-                if c.is_finite() && c > 0.0 {
-                    prob[i] = c;
-                    total += c;
-                }
+        for k in 0..n_leaves {
+            mult[k] = node_mult[leaf_node[k]];
+            let c = mean(mult[k] * leaf_albedo[k]);
+            if c.is_finite() && c > 0.0 {
+                prob[k] = c;
+                total += c;
             }
         }
         if total > 0.0 {
-            for p in &mut prob[..len] {
+            for p in &mut prob[..n_leaves] {
                 *p /= total;
             }
         }
@@ -138,14 +197,9 @@ impl Prepared {
         } else {
             DVec3::ZERO
         };
-        Prepared {
-            leaves,
-            mult,
-            prob,
-            albedo,
-            total,
-            len,
-        }
+        self.albedo = albedo;
+        self.total = total;
+        self.len = n_leaves;
     }
 
     pub fn eval(&self, wi: DVec3) -> Eval {

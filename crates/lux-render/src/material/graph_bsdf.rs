@@ -49,6 +49,8 @@ impl GraphBsdf {
 
     /// A sampled direction: `u_lobe` chooses the closure, `u` the direction.
     #[inline]
+    // `!(pdf > 0.0)` on purpose: it also rejects NaN.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
     pub fn sample(&self, u: [f64; 2], u_lobe: f64) -> Option<BsdfSample> {
         let s = self.bsdf.sample(u_lobe, u)?;
         if !(s.pdf > 0.0) || !s.weight.is_finite() {

@@ -85,15 +85,26 @@ fn value(arg: &Arg, regs: &[DVec4], ctx: &ShadingContext) -> DVec4 {
 }
 
 /// Runs the program of `shader` at a hit.
+///
+/// The result is built in place (`run` fills it through a reference): the closure tree is a
+/// few kilobytes, and returning it through the register file's closure copied it per hit.
 pub(crate) fn eval(shader: &GraphShader, ctx: &ShadingContext) -> Shaded {
+    let mut out = Shaded {
+        bsdf: Bsdf::new(ctx.wo, ctx.ng, ctx.entering, false),
+        emission: DVec3::ZERO,
+        opacity: 1.0,
+        thin_walled: false,
+    };
     REGISTERS.with(|cell| match cell.try_borrow_mut() {
-        Ok(mut regs) => run(shader, ctx, &mut regs),
+        Ok(mut regs) => run(shader, ctx, &mut regs, &mut out),
         // Re-entered on this thread (not done by lux): a register file of its own.
-        Err(_) => run(shader, ctx, &mut Vec::new()),
-    })
+        Err(_) => run(shader, ctx, &mut Vec::new(), &mut out),
+    });
+    out
 }
 
-fn run(shader: &GraphShader, ctx: &ShadingContext, regs: &mut Vec<DVec4>) -> Shaded {
+/// Fills `out` (as [`eval`] made it: an empty tree, no emission, opaque, not thin-walled).
+fn run(shader: &GraphShader, ctx: &ShadingContext, regs: &mut Vec<DVec4>, out: &mut Shaded) {
     if regs.len() < shader.registers {
         regs.resize(shader.registers, DVec4::ZERO);
     }
@@ -104,7 +115,10 @@ fn run(shader: &GraphShader, ctx: &ShadingContext, regs: &mut Vec<DVec4>) -> Sha
         },
         None => Some(false),
     };
-    let mut bsdf = Bsdf::new(ctx.wo, ctx.ng, ctx.entering, thin_const.unwrap_or(false));
+    if thin_const == Some(true) {
+        out.bsdf = Bsdf::new(ctx.wo, ctx.ng, ctx.entering, true);
+    }
+    let bsdf = &mut out.bsdf;
     let mut args = [DVec4::ZERO; MAX_ARGS];
     for instr in &shader.program {
         let n = instr.args.len().min(MAX_ARGS);
@@ -115,18 +129,13 @@ fn run(shader: &GraphShader, ctx: &ShadingContext, regs: &mut Vec<DVec4>) -> Sha
         let out = match &instr.op {
             Op::Math(_) | Op::Image(_) => apply_pure(&instr.op, a, instr.ty),
             Op::Primvar(slot) => math::canon(geometry::primvar(ctx, *slot, a[0]), instr.ty),
-            Op::Bsdf(op) => closure::push(*op, a, ctx, &mut bsdf),
+            Op::Bsdf(op) => closure::push(*op, a, ctx, bsdf),
             Op::SchlickEdf => closure::schlick_edf(a, ctx),
         };
         regs[instr.out as usize] = out;
     }
     let Some(surface) = &shader.surface else {
-        return Shaded {
-            bsdf,
-            emission: DVec3::ZERO,
-            opacity: 1.0,
-            thin_walled: false,
-        };
+        return;
     };
     // The tree's root is its last node: make sure the surface's closure is (a pass-through
     // combinator may have returned an earlier node), and that nothing is left when it is none.
@@ -139,7 +148,7 @@ fn run(shader: &GraphShader, ctx: &ShadingContext, regs: &mut Vec<DVec4>) -> Sha
             });
         }
         None if count > 0 => {
-            bsdf = Bsdf::new(ctx.wo, ctx.ng, ctx.entering, thin_const.unwrap_or(false))
+            *bsdf = Bsdf::new(ctx.wo, ctx.ng, ctx.entering, thin_const.unwrap_or(false))
         }
         _ => {}
     }
@@ -165,17 +174,14 @@ fn run(shader: &GraphShader, ctx: &ShadingContext, regs: &mut Vec<DVec4>) -> Sha
                 for node in bsdf.nodes() {
                     rebuilt.push(*node);
                 }
-                bsdf = rebuilt;
+                *bsdf = rebuilt;
             }
             t
         }
     };
-    Shaded {
-        bsdf,
-        emission,
-        opacity,
-        thin_walled,
-    }
+    out.emission = emission;
+    out.opacity = opacity;
+    out.thin_walled = thin_walled;
 }
 
 /// [`GraphShader::constant_lambert`].
