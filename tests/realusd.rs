@@ -276,13 +276,11 @@ fn lux_info_counts_what_usd_core_counts() {
 /// the arc, its layer and the prim — and a strict load refuses them.
 #[test]
 fn what_usd_core_warns_about_lux_warns_about() {
-    let cases = [
-        (
-            "usdwg/test_assets/foundation/stage_composition/payload/payload_invalid.usda",
-            "/World/invalid_payload",
-            "file_does_not_exist.usda",
-        ),
-    ];
+    let cases = [(
+        "usdwg/test_assets/foundation/stage_composition/payload/payload_invalid.usda",
+        "/World/invalid_payload",
+        "file_does_not_exist.usda",
+    )];
     for (file, prim, what) in cases {
         let s = load_stage_with(path(file), Time::Start, &LoadOptions::default()).unwrap();
         let w = s
@@ -335,7 +333,11 @@ fn materialx_variants_of_the_shader_ball_render_as_authored() {
             let bad = |w: &&lux_usd::Warning| {
                 w.kind == WarningKind::Composition || w.prim.contains("/examples/")
             };
-            assert!(!s.warnings.iter().any(|w| bad(&w)), "{what}: {:#?}", s.warnings);
+            assert!(
+                !s.warnings.iter().any(|w| bad(&w)),
+                "{what}: {:#?}",
+                s.warnings
+            );
             let m = s
                 .materials
                 .iter()
@@ -343,7 +345,11 @@ fn materialx_variants_of_the_shader_ball_render_as_authored() {
                 .unwrap_or_else(|| panic!("{what}: not bound"));
             let g = m.graph.as_ref().expect("a MaterialX graph");
             assert_eq!(g.model, nodedef, "{what}");
-            assert!(g.surface.is_some() && g.notes.is_empty(), "{what}: {:?}", g.notes);
+            assert!(
+                g.surface.is_some() && g.notes.is_empty(),
+                "{what}: {:?}",
+                g.notes
+            );
             let mut options = RenderOptions::new(ResolvedProfile {
                 profile: Profile::Spec,
                 source: ProfileSource::CommandLine,
@@ -355,7 +361,10 @@ fn materialx_variants_of_the_shader_ball_render_as_authored() {
                 .warnings()
                 .filter(|w| w.contains("/examples/"))
                 .collect();
-            assert!(material_warnings.is_empty(), "{what}: {material_warnings:?}");
+            assert!(
+                material_warnings.is_empty(),
+                "{what}: {material_warnings:?}"
+            );
             let (image, _) = renderer.render(&|_| {});
             let sum: f64 = image
                 .pixels
