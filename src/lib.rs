@@ -4,6 +4,7 @@
 //! physical light units and spectra, and the exact irradiance of area lights, as a set of small
 //! crates re-exported here.
 
+pub use lux_bsdf as bsdf;
 pub use lux_ies as ies;
 pub use lux_irradiance as irradiance;
 pub use lux_math as math;

@@ -6,7 +6,9 @@
 - cornell_standard_surface.usda: inline MaterialX standard_surface under outputs:mtlx:surface,
   configured as pure diffuse (specular 0, metalness 0, diffuse_roughness 0);
 - cornell_open_pbr.usda: the same with open_pbr_surface (specular_weight 0, base_metalness 0,
-  base_diffuse_roughness 0).
+  base_diffuse_roughness 0);
+- cornell_standard_surface_default.usda, cornell_open_pbr_default.usda: the models at their
+  defaults but for base_color (specular lobes included), for per-sample timings.
 
 Each keeps cornell.usda's geometry, light and camera; only the three Shader prims change.
 """
@@ -60,6 +62,12 @@ files = {
         ("float", "base_weight", "1"), ("color3f", "base_color", c),
         ("float", "specular_weight", "0"), ("float", "base_metalness", "0"),
         ("float", "base_diffuse_roughness", "0")])),
+    # The models with their defaults but for the colour (specular lobes, roughness): what
+    # BENCHMARKS.md times per sample.
+    "cornell_standard_surface_default.usda": variant(mtlx("ND_standard_surface_surfaceshader",
+        lambda c: [("color3f", "base_color", c)])),
+    "cornell_open_pbr_default.usda": variant(mtlx("ND_open_pbr_surface_surfaceshader",
+        lambda c: [("color3f", "base_color", c)])),
 }
 for name, text in files.items():
     (here / name).write_text(text.replace(")\n\n# A Cornell", ")\n\n" + header + "# A Cornell", 1))

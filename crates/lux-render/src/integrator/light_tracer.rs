@@ -154,10 +154,18 @@ impl<'a> LightTracer<'a> {
             if cos_ng_o <= 0.0 || cos_ns_o == 0.0 {
                 return;
             }
+            // A MaterialX tree need not be reciprocal (`layer` scales its base by the top's
+            // albedo towards the viewer): the particle carries f(ωₒ, ωᵢ), the BSDF seen from
+            // the direction it leaves by, evaluated towards the light it came from.
+            let weight = if sp.bsdf.chooses_lobes() && !bs.delta {
+                let seen = w.materials.at(w.scene, &hit, -bs.wi);
+                seen.bsdf.f(wi) * (cos_ns_o / bs.pdf)
+            } else {
+                bs.weight
+            };
             // f·|nₛ·ωᵢ|·|n_g·ωₒ| / (p·|n_g·ωᵢ|) from the sample's f·|nₛ·ωₒ|/p
             let adjoint = sp.ns.dot(wi).abs() * cos_ng_o / (sp.ng.dot(wi).abs() * cos_ns_o);
-            let step =
-                bs.weight * adjoint * first.map_or(DVec3::ONE, |b| scale(&sp.bsdf, b, bs.wi));
+            let step = weight * adjoint * first.map_or(DVec3::ONE, |b| scale(&sp.bsdf, b, bs.wi));
             beta *= step;
             throughput *= step;
             if depth + 1 >= ROULETTE_DEPTH {
@@ -199,9 +207,17 @@ impl<'a> LightTracer<'a> {
         if cos_c <= 0.0 || (hit.ng.dot(dir) > 0.0 && !w.scene.meshes[hit.mesh].double_sided) {
             return;
         }
+        // A MaterialX tree seen from the camera (it need not be reciprocal), towards the light.
+        let seen;
+        let (bsdf, towards) = if sp.bsdf.chooses_lobes() {
+            seen = w.materials.at(w.scene, hit, dir);
+            (&seen.bsdf, wi)
+        } else {
+            (&sp.bsdf, wc)
+        };
         let f = match first {
-            Some(b) => scaled_f(&sp.bsdf, b, wc),
-            None => sp.bsdf.f(wc),
+            Some(b) => scaled_f(bsdf, b, towards),
+            None => bsdf.f(towards),
         };
         let cos_ng_i = sp.ng.dot(wi).abs();
         if f == DVec3::ZERO || cos_ng_i == 0.0 {
