@@ -318,6 +318,25 @@ fn plain_albedo(
     Some(clamped_albedo(albedo))
 }
 
+/// The normal of a closure node (`None` for a combinator).
+fn closure_normal(node: &lux_bsdf::Node) -> Option<DVec3> {
+    use lux_bsdf::Closure as C;
+    let lux_bsdf::Node::Closure(c) = node else {
+        return None;
+    };
+    let frame = match c {
+        C::OrenNayar { frame, .. }
+        | C::Burley { frame, .. }
+        | C::Translucent { frame, .. }
+        | C::Dielectric { frame, .. }
+        | C::Conductor { frame, .. }
+        | C::GeneralizedSchlick { frame, .. }
+        | C::Sheen { frame, .. }
+        | C::Subsurface { frame, .. } => frame,
+    };
+    frame.n.is_finite().then_some(frame.n)
+}
+
 /// A direction into the surface at `hit` from the side the ray came from (along the geometric
 /// normal): the viewer of what does not depend on the ray's own direction (opacity, emission).
 #[inline]
@@ -768,6 +787,14 @@ impl Materials {
             let shaded = g
                 .shader
                 .eval(&self.context(scene, hit, &at, g, (ns, ng), -d));
+            // The shading normal is the closures' (a normal map's, through `normalmap`): the
+            // first closure's normal where it faces the viewer on the viewer's side.
+            if let Some(n) = shaded.bsdf.nodes().find_map(closure_normal)
+                && n.dot(-d) > 0.0
+                && n.dot(ng) > 0.0
+            {
+                ns = n;
+            }
             return point(
                 ns,
                 Bsdf::Graph(Box::new(GraphBsdf {
