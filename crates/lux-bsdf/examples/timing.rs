@@ -7,6 +7,29 @@ use lux_bsdf::*;
 use std::hint::black_box;
 use std::time::Instant;
 
+/// A smooth-ish dielectric reflection of roughness `alpha`, as the specular layer and the coat.
+fn specular(alpha: f64, frame: Frame) -> Node {
+    Node::Closure(Closure::Dielectric {
+        weight: 1.0,
+        tint: DVec3::ONE,
+        ior: 1.5,
+        alpha: DVec2::splat(alpha),
+        retroreflective: false,
+        thinfilm: ThinFilm::default(),
+        mode: ScatterMode::R,
+        frame,
+    })
+}
+
+/// Pushes `top` layered over `base`.
+fn layer(b: &mut Bsdf, top: NodeId, base: NodeId) -> NodeId {
+    b.push(Node::Layer {
+        top,
+        base: Some(base),
+    })
+    .unwrap()
+}
+
 fn tree(wo: DVec3) -> Bsdf {
     let f = Frame::new(DVec3::Z, DVec3::X);
     let mut b = Bsdf::new(wo, DVec3::Z, true, false);
@@ -19,24 +42,8 @@ fn tree(wo: DVec3) -> Bsdf {
             frame: f,
         }))
         .unwrap();
-    let spec = b
-        .push(Node::Closure(Closure::Dielectric {
-            weight: 1.0,
-            tint: DVec3::ONE,
-            ior: 1.5,
-            alpha: DVec2::splat(0.2),
-            retroreflective: false,
-            thinfilm: ThinFilm::default(),
-            mode: ScatterMode::R,
-            frame: f,
-        }))
-        .unwrap();
-    let dielectric = b
-        .push(Node::Layer {
-            top: spec,
-            base: Some(diffuse),
-        })
-        .unwrap();
+    let spec = b.push(specular(0.2, f)).unwrap();
+    let dielectric = layer(&mut b, spec, diffuse);
     let metal = b
         .push(Node::Closure(Closure::Conductor {
             weight: 1.0,
@@ -64,30 +71,19 @@ fn tree(wo: DVec3) -> Bsdf {
             frame: f,
         }))
         .unwrap();
-    let sheened = b
-        .push(Node::Layer {
-            top: sheen,
-            base: Some(base),
-        })
-        .unwrap();
-    let coat = b
-        .push(Node::Closure(Closure::Dielectric {
-            weight: 1.0,
-            tint: DVec3::ONE,
-            ior: 1.5,
-            alpha: DVec2::splat(0.05),
-            retroreflective: false,
-            thinfilm: ThinFilm::default(),
-            mode: ScatterMode::R,
-            frame: f,
-        }))
-        .unwrap();
-    b.push(Node::Layer {
-        top: coat,
-        base: Some(sheened),
-    })
-    .unwrap();
+    let sheened = layer(&mut b, sheen, base);
+    let coat = b.push(specular(0.05, f)).unwrap();
+    layer(&mut b, coat, sheened);
     b
+}
+
+/// Runs `f(i)` for `i` in `0..n` and prints the mean time a call after `label`.
+fn time(label: &str, n: usize, mut f: impl FnMut(usize)) {
+    let t = Instant::now();
+    for i in 0..n {
+        f(i);
+    }
+    println!("{label} {:.0} ns", t.elapsed().as_nanos() as f64 / n as f64);
 }
 
 fn main() {
@@ -98,53 +94,31 @@ fn main() {
     let wo = DVec3::new(0.6, 0.0, 0.8);
     let b = tree(wo);
     let wi = DVec3::new(-0.3, 0.2, 0.9).normalize();
-    let t = Instant::now();
-    for i in 0..n {
+    let u = |i: usize| (i as f64 + 0.5) / n as f64;
+    time("eval:  ", n, |i| {
         black_box(black_box(&b).eval(black_box(wi + DVec3::X * (i as f64 * 1e-9))));
-    }
-    println!("eval:   {:.0} ns", t.elapsed().as_nanos() as f64 / n as f64);
-    let t = Instant::now();
-    for _ in 0..n {
+    });
+    time("pdf:   ", n, |_| {
         black_box(black_box(&b).pdf(black_box(wi)));
-    }
-    println!("pdf:    {:.0} ns", t.elapsed().as_nanos() as f64 / n as f64);
-    let t = Instant::now();
-    for i in 0..n {
-        let u = (i as f64 + 0.5) / n as f64;
+    });
+    time("sample:", n, |i| {
+        let u = u(i);
         black_box(black_box(&b).sample(u, [u * 7.0 % 1.0, u * 13.0 % 1.0]));
-    }
-    println!("sample: {:.0} ns", t.elapsed().as_nanos() as f64 / n as f64);
-    let t = Instant::now();
-    for _ in 0..n {
+    });
+    time("albedo:", n, |_| {
         black_box(black_box(&b).albedo());
-    }
-    println!("albedo: {:.0} ns", t.elapsed().as_nanos() as f64 / n as f64);
+    });
     let p = b.prepare();
-    let t = Instant::now();
-    for i in 0..n {
+    time("prepared eval:  ", n, |i| {
         black_box(black_box(&p).eval(black_box(wi + DVec3::X * (i as f64 * 1e-9))));
-    }
-    println!(
-        "prepared eval:   {:.0} ns",
-        t.elapsed().as_nanos() as f64 / n as f64
-    );
-    let t = Instant::now();
-    for i in 0..n {
-        let u = (i as f64 + 0.5) / n as f64;
+    });
+    time("prepared sample:", n, |i| {
+        let u = u(i);
         black_box(black_box(&p).sample(u, [u * 7.0 % 1.0, u * 13.0 % 1.0]));
-    }
-    println!(
-        "prepared sample: {:.0} ns",
-        t.elapsed().as_nanos() as f64 / n as f64
-    );
-    let t = Instant::now();
-    for _ in 0..n {
+    });
+    time("prepare:", n, |_| {
         black_box(black_box(&b).prepare());
-    }
-    println!(
-        "prepare: {:.0} ns",
-        t.elapsed().as_nanos() as f64 / n as f64
-    );
+    });
     println!("size_of::<Bsdf>() = {} bytes", std::mem::size_of::<Bsdf>());
     println!(
         "size_of::<PreparedBsdf>() = {} bytes",

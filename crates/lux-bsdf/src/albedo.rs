@@ -208,68 +208,81 @@ pub fn generate() -> Vec<u8> {
     out
 }
 
+/// The sums `h(acc, wo, ggx, G1(wo), m)` over a `grid × grid` lattice of GGX visible normals
+/// `m`, divided by the lattice's size, at the table point of cosine coordinate `t_mu` and
+/// roughness coordinate `t_alpha` (both in `[0, 1]`).
+fn cell_mean<const S: usize>(
+    t_mu: f64,
+    t_alpha: f64,
+    grid: usize,
+    mut h: impl FnMut(&mut [f64; S], DVec3, &Ggx, f64, DVec3),
+) -> [f64; S] {
+    let wo = wo_of(mu_of(t_mu));
+    let d = Ggx::new(DVec2::splat(alpha_of(t_alpha)));
+    let g1 = d.g1(wo);
+    let mut acc = [0.0; S];
+    visible_mean(&d, wo, grid, |m| h(&mut acc, wo, &d, g1, m));
+    acc.map(|a| a / (grid * grid) as f64)
+}
+
 fn build() -> Tables {
     let mut ggx = vec![0.0; N_MU * N_ALPHA * GGX_STRIDE];
     for i in 0..N_MU {
-        let wo = wo_of(mu_of(i as f64 / (N_MU - 1) as f64));
         for j in 0..N_ALPHA {
-            let a = alpha_of(j as f64 / (N_ALPHA - 1) as f64);
-            let d = Ggx::new(DVec2::splat(a));
-            let g1 = d.g1(wo);
-            let mut acc = [0.0; GGX_STRIDE];
-            visible_mean(&d, wo, GRID, |m| {
-                let wi = reflect(wo, m);
-                if wi.z <= 0.0 {
-                    return;
-                }
-                let w = d.g2(wo, wi) / g1;
-                let c = wo.dot(m).clamp(0.0, 1.0);
-                acc[0] += w;
-                acc[1] += w * c * (1.0 - c).powi(6);
-                for k in 0..N_Q {
-                    acc[2 + k] += w * (1.0 - c).powf(q_of(k));
-                }
-                let dc = c - wo.z;
-                let b = (((dc + 1.0) * 0.5 * N_C as f64) as usize).min(N_C - 1);
-                acc[2 + N_Q + 2 * b] += w;
-                acc[3 + N_Q + 2 * b] += w * dc;
-            });
+            let acc = cell_mean::<GGX_STRIDE>(
+                i as f64 / (N_MU - 1) as f64,
+                j as f64 / (N_ALPHA - 1) as f64,
+                GRID,
+                |acc, wo, d, g1, m| {
+                    let wi = reflect(wo, m);
+                    if wi.z <= 0.0 {
+                        return;
+                    }
+                    let w = d.g2(wo, wi) / g1;
+                    let c = wo.dot(m).clamp(0.0, 1.0);
+                    acc[0] += w;
+                    acc[1] += w * c * (1.0 - c).powi(6);
+                    for k in 0..N_Q {
+                        acc[2 + k] += w * (1.0 - c).powf(q_of(k));
+                    }
+                    let dc = c - wo.z;
+                    let b = (((dc + 1.0) * 0.5 * N_C as f64) as usize).min(N_C - 1);
+                    acc[2 + N_Q + 2 * b] += w;
+                    acc[3 + N_Q + 2 * b] += w * dc;
+                },
+            );
             let o = (i * N_ALPHA + j) * GGX_STRIDE;
-            for k in 0..GGX_STRIDE {
-                ggx[o + k] = acc[k] / (GRID * GRID) as f64;
-            }
+            ggx[o..o + GGX_STRIDE].copy_from_slice(&acc);
         }
     }
     let mut diel = vec![0.0; N_ETA * N_MU_D * N_ALPHA_D * DIEL_STRIDE];
     for e in 0..N_ETA {
         let eta = eta_of(e);
         for i in 0..N_MU_D {
-            let wo = wo_of(mu_of(i as f64 / (N_MU_D - 1) as f64));
             for j in 0..N_ALPHA_D {
-                let a = alpha_of(j as f64 / (N_ALPHA_D - 1) as f64);
-                let d = Ggx::new(DVec2::splat(a));
-                let g1 = d.g1(wo);
-                let mut acc = [0.0; DIEL_STRIDE];
-                visible_mean(&d, wo, GRID_D, |m| {
-                    let c = wo.dot(m);
-                    let wr = reflect(wo, m);
-                    for (side, et) in [(0usize, eta), (2, 1.0 / eta)] {
-                        let f = fresnel::dielectric(c, et);
-                        if wr.z > 0.0 {
-                            acc[side] += f * d.g2(wo, wr) / g1;
+                let acc = cell_mean::<DIEL_STRIDE>(
+                    i as f64 / (N_MU_D - 1) as f64,
+                    j as f64 / (N_ALPHA_D - 1) as f64,
+                    GRID_D,
+                    |acc, wo, d, g1, m| {
+                        let c = wo.dot(m);
+                        let wr = reflect(wo, m);
+                        for (side, et) in [(0usize, eta), (2, 1.0 / eta)] {
+                            let f = fresnel::dielectric(c, et);
+                            if wr.z > 0.0 {
+                                acc[side] += f * d.g2(wo, wr) / g1;
+                            }
+                            if f < 1.0
+                                && let Some(wt) = refract(wo, m, et)
+                                && wt.z < 0.0
+                            {
+                                acc[side + 1] += (1.0 - f) * d.g2(wo, wt) / g1;
+                            }
                         }
-                        if f < 1.0
-                            && let Some(wt) = refract(wo, m, et)
-                            && wt.z < 0.0
-                        {
-                            acc[side + 1] += (1.0 - f) * d.g2(wo, wt) / g1;
-                        }
-                    }
-                });
+                    },
+                );
                 let o = ((e * N_MU_D + i) * N_ALPHA_D + j) * DIEL_STRIDE;
-                for k in 0..DIEL_STRIDE {
-                    diel[o + k] = acc[k] / (GRID_D * GRID_D) as f64;
-                }
+                diel[o..o + DIEL_STRIDE].copy_from_slice(&acc);
             }
         }
     }

@@ -169,6 +169,11 @@ fn flat(file: &str, material: &str) -> ShadingGraph {
     flatten(&net)
 }
 
+/// The names of a network's nodes, in order.
+fn node_names(net: &Network) -> Vec<&str> {
+    net.nodes.iter().map(|n| n.name.as_str()).collect()
+}
+
 /// The node feeding input `input` of `node`, and which of its outputs.
 fn upstream<'g>(g: &'g ShadingGraph, node: &GraphNode, input: &str) -> (&'g GraphNode, usize) {
     match &node.input(input).unwrap().source {
@@ -312,9 +317,8 @@ fn nodegraphs_fileprefix_colorspace_and_looks() {
     assert_eq!(look.assigns[1].collection.as_deref(), Some("C_props"));
 
     let net = doc.network("M_wood").unwrap();
-    let names: Vec<&str> = net.nodes.iter().map(|n| n.name.as_str()).collect();
     assert_eq!(
-        names,
+        node_names(&net),
         [
             "graph.mtlx:/SR_wood",
             "graph.mtlx:/NG_wood/tinted",
@@ -472,9 +476,8 @@ fn bad_documents_are_typed_errors() {
 fn custom_nodes_of_the_document_and_versions() {
     let doc = read_document(&data("custom_node.mtlx")).unwrap();
     let net = doc.network("M").unwrap();
-    let names: Vec<&str> = net.nodes.iter().map(|n| n.name.as_str()).collect();
     assert_eq!(
-        names,
+        node_names(&net),
         [
             "custom_node.mtlx:/SR",
             "custom_node.mtlx:/t1/m",

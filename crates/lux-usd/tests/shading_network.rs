@@ -7,7 +7,7 @@ use lux_usd::reader::Reader;
 use lux_usd::shading::{Connection, NetInput, NetNode, NetSource, Network, Value, ValueType};
 use lux_usd::{LoadOptions, Warning, load_stage, read_network};
 use openusd::usd::Stage;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 fn data(file: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -15,18 +15,33 @@ fn data(file: &str) -> PathBuf {
         .join(file)
 }
 
-/// The network of `material` in `file`, with the warnings reading it gave.
-fn network(file: &str, material: &str) -> (Network, Vec<Warning>) {
-    let path = data(file);
-    let stage = Stage::open(path.to_str().unwrap()).unwrap();
-    let mut r = Reader {
-        stage: &stage,
-        file: path.clone(),
+/// A reader of `stage`, opened from `file`, at time 1 with the default options.
+fn reader<'s>(stage: &'s Stage, file: &Path) -> Reader<'s> {
+    Reader {
+        stage,
+        file: file.to_path_buf(),
         time: 1.0,
         warnings: Vec::new(),
         type_warnings: Default::default(),
         limits: LoadOptions::default(),
-    };
+    }
+}
+
+/// Writes `text` to a layer `name` in a new temporary directory `{prefix}{process id}`: the
+/// directory and the layer's path.
+fn temp_layer(prefix: &str, name: &str, text: &str) -> (PathBuf, PathBuf) {
+    let dir = std::env::temp_dir().join(format!("{prefix}{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join(name);
+    std::fs::write(&file, text).unwrap();
+    (dir, file)
+}
+
+/// The network of `material` in `file`, with the warnings reading it gave.
+fn network(file: &str, material: &str) -> (Network, Vec<Warning>) {
+    let path = data(file);
+    let stage = Stage::open(path.to_str().unwrap()).unwrap();
+    let mut r = reader(&stage, &path);
     let n = read_network(&mut r, material).unwrap();
     (n, r.warnings)
 }
@@ -357,11 +372,9 @@ fn materials_carry_their_graph() {
 /// property that is not an attribute path: no nodes, no panic.
 #[test]
 fn unreadable_terminals_give_empty_networks() {
-    let dir = std::env::temp_dir().join(format!("lux-usdnet-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("empty.usda");
-    std::fs::write(
-        &file,
+    let (dir, file) = temp_layer(
+        "lux-usdnet-",
+        "empty.usda",
         r#"#usda 1.0
 def Material "NoSurface"
 {
@@ -379,17 +392,9 @@ def Xform "X"
 {
 }
 "#,
-    )
-    .unwrap();
+    );
     let stage = Stage::open(file.to_str().unwrap()).unwrap();
-    let mut r = Reader {
-        stage: &stage,
-        file: file.clone(),
-        time: 1.0,
-        warnings: Vec::new(),
-        type_warnings: Default::default(),
-        limits: LoadOptions::default(),
-    };
+    let mut r = reader(&stage, &file);
     for m in [
         "/NoSurface",
         "/ToInput",
@@ -414,11 +419,9 @@ def Xform "X"
 /// `outputs:surface` is read instead; without one, the unidentified shader is the surface.
 #[test]
 fn mtlx_surface_without_an_id_falls_back_to_the_universal_surface() {
-    let dir = std::env::temp_dir().join(format!("lux-usdnet-id-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("fallback.usda");
-    std::fs::write(
-        &file,
+    let (dir, file) = temp_layer(
+        "lux-usdnet-id-",
+        "fallback.usda",
         r#"#usda 1.0
 def Material "M"
 {
@@ -441,17 +444,9 @@ def Material "Only"
     token outputs:mtlx:surface.connect = </M/Custom.outputs:out>
 }
 "#,
-    )
-    .unwrap();
+    );
     let stage = Stage::open(file.to_str().unwrap()).unwrap();
-    let mut r = Reader {
-        stage: &stage,
-        file: file.clone(),
-        time: 1.0,
-        warnings: Vec::new(),
-        type_warnings: Default::default(),
-        limits: LoadOptions::default(),
-    };
+    let mut r = reader(&stage, &file);
     let n = read_network(&mut r, "/M").unwrap();
     assert_eq!(n.nodes.len(), 1, "{n:#?}");
     assert_eq!(n.nodes[0].name, "/M/Preview");

@@ -38,9 +38,26 @@ impl Input {
     /// An input holding a constant.
     pub fn constant(name: &str, ty: ValueType, value: Value) -> Input {
         Input {
-            name: name.to_string(),
-            ty: Some(ty),
             value: Some(value),
+            ..Input::unconnected(name, Some(ty))
+        }
+    }
+
+    /// An input connected to node `node` (output `output`, when it has several).
+    pub fn connected(name: &str, ty: Option<ValueType>, node: &str, output: Option<&str>) -> Input {
+        Input {
+            nodename: Some(node.to_string()),
+            output: output.map(str::to_string),
+            ..Input::unconnected(name, ty)
+        }
+    }
+
+    /// An input with neither value nor connection, at line 0.
+    fn unconnected(name: &str, ty: Option<ValueType>) -> Input {
+        Input {
+            name: name.to_string(),
+            ty,
+            value: None,
             nodename: None,
             nodegraph: None,
             output: None,
@@ -50,18 +67,18 @@ impl Input {
         }
     }
 
-    /// An input connected to node `node` (output `output`, when it has several).
-    pub fn connected(name: &str, ty: Option<ValueType>, node: &str, output: Option<&str>) -> Input {
+    /// An input named `name` of type `ty` reading what the nodegraph output `out` reads.
+    fn through_output(name: String, ty: Option<ValueType>, out: &Output) -> Input {
         Input {
-            name: name.to_string(),
+            name,
             ty,
             value: None,
-            nodename: Some(node.to_string()),
+            nodename: out.nodename.clone(),
             nodegraph: None,
-            output: output.map(str::to_string),
-            interfacename: None,
+            output: out.output.clone(),
+            interfacename: out.interfacename.clone(),
             channels: None,
-            line: 0,
+            line: out.line,
         }
     }
 }
@@ -91,6 +108,15 @@ impl Node {
     /// The input named `name`.
     pub fn input(&self, name: &str) -> Option<&Input> {
         self.inputs.iter().find(|i| i.name == name)
+    }
+
+    /// The (name, type) of each input whose type is known, which with the node's type selects
+    /// the nodedef of its category.
+    pub fn input_types(&self) -> Vec<(&str, ValueType)> {
+        self.inputs
+            .iter()
+            .filter_map(|i| i.ty.map(|t| (i.name.as_str(), t)))
+            .collect()
     }
 }
 
@@ -440,28 +466,20 @@ fn parse_input(
         name,
         ty,
         value,
-        nodename: e
-            .attribute("nodename")
-            .filter(|s| !s.is_empty())
-            .map(str::to_string),
-        nodegraph: e
-            .attribute("nodegraph")
-            .filter(|s| !s.is_empty())
-            .map(str::to_string),
-        output: e
-            .attribute("output")
-            .filter(|s| !s.is_empty())
-            .map(str::to_string),
-        interfacename: e
-            .attribute("interfacename")
-            .filter(|s| !s.is_empty())
-            .map(str::to_string),
-        channels: e
-            .attribute("channels")
-            .filter(|s| !s.is_empty())
-            .map(str::to_string),
+        nodename: non_empty_attribute(e, "nodename"),
+        nodegraph: non_empty_attribute(e, "nodegraph"),
+        output: non_empty_attribute(e, "output"),
+        interfacename: non_empty_attribute(e, "interfacename"),
+        channels: non_empty_attribute(e, "channels"),
         line: ctx.line(e),
     })
+}
+
+/// Attribute `name` of `e`, unless absent or empty.
+fn non_empty_attribute(e: roxmltree::Node, name: &str) -> Option<String> {
+    e.attribute(name)
+        .filter(|s| !s.is_empty())
+        .map(str::to_string)
 }
 
 /// A filename as authored (fileprefix applied) resolved against the document's directory.
@@ -615,14 +633,24 @@ impl<'d> Builder<'d> {
             return s;
         }
         let path = format!("{}/{}", self.scopes[TOP].path, self.doc.nodegraphs[g].name);
-        self.scopes.push(ScopeInfo {
-            graph: Some(g),
-            instance: None,
-            path,
-        });
-        let s = self.scopes.len() - 1;
+        let s = self.push_scope(g, None, path);
         self.compound.insert(g, s);
         s
+    }
+
+    /// A new scope of nodegraph `graph`'s nodes: its index.
+    fn push_scope(
+        &mut self,
+        graph: usize,
+        instance: Option<(usize, Node, NodeDef)>,
+        path: String,
+    ) -> usize {
+        self.scopes.push(ScopeInfo {
+            graph: Some(graph),
+            instance,
+            path,
+        });
+        self.scopes.len() - 1
     }
 
     /// What a connection to output `output` of node `name` in `scope` reads.
@@ -647,12 +675,7 @@ impl<'d> Builder<'d> {
                 Some(&s) => s,
                 None => {
                     let path = format!("{}/{name}", self.scopes[scope].path);
-                    self.scopes.push(ScopeInfo {
-                        graph: Some(g),
-                        instance: Some((scope, node.clone(), def.clone())),
-                        path,
-                    });
-                    let s = self.scopes.len() - 1;
+                    let s = self.push_scope(g, Some((scope, node.clone(), def.clone())), path);
                     self.instances.insert((scope, name.to_string()), s);
                     s
                 }
@@ -661,17 +684,7 @@ impl<'d> Builder<'d> {
             let Some(out) = graph.output(output) else {
                 return Ok(None);
             };
-            let inner = Input {
-                name: out.name.clone(),
-                ty: out.ty,
-                value: None,
-                nodename: out.nodename.clone(),
-                nodegraph: None,
-                output: out.output.clone(),
-                interfacename: out.interfacename.clone(),
-                channels: None,
-                line: out.line,
-            };
+            let inner = Input::through_output(out.name.clone(), out.ty, out);
             self.depth += 1;
             let r = self.source(inst, &inner);
             self.depth -= 1;
@@ -692,13 +705,8 @@ impl<'d> Builder<'d> {
         // A node requesting a nodedef version resolves it here (Network carries no version).
         let nodedef = node.nodedef.clone().or_else(|| {
             let version = node.version.as_deref()?;
-            let types: Vec<(&str, ValueType)> = node
-                .inputs
-                .iter()
-                .filter_map(|i| i.ty.map(|t| (i.name.as_str(), t)))
-                .collect();
             super::library()
-                .resolve_version(&node.category, node.ty, &types, Some(version))
+                .resolve_version(&node.category, node.ty, &node.input_types(), Some(version))
                 .map(|d| d.name.clone())
         });
         self.net.nodes.push(NetNode {
@@ -776,17 +784,7 @@ impl<'d> Builder<'d> {
                     input.output.as_deref().unwrap_or("")
                 ))
             })?;
-            let inner = Input {
-                name: input.name.clone(),
-                ty: input.ty,
-                value: None,
-                nodename: out.nodename.clone(),
-                nodegraph: None,
-                output: out.output.clone(),
-                interfacename: out.interfacename.clone(),
-                channels: None,
-                line: out.line,
-            };
+            let inner = Input::through_output(input.name.clone(), input.ty, out);
             let s = self.compound_scope(g);
             return self.source(s, &inner);
         }

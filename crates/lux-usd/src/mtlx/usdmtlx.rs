@@ -123,14 +123,14 @@ fn node_signature(
     node: &Node,
 ) -> (Option<String>, Vec<(String, Option<ValueType>)>) {
     let lib = library();
-    let types: Vec<(&str, ValueType)> = node
-        .inputs
-        .iter()
-        .filter_map(|i| i.ty.map(|t| (i.name.as_str(), t)))
-        .collect();
     let def = match &node.nodedef {
         Some(n) => lib.nodedef(n),
-        None => lib.resolve_version(&node.category, node.ty, &types, node.version.as_deref()),
+        None => lib.resolve_version(
+            &node.category,
+            node.ty,
+            &node.input_types(),
+            node.version.as_deref(),
+        ),
     };
     if let Some(def) = def {
         let outs = def
@@ -490,32 +490,28 @@ mod tests {
                 Some(Value::Token("ND_standard_surface_surfaceshader".into()))
             )
         );
-        let base: Vec<String> = shader
-            .attribute("inputs:base_color")
-            .connections()
-            .unwrap()
-            .iter()
-            .map(|p| p.to_string())
-            .collect();
-        assert_eq!(base, ["/Looks/M_wood/NG_wood.outputs:base_color_out"]);
-        let mat = stage.prim("/Looks/M_wood");
-        let surface: Vec<String> = mat
-            .attribute("outputs:mtlx:surface")
-            .connections()
-            .unwrap()
-            .iter()
-            .map(|p| p.to_string())
-            .collect();
-        assert_eq!(surface, ["/Looks/M_wood/SR_wood.outputs:surface"]);
-        let inner: Vec<String> = stage
-            .prim("/Looks/M_wood/NG_wood/uv_scaled")
-            .attribute("inputs:in2")
-            .connections()
-            .unwrap()
-            .iter()
-            .map(|p| p.to_string())
-            .collect();
-        assert_eq!(inner, ["/Looks/M_wood/NG_wood.inputs:uvscale"]);
+        let connections = |prim: &str, attribute: &str| -> Vec<String> {
+            stage
+                .prim(prim)
+                .attribute(attribute)
+                .connections()
+                .unwrap()
+                .iter()
+                .map(|p| p.to_string())
+                .collect()
+        };
+        assert_eq!(
+            connections("/Looks/M_wood/SR_wood", "inputs:base_color"),
+            ["/Looks/M_wood/NG_wood.outputs:base_color_out"]
+        );
+        assert_eq!(
+            connections("/Looks/M_wood", "outputs:mtlx:surface"),
+            ["/Looks/M_wood/SR_wood.outputs:surface"]
+        );
+        assert_eq!(
+            connections("/Looks/M_wood/NG_wood/uv_scaled", "inputs:in2"),
+            ["/Looks/M_wood/NG_wood.inputs:uvscale"]
+        );
         let gold = stage.prim("/Gold/mtlxstandard_surface1");
         let color = gold.attribute("inputs:base_color").get::<Value>().unwrap();
         assert!(format!("{color:?}").contains("0.910751"), "{color:?}");

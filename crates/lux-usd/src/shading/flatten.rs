@@ -194,12 +194,8 @@ impl<'a> Flattener<'a> {
         if node.category.is_empty() {
             return None;
         }
-        let types: Vec<(&str, ValueType)> = node
-            .inputs
-            .iter()
-            .filter_map(|i| i.ty.map(|t| (i.name.as_str(), t)))
-            .collect();
-        self.lib.resolve(&node.category, node.ty, &types)
+        self.lib
+            .resolve(&node.category, node.ty, &node.input_types())
     }
 
     /// The outputs (name, source) of network node `i`, flattening it on first use.
@@ -437,14 +433,9 @@ impl<'a> Flattener<'a> {
         };
         let def = match &node.nodedef {
             Some(nd) => self.lib.nodedef(nd),
-            None => {
-                let types: Vec<(&str, ValueType)> = node
-                    .inputs
-                    .iter()
-                    .filter_map(|i| i.ty.map(|t| (i.name.as_str(), t)))
-                    .collect();
-                self.lib.resolve(&node.category, node.ty, &types)
-            }
+            None => self
+                .lib
+                .resolve(&node.category, node.ty, &node.input_types()),
         };
         let Some(def) = def else {
             self.notes.push(format!(

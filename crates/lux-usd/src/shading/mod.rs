@@ -212,6 +212,17 @@ pub struct NetNode {
     pub inputs: Vec<NetInput>,
 }
 
+impl NetNode {
+    /// The (name, type) of each input whose type is known, which with the node's type selects
+    /// the nodedef of its category.
+    pub fn input_types(&self) -> Vec<(&str, ValueType)> {
+        self.inputs
+            .iter()
+            .filter_map(|i| i.ty.map(|t| (i.name.as_str(), t)))
+            .collect()
+    }
+}
+
 /// A material's shading network as authored, NodeGraph boundaries resolved away.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Network {
