@@ -1,5 +1,5 @@
 //! MaterialX documents (MaterialX Specification 1.39, "MTLX File Format Definition"): the
-//! embedded standard library ([`library`]), documents read from `.mtlx` text
+//! embedded standard library ([`library()`]), documents read from `.mtlx` text
 //! ([`parse_document`]), their upgrade from 1.38 ([`upgrade`]) and the [`Network`] of a
 //! document's `<surfacematerial>` ([`Document::network`]), which
 //! [`crate::shading::flatten`] flattens against the library.
