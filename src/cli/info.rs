@@ -71,16 +71,40 @@ fn physical_json(p: &PhysicalLight) -> Value {
 
 /// A bound material as JSON: its path, whether its `outputs:surface` is a UsdPreviewSurface,
 /// the shading model of its MaterialX graph (`ND_standard_surface_surfaceshader`,
-/// `UsdPreviewSurface`, …; `null` without a graph) and the graph's notes (inputs it could not
-/// honour).
+/// `UsdPreviewSurface`, …; `null` without a graph) and every input it could not honour
+/// ([`material_notes`]).
 fn material_json(m: &lux_usd::Material) -> Value {
     json!({
         "path": m.path,
         "preview_surface": m.preview,
         "model": m.graph.as_ref().map(|g| g.model.clone()),
         "graph_nodes": m.graph.as_ref().map(|g| g.nodes.len()),
-        "notes": m.graph.as_ref().map(|g| g.notes.clone()).unwrap_or_default(),
+        "notes": material_notes(m),
     })
+}
+
+/// What lux cannot honour of a material's MaterialX graph as authored: the notes of its
+/// flattening (lux-usd: unknown nodedefs, inputs the nodedef lacks, converted types) and of its
+/// compilation for the renderer (`GraphShader::unsupported` and the compiler's warnings:
+/// object-space quantities read in world space, texture coordinate sets other than 0, cubic
+/// filtering read as linear, textures that do not load), each once.
+fn material_notes(m: &lux_usd::Material) -> Vec<String> {
+    let Some(g) = &m.graph else {
+        return Vec::new();
+    };
+    let mut notes = g.notes.clone();
+    if g.surface.is_some() {
+        let mut textures = lux_render::material::graph::TextureCache::new();
+        let mut warnings = Vec::new();
+        let shader =
+            lux_render::material::graph::GraphShader::compile(g, &mut textures, &mut warnings);
+        for n in shader.unsupported().iter().chain(&warnings) {
+            if !notes.contains(n) {
+                notes.push(n.clone());
+            }
+        }
+    }
+    notes
 }
 
 /// The report as a JSON value. `profile` is the resolved profile (or the error resolving it);
@@ -435,7 +459,7 @@ pub fn report_text(
             None => "no shading graph".to_owned(),
         };
         let _ = writeln!(s, "material {} ({model})", m.path);
-        for n in m.graph.iter().flat_map(|g| &g.notes) {
+        for n in material_notes(m) {
             let _ = writeln!(s, "  note: {n}");
         }
     }
