@@ -85,9 +85,9 @@ fn material_json(m: &lux_usd::Material) -> Value {
 
 /// What lux cannot honour of a material's MaterialX graph as authored: the notes of its
 /// flattening (lux-usd: unknown nodedefs, inputs the nodedef lacks, converted types) and of its
-/// compilation for the renderer (`GraphShader::unsupported` and the compiler's warnings:
-/// object-space quantities read in world space, texture coordinate sets other than 0, cubic
-/// filtering read as linear, textures that do not load), each once.
+/// compilation for the renderer (`GraphShader::unsupported`: object-space quantities read in
+/// world space, texture coordinate sets other than 0, cubic filtering read as linear, textures
+/// that do not load), each once.
 fn material_notes(m: &lux_usd::Material) -> Vec<String> {
     let Some(g) = &m.graph else {
         return Vec::new();
@@ -95,10 +95,9 @@ fn material_notes(m: &lux_usd::Material) -> Vec<String> {
     let mut notes = g.notes.clone();
     if g.surface.is_some() {
         let mut textures = lux_render::material::graph::TextureCache::new();
-        let mut warnings = Vec::new();
         let shader =
-            lux_render::material::graph::GraphShader::compile(g, &mut textures, &mut warnings);
-        for n in shader.unsupported().iter().chain(&warnings) {
+            lux_render::material::graph::GraphShader::compile(g, &mut textures, &mut Vec::new());
+        for n in shader.unsupported() {
             if !notes.contains(n) {
                 notes.push(n.clone());
             }
