@@ -4,7 +4,12 @@ use std::path::Path;
 
 use lux_usd::WarningKind;
 
-const SHADER_BALL: &str = "/work/shared/testdata/realusd/usdwg/full_assets/StandardShaderBall/standard_shader_ball_scene.usda";
+/// The StandardShaderBall as the workspace's own tests keep it (`tests/data/realusd/`, CC BY
+/// 4.0, see its LICENCE there).
+const SHADER_BALL: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../tests/data/realusd/usdwg/full_assets/StandardShaderBall/standard_shader_ball_scene.usda"
+);
 
 #[test]
 fn translated_documents_are_usda() {
@@ -28,10 +33,6 @@ fn translated_documents_are_usda() {
 
 #[test]
 fn shader_ball_mtlx_references_compose() {
-    if !Path::new(SHADER_BALL).exists() {
-        eprintln!("skipped: {SHADER_BALL} not present");
-        return;
-    }
     let scene = lux_usd::load_stage(SHADER_BALL, 1.0).unwrap();
     let composition: Vec<_> = scene
         .warnings
@@ -68,4 +69,33 @@ fn a_malformed_document_is_a_composition_warning_with_its_line() {
         "{}",
         w.message
     );
+}
+
+/// A `.mtlx` document as a sublayer composes too: its materials are prims of the stage, and a
+/// binding to one reaches its graph.
+#[test]
+fn a_mtlx_sublayer_composes() {
+    let dir = std::env::temp_dir().join(format!("lux-mtlx-sublayer-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let gold = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mtlx/gold.mtlx");
+    let stage = dir.join("stage.usda");
+    std::fs::write(
+        &stage,
+        format!(
+            "#usda 1.0\n(\n    subLayers = [@{}@]\n)\ndef Mesh \"Quad\" (prepend apiSchemas = \
+             [\"MaterialBindingAPI\"])\n{{\n    rel material:binding = \
+             </MaterialX/Materials/gold>\n    uniform token subdivisionScheme = \"none\"\n    \
+             int[] faceVertexCounts = [3]\n    int[] faceVertexIndices = [0, 1, 2]\n    \
+             point3f[] points = [(0, 0, 0), (1, 0, 0), (0, 1, 0)]\n}}\n",
+            gold.display()
+        ),
+    )
+    .unwrap();
+    let scene = lux_usd::load_stage(&stage, 1.0).unwrap();
+    assert!(scene.warnings.is_empty(), "{:#?}", scene.warnings);
+    let m = &scene.materials[scene.meshes[0].material.expect("bound")];
+    assert_eq!(m.path, "/MaterialX/Materials/gold");
+    let g = m.graph.as_ref().expect("a graph");
+    assert_eq!(g.model, "ND_standard_surface_surfaceshader");
+    assert!(g.nodes.iter().any(|n| n.category == "conductor_bsdf"));
 }
