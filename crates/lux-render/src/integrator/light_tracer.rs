@@ -157,7 +157,7 @@ impl<'a> LightTracer<'a> {
             // A MaterialX tree need not be reciprocal (`layer` scales its base by the top's
             // albedo towards the viewer): the particle carries f(ωₒ, ωᵢ), the BSDF seen from
             // the direction it leaves by, evaluated towards the light it came from.
-            let weight = if sp.bsdf.chooses_lobes() && !bs.delta {
+            let weight = if !sp.bsdf.reciprocal() && !bs.delta {
                 let seen = w.materials.at(w.scene, &hit, -bs.wi);
                 seen.bsdf.f(wi) * (cos_ns_o / bs.pdf)
             } else {
@@ -209,7 +209,7 @@ impl<'a> LightTracer<'a> {
         }
         // A MaterialX tree seen from the camera (it need not be reciprocal), towards the light.
         let seen;
-        let (bsdf, towards) = if sp.bsdf.chooses_lobes() {
+        let (bsdf, towards) = if !sp.bsdf.reciprocal() {
             seen = w.materials.at(w.scene, hit, dir);
             (&seen.bsdf, wi)
         } else {

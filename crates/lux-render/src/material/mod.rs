@@ -255,6 +255,15 @@ impl Bsdf {
         }
     }
 
+    /// Whether `f(wo, wi) = f(wi, wo)`: true of the Lambertian and the hand-written
+    /// UsdPreviewSurface BSDF; a MaterialX tree need not be (`layer` scales its base by the
+    /// top's albedo towards the viewer, `MaterialX.PBRSpec.md` "layer"), so a light tracer
+    /// evaluates it from the camera's side.
+    #[inline]
+    pub fn reciprocal(&self) -> bool {
+        !matches!(self, Bsdf::Graph(_))
+    }
+
     /// Whether [`Bsdf::sample`] reads its `u_lobe`.
     #[inline]
     pub fn chooses_lobes(&self) -> bool {
