@@ -299,13 +299,13 @@ impl Walk<'_> {
         };
         let proto = proto.to_string();
         let inherited = Inherited {
-            binding: None,
+            bindings: None,
             ..here.clone()
         };
         // The instance's material first: the prototype's meshes without a binding of their
         // own read the primvars it reads (walk.rs).
-        let material = match &here.binding {
-            Some(b) => Some(self.material(b)?),
+        let material = match crate::binding::resolve(here.bindings.as_ref(), prim.path().as_str()) {
+            Some(b) => Some(self.material(&b)?),
             None => None,
         };
         let Some(pd) = self.walk_prototype(&proto, prim, false, &inherited, depth)? else {
@@ -336,9 +336,9 @@ impl Walk<'_> {
         let targets = self.r.targets(prim, "prototypes")?;
         let mut protos = Vec::with_capacity(targets.len());
         for t in &targets {
-            let binding = self.inherited_binding(t)?;
+            let bindings = self.inherited_bindings(t)?;
             let inherited = Inherited {
-                binding,
+                bindings,
                 purpose: "default".into(),
                 purpose_inheritable: false,
                 ..here.clone()
@@ -483,29 +483,19 @@ impl Walk<'_> {
         Ok(())
     }
 
-    /// The `material:binding` a prim at `path` inherits from its ancestors (not its own).
-    fn inherited_binding(&mut self, path: &str) -> Result<Option<String>, LoadError> {
-        let mut cur = path;
-        while let Some(i) = cur.rfind('/') {
-            cur = &cur[..i];
-            if cur.is_empty() {
-                break;
-            }
-            let prim = self.r.stage.prim(cur);
-            let full = self.r.targets(&prim, "material:binding:full")?;
-            if let Some(b) = full.into_iter().next() {
-                return Ok(Some(b));
-            }
-            if let Some(b) = self
-                .r
-                .targets(&prim, "material:binding")?
-                .into_iter()
-                .next()
-            {
-                return Ok(Some(b));
-            }
+    /// The material binding sites of the ancestors of the prim at `path` (not its own).
+    fn inherited_bindings(
+        &mut self,
+        path: &str,
+    ) -> Result<Option<std::sync::Arc<crate::binding::Chain>>, LoadError> {
+        let mut chain = None;
+        let mut end = 0;
+        while let Some(i) = path[end + 1..].find('/') {
+            end += 1 + i;
+            let prim = self.r.stage.prim(&path[..end]);
+            chain = crate::binding::Chain::extend(&mut self.r, &prim, chain.as_ref())?;
         }
-        Ok(None)
+        Ok(chain)
     }
 }
 

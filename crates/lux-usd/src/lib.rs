@@ -19,6 +19,7 @@
 
 mod arcs;
 pub mod asset;
+pub mod binding;
 pub mod camera;
 pub mod compat;
 pub mod curves;

@@ -243,6 +243,45 @@ pub fn read_linking(r: &mut Reader<'_>, prim: &Prim) -> Result<Linking, LoadErro
     Ok(Linking { light, shadow })
 }
 
+/// The membership of `collection:<name>` on the prim at `owner_path` (any UsdCollectionAPI
+/// instance, e.g. one a `material:binding:collection:*` relationship names), flattened as
+/// [`read_linking`] flattens a light's; warnings name `user` (the prim whose property named
+/// the collection). `None` for an expression-mode collection (not evaluated; warned) or a
+/// missing owner prim (warned).
+pub(crate) fn collection_membership(
+    r: &mut Reader<'_>,
+    user: &Prim,
+    owner_path: &str,
+    name: &str,
+) -> Result<Option<Membership>, LoadError> {
+    let owner = r.stage.prim(owner_path);
+    if !owner.is_valid().map_err(|e| r.usd_error(user, e))? {
+        r.warn(
+            user,
+            WarningKind::InvalidValue,
+            format!("<{owner_path}.collection:{name}>: no prim <{owner_path}>; ignored"),
+        );
+        return Ok(None);
+    }
+    let mut stack = Vec::new();
+    Ok(
+        match flatten(r, user, &owner, owner_path, name, &mut stack)? {
+            Flat::Rules(map) => Some(Membership::Rules(map)),
+            Flat::Expression => {
+                r.warn(
+                    user,
+                    WarningKind::Unsupported,
+                    format!(
+                        "<{owner_path}.collection:{name}> is an expression-mode collection \
+                     (membershipExpression), which is not supported: it holds nothing here"
+                    ),
+                );
+                None
+            }
+        },
+    )
+}
+
 /// Whether `prim` carries UsdLux `LightAPI` (a concrete light type or an applied light API):
 /// its `lightLink`/`shadowLink` collections have `includeRoot` fallback true.
 fn is_light(r: &Reader<'_>, prim: &Prim) -> Result<bool, LoadError> {
@@ -265,13 +304,13 @@ fn is_light(r: &Reader<'_>, prim: &Prim) -> Result<bool, LoadError> {
 
 /// A relationship target split into its prim path and, for `</P.collection:n>`, the
 /// collection name.
-enum Target {
+pub(crate) enum Target {
     Prim(String),
     Collection(String, String),
     Other(String),
 }
 
-fn target_kind(t: &str) -> Target {
+pub(crate) fn target_kind(t: &str) -> Target {
     match t.split_once('.') {
         None if is_prim_path(t) => Target::Prim(t.to_owned()),
         Some((p, prop)) if is_prim_path(p) => match prop.strip_prefix("collection:") {
@@ -285,7 +324,11 @@ fn target_kind(t: &str) -> Target {
 }
 
 /// Raw targets of a relationship (collection paths included), as strings.
-fn raw_targets(r: &Reader<'_>, prim: &Prim, name: &str) -> Result<Vec<String>, LoadError> {
+pub(crate) fn raw_targets(
+    r: &Reader<'_>,
+    prim: &Prim,
+    name: &str,
+) -> Result<Vec<String>, LoadError> {
     if !is_property_name(name) {
         return Ok(Vec::new());
     }

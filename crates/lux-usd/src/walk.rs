@@ -42,8 +42,8 @@ pub struct Inherited {
     /// Whether `purpose` was authored on this prim or an ancestor (UsdGeomImageable
     /// `PurposeInfo::isInheritable`): children without their own purpose inherit it.
     pub purpose_inheritable: bool,
-    /// The nearest `material:binding` target so far.
-    pub binding: Option<String>,
+    /// The material binding sites of this prim and its ancestors ([`crate::binding`]).
+    pub bindings: Option<std::sync::Arc<crate::binding::Chain>>,
     /// Where what is found goes.
     pub target: Target,
     /// Inside a PointInstancer prototype: whether a prim is defined is judged from the
@@ -64,7 +64,7 @@ impl Inherited {
             visible: true,
             purpose: "default".into(),
             purpose_inheritable: false,
-            binding: None,
+            bindings: None,
             target: Target::World,
             defined_from_root: false,
             skel_scope: false,
@@ -238,20 +238,13 @@ impl<'s> Walk<'s> {
             None if parent.purpose_inheritable => (parent.purpose.clone(), true),
             None => ("default".to_owned(), false),
         };
-        let binding = {
-            let full = self.r.targets(prim, "material:binding:full")?;
-            let all = self.r.targets(prim, "material:binding")?;
-            full.into_iter()
-                .chain(all)
-                .next()
-                .or_else(|| parent.binding.clone())
-        };
+        let bindings = crate::binding::Chain::extend(&mut self.r, prim, parent.bindings.as_ref())?;
         let here = Inherited {
             world,
             visible,
             purpose,
             purpose_inheritable,
-            binding,
+            bindings,
             target: parent.target,
             defined_from_root: parent.defined_from_root,
             skel_scope: parent.skel_scope || type_name == "SkelRoot",
@@ -449,8 +442,8 @@ impl<'s> Walk<'s> {
             .map(|c| mirror_corners(c, mirror)),
             None => None,
         };
-        let material = match &here.binding {
-            Some(path) => Some(self.material(path)?),
+        let material = match crate::binding::resolve(here.bindings.as_ref(), prim.path().as_str()) {
+            Some(path) => Some(self.material(&path)?),
             None => None,
         };
         // Texture coordinates: the primvar the bound material reads; a prototype's mesh
@@ -634,8 +627,8 @@ impl<'s> Walk<'s> {
             return Ok(());
         };
         let double_sided = self.r.bool_or(prim, "doubleSided", false)?;
-        let material = match &here.binding {
-            Some(path) => Some(self.material(path)?),
+        let material = match crate::binding::resolve(here.bindings.as_ref(), prim.path().as_str()) {
+            Some(path) => Some(self.material(&path)?),
             None => None,
         };
         let spectral = crate::spectral::read_surface_spectral(&mut self.r, prim)?;
