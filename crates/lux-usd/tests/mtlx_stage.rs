@@ -99,3 +99,87 @@ fn a_mtlx_sublayer_composes() {
     assert_eq!(g.model, "ND_standard_surface_surfaceshader");
     assert!(g.nodes.iter().any(|n| n.category == "conductor_bsdf"));
 }
+
+/// usd-core 26.11's bound materials for `tests/data/mtlx/looks.usda`, computed on lux's
+/// translation of `graph.mtlx` (usd-core's PyPI wheels have no usdMtlx), printed by
+///
+/// ```text
+/// cargo run -p lux-usd --example mtlx_to_usda -- crates/lux-usd/tests/data/mtlx/graph.mtlx \
+///     > /tmp/graph.usda
+/// sed 's/graph.mtlx/graph.usda/' crates/lux-usd/tests/data/mtlx/looks.usda > /tmp/looks.usda
+/// /work/venv-usd/bin/python - <<'EOF'
+/// from pxr import Usd, UsdGeom, UsdShade
+/// s = Usd.Stage.Open('/tmp/looks.usda')
+/// for p in s.Traverse():
+///     if p.IsA(UsdGeom.Mesh):
+///         m, _ = UsdShade.MaterialBindingAPI(p).ComputeBoundMaterial(UsdShade.Tokens.full)
+///         print(f'("{p.GetPath()}", "{m.GetPath() if m else None}"),')
+/// EOF
+/// ```
+const LOOK_BINDINGS: &[(&str, &str)] = &[
+    ("/Asset/World/Table", "/Asset/Materials/MA_wood"),
+    ("/Asset/World/Chair", "/Asset/Materials/MA_wood"),
+    ("/Asset/World/Props/Box", "/Asset/Materials/MA_preview"),
+    ("/Asset/World/Props/Lamp", "None"),
+    ("/Asset/World/Floor", "None"),
+];
+
+/// A look's `<materialassign>`s bind its materials through the collections usdMtlx makes of
+/// `geom` and `<collection>`, and the Material's interface inputs (where usdMtlx authors the
+/// document's values) take overrides from the referencing layer.
+#[test]
+fn a_look_binds_its_materials_and_interface_inputs_take_overrides() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mtlx/looks.usda");
+    let scene = lux_usd::load_stage(&path, 1.0).unwrap();
+    let composition: Vec<_> = scene
+        .warnings
+        .iter()
+        .filter(|w| w.kind == WarningKind::Composition)
+        .collect();
+    assert!(composition.is_empty(), "{composition:#?}");
+    let got: Vec<(String, String)> = scene
+        .meshes
+        .iter()
+        .map(|m| {
+            let mat = m
+                .material
+                .map(|i| scene.materials[i].path.clone())
+                .unwrap_or_else(|| "None".into());
+            (m.path.clone(), mat)
+        })
+        .collect();
+    let want: Vec<(String, String)> = LOOK_BINDINGS
+        .iter()
+        .map(|(a, b)| (a.to_string(), b.to_string()))
+        .collect();
+    assert_eq!(got, want);
+
+    let wood = scene
+        .materials
+        .iter()
+        .find(|m| m.path == "/Asset/Materials/MA_wood")
+        .unwrap();
+    let g = wood.graph.as_ref().expect("a graph");
+    assert_eq!(g.model, "ND_standard_surface_surfaceshader");
+    // The overridden interface input reaches the shader: coat 0.75, not the document's 0.25.
+    let net = wood.network.as_ref().expect("a network");
+    let surface = &net.nodes[net.surface.as_ref().unwrap().node];
+    let coat = surface.inputs.iter().find(|i| i.name == "coat").unwrap();
+    assert_eq!(
+        coat.source,
+        lux_usd::shading::NetSource::Value(lux_usd::shading::Value::Numbers(vec![0.75]))
+    );
+    // An interface input the document leaves unauthored is not an authored input of the
+    // shader (the nodedef default applies).
+    assert!(surface.inputs.iter().all(|i| i.name != "base"));
+    // The nodegraph referenced beneath the material feeds base_color.
+    let base = surface
+        .inputs
+        .iter()
+        .find(|i| i.name == "base_color")
+        .unwrap();
+    assert!(matches!(
+        base.source,
+        lux_usd::shading::NetSource::Connection(_)
+    ));
+}

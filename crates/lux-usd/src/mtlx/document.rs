@@ -180,6 +180,23 @@ pub struct MaterialAssign {
     pub geom: Option<String>,
     /// `collection`: a collection name.
     pub collection: Option<String>,
+    /// The active `geomprefix` (the assign's, else its look's, else the document's): prefixed
+    /// to every `geom` path.
+    pub geomprefix: String,
+}
+
+/// A `<collection>` (MaterialX Specification, "Collections"): geometry included and excluded,
+/// and other collections included.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Collection {
+    /// `name`.
+    pub name: String,
+    /// `includegeom` paths, with the active `geomprefix` applied.
+    pub includegeom: Vec<String>,
+    /// `excludegeom` paths, with the active `geomprefix` applied.
+    pub excludegeom: Vec<String>,
+    /// `includecollection` names.
+    pub includecollection: Vec<String>,
 }
 
 /// A `<look>`.
@@ -189,6 +206,8 @@ pub struct Look {
     pub name: String,
     /// Its material assignments, in order.
     pub assigns: Vec<MaterialAssign>,
+    /// `inherit`: the look it inherits assignments from.
+    pub inherit: Option<String>,
 }
 
 /// A MaterialX document, upgraded to 1.39.
@@ -210,6 +229,8 @@ pub struct Document {
     pub implementations: Vec<(String, String)>,
     /// Looks.
     pub looks: Vec<Look>,
+    /// Collections.
+    pub collections: Vec<Collection>,
 }
 
 /// Reads and parses the document at `path` ([`parse_document`]).
@@ -313,7 +334,9 @@ pub fn parse_document(text: &str, path: &Path) -> Result<Document, MtlxError> {
         nodedefs: Vec::new(),
         implementations: Vec::new(),
         looks: Vec::new(),
+        collections: Vec::new(),
     };
+    let geomprefix = root.attribute("geomprefix").unwrap_or("");
     for e in root.children().filter(|c| c.is_element()) {
         match e.tag_name().name() {
             "nodedef" => doc.nodedefs.push(parse_nodedef(&ctx, e)?),
@@ -325,13 +348,14 @@ pub fn parse_document(text: &str, path: &Path) -> Result<Document, MtlxError> {
                     doc.implementations.push((nd.to_string(), ng.to_string()));
                 }
             }
-            "look" => doc.looks.push(parse_look(&ctx, e)?),
+            "look" => doc.looks.push(parse_look(&ctx, e, geomprefix)?),
+            "collection" => doc.collections.push(parse_collection(&ctx, e, geomprefix)?),
             // Elements without shading content for lux: type, unit and geometric property
-            // declarations, collections, geometry info, UI backdrops, variants, lookgroups,
+            // declarations, geometry info, UI backdrops, variants, lookgroups,
             // top-level outputs and tokens.
-            "typedef" | "unittypedef" | "unitdef" | "geompropdef" | "collection" | "geominfo"
-            | "backdrop" | "variantset" | "lookgroup" | "propertyset" | "output" | "token"
-            | "input" | "targetdef" | "attributedef" | "include" => {}
+            "typedef" | "unittypedef" | "unitdef" | "geompropdef" | "geominfo" | "backdrop"
+            | "variantset" | "lookgroup" | "propertyset" | "output" | "token" | "input"
+            | "targetdef" | "attributedef" | "include" => {}
             _ => doc.nodes.push(parse_node(&ctx, e, &scope, &dir)?),
         }
     }
@@ -348,10 +372,12 @@ fn parse_version(v: &str) -> Option<(u32, u32)> {
     Some((major, minor))
 }
 
-fn parse_look(ctx: &Ctx, e: roxmltree::Node) -> Result<Look, MtlxError> {
+fn parse_look(ctx: &Ctx, e: roxmltree::Node, geomprefix: &str) -> Result<Look, MtlxError> {
+    let geomprefix = e.attribute("geomprefix").unwrap_or(geomprefix);
     let mut look = Look {
         name: ctx.name(e)?,
         assigns: Vec::new(),
+        inherit: e.attribute("inherit").map(str::to_string),
     };
     for a in e.children().filter(|c| c.has_tag_name("materialassign")) {
         look.assigns.push(MaterialAssign {
@@ -362,9 +388,45 @@ fn parse_look(ctx: &Ctx, e: roxmltree::Node) -> Result<Look, MtlxError> {
                 .ok_or_else(|| ctx.invalid(a, "materialassign".into(), "a `material` attribute"))?,
             geom: a.attribute("geom").map(str::to_string),
             collection: a.attribute("collection").map(str::to_string),
+            geomprefix: a.attribute("geomprefix").unwrap_or(geomprefix).to_string(),
         });
     }
     Ok(look)
+}
+
+/// A MaterialX string array (`"a, b,c"`): the comma-separated items, trimmed, empty ones
+/// dropped.
+pub fn split_array(s: &str) -> Vec<String> {
+    s.split(',')
+        .map(str::trim)
+        .filter(|x| !x.is_empty())
+        .map(str::to_string)
+        .collect()
+}
+
+fn parse_collection(
+    ctx: &Ctx,
+    e: roxmltree::Node,
+    geomprefix: &str,
+) -> Result<Collection, MtlxError> {
+    let geomprefix = e.attribute("geomprefix").unwrap_or(geomprefix);
+    let paths = |attr: &str| -> Vec<String> {
+        e.attribute(attr)
+            .map(split_array)
+            .unwrap_or_default()
+            .into_iter()
+            .map(|p| format!("{geomprefix}{p}"))
+            .collect()
+    };
+    Ok(Collection {
+        name: ctx.name(e)?,
+        includegeom: paths("includegeom"),
+        excludegeom: paths("excludegeom"),
+        includecollection: e
+            .attribute("includecollection")
+            .map(split_array)
+            .unwrap_or_default(),
+    })
 }
 
 fn parse_nodegraph(

@@ -8,13 +8,15 @@
 
 pub mod document;
 pub mod library;
+mod looks;
 pub mod upgrade;
 pub mod usdmtlx;
 
 use std::path::PathBuf;
 
 pub use document::{
-    Document, Input, Look, MaterialAssign, Node, NodeGraph, Output, parse_document, read_document,
+    Collection, Document, Input, Look, MaterialAssign, Node, NodeGraph, Output, parse_document,
+    read_document, split_array,
 };
 pub use library::{DefInput, Library, NodeDef, NodeGraphDef, library, nodedef_for_usd_id};
 

@@ -1,27 +1,35 @@
 //! A MaterialX document as a USD layer, in the prim layout of usd-core's usdMtlx file-format
-//! plugin, so that `.mtlx` references, payloads and sublayers compose
-//! (`@./gold.mtlx@</MaterialX/Materials>`):
+//! plugin (`UsdMtlxRead`), so that `.mtlx` references, payloads and sublayers compose
+//! (`@./gold.mtlx@</MaterialX/Materials>`, `@./looks.mtlx@</ModelRoot>`):
 //!
-//! - every `<surfacematerial>` is a `Material` at `/MaterialX/Materials/<name>` whose
-//!   `outputs:mtlx:surface` (`:displacement`, `:volume`) connects to its shader node;
-//! - a node is a `Shader` whose `info:id` is its nodedef's name (`ND_standard_surface_surfaceshader`),
-//!   with typed inputs (`color3f inputs:base_color`, `asset inputs:file`, `token` for closures),
-//!   its outputs (`outputs:surface` for a surfaceshader, as usdMtlx names them, else the
-//!   nodedef's output names), connections as `.connect`;
-//! - a `<nodegraph>` is a `NodeGraph` with its interface inputs, its nodes and its outputs
-//!   connected to them; `interfacename` connects to the graph's input;
+//! - every material node (`<surfacematerial>`) is a `Material` at
+//!   `/MaterialX/Materials/<name>` (with `config:mtlx:version`) whose interface inputs are the
+//!   union of its shader nodes' nodedef inputs, carrying the values the document authors;
+//!   its `outputs:mtlx:surface` (`:displacement`, `:volume`) connects to a child `Shader` per
+//!   shader node, which references `/MaterialX/Shaders/<node>` (its `info:id`, the nodedef's
+//!   name such as `ND_standard_surface_surfaceshader`, and `outputs:surface`) and connects
+//!   every input to the Material's interface input of that name, or to the nodegraph output
+//!   the document connects it to. So a Material's interface input overridden in USD reaches
+//!   the shader, as with usd-core;
+//! - a `<nodegraph>` is a `NodeGraph` at `/MaterialX/NodeGraphs/<name>` (interface inputs,
+//!   nodes as `Shader`s with typed inputs and `.connect`s, outputs), referenced beneath each
+//!   Material that uses it; the document's top-level pattern nodes live in
+//!   `/MaterialX/NodeGraphs` itself (usdMtlx's implicit nodegraph), referenced beneath a
+//!   Material as `NodeGraphs`;
 //! - `filename` values are asset paths (with `fileprefix` applied, relative to the document),
-//!   with a `colorSpace` when one is stated.
+//!   with a `colorSpace` when it differs from the document's;
+//! - looks, collections and material assignments become `/MaterialX/Collections`,
+//!   `/MaterialX/Looks/<look>` with collection bindings, and `/ModelRoot` with a
+//!   `LookVariant` variant set (`super::looks`).
 //!
-//! Unlike usdMtlx, shader nodes and nodegraphs a material uses are written under the Material
-//! itself with their values authored on them (usdMtlx authors the values on the Material's
-//! interface inputs and references shared prims under `/MaterialX/Shaders` and
-//! `/MaterialX/NodeGraphs`); looks, collections and variants are not translated.
+//! Not translated: material variants (`<variantset>`), material `inherit` (usdMtlx's
+//! specializes), nodegraphs that implement a nodedef of the document itself (lux's
+//! flattening reads those from the document), UI attributes.
 
-use std::collections::HashSet;
 use std::fmt::Write;
 
 use super::document::{Document, Input, Node, NodeGraph};
+use super::library::NodeDef;
 use super::library::library;
 use crate::shading::{Value, ValueType};
 
@@ -117,11 +125,11 @@ fn usda_value(ty: ValueType, v: &Value) -> Option<String> {
     })
 }
 
-/// The nodedef name and outputs (name, type) of a document node.
-fn node_signature(
-    doc: &Document,
-    node: &Node,
-) -> (Option<String>, Vec<(String, Option<ValueType>)>) {
+/// The nodedef of a document node: the library's, else one the document declares.
+fn node_def<'a>(doc: &'a Document, node: &Node) -> Option<&'a NodeDef>
+where
+    'static: 'a,
+{
     let lib = library();
     let def = match &node.nodedef {
         Some(n) => lib.nodedef(n),
@@ -132,28 +140,41 @@ fn node_signature(
             node.version.as_deref(),
         ),
     };
-    if let Some(def) = def {
-        let outs = def
-            .outputs
-            .iter()
-            .map(|(n, t)| (n.clone(), Some(*t)))
-            .collect();
-        return (Some(def.name.clone()), outs);
-    }
-    // A nodedef declared in the document itself.
-    if let Some(def) = doc.nodedefs.iter().find(|d| {
-        node.nodedef.as_deref() == Some(d.name.as_str())
-            || (node.nodedef.is_none() && d.category == node.category)
-    }) {
-        let outs = def
-            .outputs
-            .iter()
-            .map(|(n, t)| (n.clone(), Some(*t)))
-            .collect();
-        return (Some(def.name.clone()), outs);
-    }
-    (node.nodedef.clone(), vec![("out".into(), node.ty)])
+    def.or_else(|| {
+        doc.nodedefs.iter().find(|d| {
+            node.nodedef.as_deref() == Some(d.name.as_str())
+                || (node.nodedef.is_none() && d.category == node.category)
+        })
+    })
 }
+
+/// The nodedef name and outputs (name, type) of a document node.
+fn node_signature(
+    doc: &Document,
+    node: &Node,
+) -> (Option<String>, Vec<(String, Option<ValueType>)>) {
+    match node_def(doc, node) {
+        Some(def) => (
+            Some(def.name.clone()),
+            def.outputs
+                .iter()
+                .map(|(n, t)| (n.clone(), Some(*t)))
+                .collect(),
+        ),
+        None => (node.nodedef.clone(), vec![("out".into(), node.ty)]),
+    }
+}
+
+/// Whether a node is a shader node (its output a surface, displacement or volume shader): usdMtlx writes those under the Materials that use them.
+fn is_shader_node(node: &Node) -> bool {
+    matches!(
+        node.ty,
+        Some(ValueType::SurfaceShader | ValueType::DisplacementShader | ValueType::VolumeShader)
+    )
+}
+
+const ROOT: &str = "/MaterialX";
+const NODEGRAPHS: &str = "/MaterialX/NodeGraphs";
 
 struct Writer<'d> {
     doc: &'d Document,
@@ -169,7 +190,7 @@ impl Writer<'_> {
         self.out.push('\n');
     }
 
-    /// The output path of `node` (in scope `base`) named `output`.
+    /// The output path of `node` (a prim in scope `base`) named `output`.
     fn node_output(&self, base: &str, node: &Node, output: Option<&str>) -> String {
         let (_, outs) = node_signature(self.doc, node);
         let (name, ty) = match output {
@@ -187,18 +208,33 @@ impl Writer<'_> {
         )
     }
 
-    /// Writes the input as a property of a prim in scope `scope` (the material's path for
-    /// top-level nodes, the nodegraph's path inside it), collecting the top-level nodes and
-    /// nodegraphs it reaches.
-    fn input(
-        &mut self,
-        depth: usize,
-        input: &Input,
-        scope: &str,
-        graph: Option<&NodeGraph>,
-        mat: &str,
-        reach: &mut Reach,
-    ) {
+    /// The output of nodegraph `g` an input names (`output`, else the graph's first).
+    fn graph_output(g: &NodeGraph, output: Option<&str>) -> String {
+        g.output(output)
+            .map(|o| o.name.clone())
+            .or_else(|| output.map(str::to_string))
+            .unwrap_or_else(|| "out".into())
+    }
+
+    /// An authored value line (`decl = value`, with its `colorSpace` when it differs from the
+    /// document's).
+    fn value(&mut self, depth: usize, decl: &str, ty: ValueType, v: &Value) {
+        let Some(text) = usda_value(ty, v) else {
+            return;
+        };
+        match v {
+            Value::File(f) if !f.colorspace.is_empty() && f.colorspace != self.doc.colorspace => {
+                self.line(depth, &format!("{decl} = {text} ("));
+                self.line(depth + 1, &format!("colorSpace = {}", quote(&f.colorspace)));
+                self.line(depth, ")");
+            }
+            _ => self.line(depth, &format!("{decl} = {text}")),
+        }
+    }
+
+    /// An input of a node inside nodegraph `graph` at `scope`, or of a top-level pattern node
+    /// (`graph` `None`, `scope` the implicit nodegraph `/MaterialX/NodeGraphs`).
+    fn input(&mut self, depth: usize, input: &Input, scope: &str, graph: Option<&NodeGraph>) {
         let ty = input.ty.unwrap_or(ValueType::Float);
         let decl = format!("{} inputs:{}", usd_type(ty), usd_name(&input.name));
         if let Some(iface) = &input.interfacename
@@ -211,69 +247,40 @@ impl Writer<'_> {
             return;
         }
         if let Some(n) = &input.nodename {
-            let node = match graph {
-                Some(g) => g.node(n),
-                None => self.doc.node(n),
+            let inside = graph.and_then(|g| g.node(n));
+            let path = match inside {
+                Some(node) => Some(self.node_output(scope, node, input.output.as_deref())),
+                None => self
+                    .doc
+                    .node(n)
+                    .map(|node| self.node_output(NODEGRAPHS, node, input.output.as_deref())),
             };
-            if let Some(node) = node {
-                if graph.is_none() {
-                    reach.nodes.push(node.name.clone());
-                }
-                let path = self.node_output(scope, node, input.output.as_deref());
+            if let Some(path) = path {
                 self.line(depth, &format!("{decl}.connect = <{path}>"));
-            } else if graph.is_some() {
-                // A nodegraph interface input connected to a top-level node.
-                if let Some(node) = self.doc.node(n) {
-                    reach.nodes.push(node.name.clone());
-                    let path = self.node_output(mat, node, input.output.as_deref());
-                    self.line(depth, &format!("{decl}.connect = <{path}>"));
-                }
             }
             return;
         }
         if let Some(gname) = &input.nodegraph
             && let Some(g) = self.doc.nodegraph(gname)
         {
-            reach.graphs.push(g.name.clone());
-            let out = g
-                .output(input.output.as_deref())
-                .map(|o| o.name.clone())
-                .unwrap_or_else(|| input.output.clone().unwrap_or_else(|| "out".into()));
+            let out = Self::graph_output(g, input.output.as_deref());
             self.line(
                 depth,
                 &format!(
-                    "{decl}.connect = <{mat}/{}.outputs:{}>",
+                    "{decl}.connect = <{NODEGRAPHS}/{}.outputs:{}>",
                     usd_name(gname),
                     usd_name(&out)
                 ),
             );
             return;
         }
-        if let Some(v) = &input.value
-            && let Some(text) = usda_value(ty, v)
-        {
-            match v {
-                Value::File(f)
-                    if !f.colorspace.is_empty() && f.colorspace != self.doc.colorspace =>
-                {
-                    self.line(depth, &format!("{decl} = {text} ("));
-                    self.line(depth + 1, &format!("colorSpace = {}", quote(&f.colorspace)));
-                    self.line(depth, ")");
-                }
-                _ => self.line(depth, &format!("{decl} = {text}")),
-            }
+        if let Some(v) = &input.value {
+            self.value(depth, &decl, ty, v);
         }
     }
 
-    fn shader(
-        &mut self,
-        depth: usize,
-        node: &Node,
-        scope: &str,
-        graph: Option<&NodeGraph>,
-        mat: &str,
-        reach: &mut Reach,
-    ) {
+    /// A pattern node as a `Shader` (inside a nodegraph, or in the implicit nodegraph).
+    fn shader(&mut self, depth: usize, node: &Node, scope: &str, graph: Option<&NodeGraph>) {
         let (id, outs) = node_signature(self.doc, node);
         self.line(depth, &format!("def Shader \"{}\"", usd_name(&node.name)));
         self.line(depth, "{");
@@ -284,11 +291,16 @@ impl Writer<'_> {
             );
         }
         for input in &node.inputs {
-            self.input(depth + 1, input, scope, graph, mat, reach);
+            self.input(depth + 1, input, scope, graph);
         }
-        for (name, ty) in &outs {
+        self.outputs(depth + 1, &outs);
+        self.line(depth, "}");
+    }
+
+    fn outputs(&mut self, depth: usize, outs: &[(String, Option<ValueType>)]) {
+        for (name, ty) in outs {
             self.line(
-                depth + 1,
+                depth,
                 &format!(
                     "{} outputs:{}",
                     usd_type(ty.unwrap_or(ValueType::Float)),
@@ -296,16 +308,15 @@ impl Writer<'_> {
                 ),
             );
         }
-        self.line(depth, "}");
     }
 
-    fn nodegraph(&mut self, depth: usize, g: &NodeGraph, mat: &str, reach: &mut Reach) {
-        let path = format!("{mat}/{}", usd_name(&g.name));
+    fn nodegraph(&mut self, depth: usize, g: &NodeGraph) {
+        let path = format!("{NODEGRAPHS}/{}", usd_name(&g.name));
         self.line(depth, &format!("def NodeGraph \"{}\"", usd_name(&g.name)));
         self.line(depth, "{");
         for input in &g.inputs {
             // Interface inputs: values, or connections to top-level nodes.
-            self.input(depth + 1, input, mat, None, mat, reach);
+            self.input(depth + 1, input, NODEGRAPHS, None);
         }
         for o in &g.outputs {
             let ty = o.ty.unwrap_or(ValueType::Float);
@@ -324,16 +335,144 @@ impl Writer<'_> {
         }
         for node in &g.nodes {
             self.out.push('\n');
-            self.shader(depth + 1, node, &path, Some(g), mat, reach);
+            self.shader(depth + 1, node, &path, Some(g));
         }
         self.line(depth, "}");
     }
-}
 
-#[derive(Default)]
-struct Reach {
-    nodes: Vec<String>,
-    graphs: Vec<String>,
+    /// A `<surfacematerial>` (or other material node) as usdMtlx's Material: the interface
+    /// inputs (every input of its shader nodes' nodedefs, with the values the document
+    /// authors), its `outputs:mtlx:*` terminals, one `Shader` per shader node referencing
+    /// `/MaterialX/Shaders/<node>` with every input connected to the interface (or to the
+    /// nodegraph output the document connects it to), and the nodegraphs it uses referenced
+    /// beneath it.
+    fn material(&mut self, depth: usize, mat: &Node) {
+        let name = usd_name(&mat.name);
+        let path = format!("{ROOT}/Materials/{name}");
+        let shaders: Vec<(&Node, &'static str)> = [
+            ("surfaceshader", "surface"),
+            ("displacementshader", "displacement"),
+            ("volumeshader", "volume"),
+        ]
+        .into_iter()
+        .filter_map(|(input, terminal)| {
+            let i = mat.input(input)?;
+            let n = self.doc.node(i.nodename.as_deref()?)?;
+            Some((n, terminal))
+        })
+        .collect();
+        // Each shader node's inputs: its nodedef's (else what the node authors).
+        let inputs_of = |node: &Node| -> Vec<(String, ValueType)> {
+            match node_def(self.doc, node) {
+                Some(def) => def.inputs.iter().map(|i| (i.name.clone(), i.ty)).collect(),
+                None => node
+                    .inputs
+                    .iter()
+                    .map(|i| (i.name.clone(), i.ty.unwrap_or(ValueType::Float)))
+                    .collect(),
+            }
+        };
+        self.line(depth, &format!("def Material \"{name}\""));
+        self.line(depth, "{");
+        self.line(
+            depth + 1,
+            &format!(
+                "string config:mtlx:version = \"{}.{}\"",
+                self.doc.version.0, self.doc.version.1
+            ),
+        );
+        // The interface: the union of the shader nodes' inputs (the first type wins), with
+        // the values the document authors.
+        let mut declared: Vec<String> = Vec::new();
+        for (node, _) in &shaders {
+            for (n, ty) in inputs_of(node) {
+                if declared.contains(&n) {
+                    continue;
+                }
+                let decl = format!("{} inputs:{}", usd_type(ty), usd_name(&n));
+                match node.input(&n).and_then(|i| i.value.as_ref()) {
+                    Some(v) => self.value(depth + 1, &decl, ty, v),
+                    None => self.line(depth + 1, &decl),
+                }
+                declared.push(n);
+            }
+        }
+        for (node, terminal) in &shaders {
+            let target = self.node_output(&path, node, None);
+            self.line(
+                depth + 1,
+                &format!("token outputs:mtlx:{terminal}.connect = <{target}>"),
+            );
+        }
+        // Nodegraphs referenced beneath the material: named ones by name, the implicit one
+        // (top-level pattern nodes) as `NodeGraphs`.
+        let mut graphs: Vec<String> = Vec::new();
+        for (node, _) in &shaders {
+            self.out.push('\n');
+            let sname = usd_name(&node.name);
+            self.referencing(
+                depth + 1,
+                "Shader ",
+                &sname,
+                &format!("{ROOT}/Shaders/{sname}"),
+            );
+            self.line(depth + 1, "{");
+            for (n, ty) in inputs_of(node) {
+                let decl = format!("{} inputs:{}", usd_type(ty), usd_name(&n));
+                let source = match self.graph_source(node.input(&n)) {
+                    Some((graph, output)) => {
+                        if !graphs.contains(&graph) {
+                            graphs.push(graph);
+                        }
+                        format!("{path}/{output}")
+                    }
+                    None => format!("{path}.inputs:{}", usd_name(&n)),
+                };
+                self.line(depth + 2, &format!("{decl}.connect = <{source}>"));
+            }
+            self.line(depth + 1, "}");
+        }
+        for g in &graphs {
+            self.out.push('\n');
+            let target = if g == "NodeGraphs" {
+                NODEGRAPHS.to_string()
+            } else {
+                format!("{NODEGRAPHS}/{g}")
+            };
+            self.referencing(depth + 1, "", g, &target);
+            self.line(depth + 1, "{");
+            self.line(depth + 1, "}");
+        }
+        self.line(depth, "}");
+    }
+
+    /// Where a shader node's input is connected, as (the nodegraph prim beneath the material,
+    /// the output's path relative to the material): a named nodegraph's output (`nodegraph` +
+    /// `output`), or a top-level node's (`nodename`), which lives in the implicit nodegraph
+    /// `NodeGraphs`.
+    fn graph_source(&self, input: Option<&Input>) -> Option<(String, String)> {
+        let input = input?;
+        if let Some(g) = input
+            .nodegraph
+            .as_deref()
+            .and_then(|g| self.doc.nodegraph(g))
+        {
+            let out = Self::graph_output(g, input.output.as_deref());
+            let g = usd_name(&g.name);
+            let output = format!("{g}.outputs:{}", usd_name(&out));
+            return Some((g, output));
+        }
+        let node = self.doc.node(input.nodename.as_deref()?)?;
+        let output = self.node_output("NodeGraphs", node, input.output.as_deref());
+        Some(("NodeGraphs".to_string(), output))
+    }
+
+    /// `def <type>"name" (prepend references = <target>)`.
+    fn referencing(&mut self, depth: usize, ty: &str, name: &str, target: &str) {
+        self.line(depth, &format!("def {ty}\"{name}\" ("));
+        self.line(depth + 1, &format!("prepend references = <{target}>"));
+        self.line(depth, ")");
+    }
 }
 
 /// The `.usda` text of `doc` in usdMtlx's layout (see the module docs).
@@ -352,77 +491,69 @@ pub fn to_usda(doc: &Document) -> String {
             doc.version.1
         ))
     );
+    let materials: Vec<&Node> = doc
+        .nodes
+        .iter()
+        .filter(|n| n.ty == Some(ValueType::Material))
+        .collect();
     w.line(0, "def \"MaterialX\"");
     w.line(0, "{");
     w.line(1, "def \"Materials\"");
     w.line(1, "{");
+    for (k, mat) in materials.iter().enumerate() {
+        if k > 0 {
+            w.out.push('\n');
+        }
+        w.material(2, mat);
+    }
+    w.line(1, "}");
+    // The shader nodes' implementations the materials reference.
+    w.out.push('\n');
+    w.line(1, "def \"Shaders\"");
+    w.line(1, "{");
     let mut first = true;
-    for mat in doc.nodes.iter().filter(|n| n.category == "surfacematerial") {
+    for node in doc.nodes.iter().filter(|n| is_shader_node(n)) {
         if !first {
             w.out.push('\n');
         }
         first = false;
-        let path = format!("/MaterialX/Materials/{}", usd_name(&mat.name));
-        w.line(2, &format!("def Material \"{}\"", usd_name(&mat.name)));
+        let (id, outs) = node_signature(doc, node);
+        w.line(2, &format!("def Shader \"{}\"", usd_name(&node.name)));
         w.line(2, "{");
-        let mut reach = Reach::default();
-        for (input, terminal) in [
-            ("surfaceshader", "surface"),
-            ("displacementshader", "displacement"),
-            ("volumeshader", "volume"),
-        ] {
-            let Some(i) = mat.input(input) else { continue };
-            if let Some(n) = i.nodename.as_deref().and_then(|n| doc.node(n)) {
-                reach.nodes.push(n.name.clone());
-                let target = w.node_output(&path, n, i.output.as_deref());
-                w.line(
-                    3,
-                    &format!("token outputs:mtlx:{terminal}.connect = <{target}>"),
-                );
-            } else if let Some(g) = i.nodegraph.as_deref().and_then(|g| doc.nodegraph(g)) {
-                reach.graphs.push(g.name.clone());
-                let out = g
-                    .output(i.output.as_deref())
-                    .map(|o| o.name.clone())
-                    .unwrap_or_else(|| "out".into());
-                w.line(
-                    3,
-                    &format!(
-                        "token outputs:mtlx:{terminal}.connect = <{path}/{}.outputs:{}>",
-                        usd_name(&g.name),
-                        usd_name(&out)
-                    ),
-                );
-            }
+        if let Some(id) = id {
+            w.line(3, &format!("uniform token info:id = {}", quote(&id)));
         }
-        // Everything the material reaches, each once.
-        let mut done_nodes = HashSet::new();
-        let mut done_graphs = HashSet::new();
-        loop {
-            if let Some(n) = reach.nodes.pop() {
-                if done_nodes.insert(n.clone())
-                    && let Some(node) = doc.node(&n)
-                {
-                    w.out.push('\n');
-                    w.shader(3, node, &path, None, &path, &mut reach);
-                }
-                continue;
-            }
-            if let Some(g) = reach.graphs.pop() {
-                if done_graphs.insert(g.clone())
-                    && let Some(graph) = doc.nodegraph(&g)
-                {
-                    w.out.push('\n');
-                    w.nodegraph(3, graph, &path, &mut reach);
-                }
-                continue;
-            }
-            break;
-        }
+        w.outputs(3, &outs);
         w.line(2, "}");
     }
     w.line(1, "}");
+    // Nodegraphs, and the document's top-level pattern nodes (usdMtlx's implicit nodegraph).
+    w.out.push('\n');
+    w.line(1, "def \"NodeGraphs\"");
+    w.line(1, "{");
+    let mut first = true;
+    for g in &doc.nodegraphs {
+        if !first {
+            w.out.push('\n');
+        }
+        first = false;
+        w.nodegraph(2, g);
+    }
+    for node in doc
+        .nodes
+        .iter()
+        .filter(|n| !is_shader_node(n) && n.ty != Some(ValueType::Material))
+    {
+        if !first {
+            w.out.push('\n');
+        }
+        first = false;
+        w.shader(2, node, NODEGRAPHS, None);
+    }
+    w.line(1, "}");
+    super::looks::write_looks(&mut w.out, doc, &materials);
     w.line(0, "}");
+    super::looks::write_model_root(&mut w.out, doc);
     w.out
 }
 
@@ -512,8 +643,16 @@ mod tests {
             connections("/Looks/M_wood/NG_wood/uv_scaled", "inputs:in2"),
             ["/Looks/M_wood/NG_wood.inputs:uvscale"]
         );
-        let gold = stage.prim("/Gold/mtlxstandard_surface1");
-        let color = gold.attribute("inputs:base_color").get::<Value>().unwrap();
+        // Values live on the Material's interface, which the shader's inputs connect to.
+        assert_eq!(
+            connections("/Gold/mtlxstandard_surface1", "inputs:base_color"),
+            ["/Gold.inputs:base_color"]
+        );
+        let color = stage
+            .prim("/Gold")
+            .attribute("inputs:base_color")
+            .get::<Value>()
+            .unwrap();
         assert!(format!("{color:?}").contains("0.910751"), "{color:?}");
     }
 }
