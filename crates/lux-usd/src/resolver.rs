@@ -131,10 +131,12 @@ impl Resolver for LuxResolver {
             b.to_vec()
         } else {
             let mtlx = crate::mtlx::usdmtlx::stand_in_source(&name);
-            let source = mtlx.map_or_else(|| resolved_path.clone(), ResolvedPath::new);
+            let source = mtlx
+                .as_deref()
+                .map_or_else(|| resolved_path.clone(), ResolvedPath::new);
             let mut asset = self.inner.open_asset(&source)?;
             let mut bytes = asset.read_all()?;
-            if let Some(doc) = mtlx {
+            if let Some(doc) = &mtlx {
                 bytes = crate::mtlx::usdmtlx::layer_bytes(doc, &bytes)
                     .map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e.to_string()))?;
             }

@@ -183,3 +183,51 @@ fn a_look_binds_its_materials_and_interface_inputs_take_overrides() {
         lux_usd::shading::NetSource::Connection(_)
     ));
 }
+
+/// A `.mtlx` document inside a `.usdz` package composes as it does on disk, and the asset
+/// paths it holds resolve inside the package (`looks.usdz[textures/wood.ppm]`), not against
+/// the package's directory — even where that directory has a file of the same name.
+/// `looks.usdz` packs `looks.usda` (as `scene.usda`), `graph.mtlx` and `textures/wood.ppm`.
+#[test]
+fn a_mtlx_document_inside_a_usdz_composes_and_resolves_inside_the_package() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mtlx/looks.usdz");
+    let scene = lux_usd::load_stage(&path, 1.0).unwrap();
+    let bound: Vec<(String, Option<String>)> = scene
+        .meshes
+        .iter()
+        .map(|m| {
+            let mat = m.material.map(|i| scene.materials[i].path.clone());
+            (m.path.clone(), mat)
+        })
+        .collect();
+    let want: Vec<(String, Option<String>)> = LOOK_BINDINGS
+        .iter()
+        .map(|(a, b)| (a.to_string(), (*b != "None").then(|| b.to_string())))
+        .collect();
+    assert_eq!(bound, want);
+    let wood = scene
+        .materials
+        .iter()
+        .find(|m| m.path == "/Asset/Materials/MA_wood")
+        .unwrap();
+    let net = wood.network.as_ref().unwrap();
+    let grain = net
+        .nodes
+        .iter()
+        .find(|n| n.name.ends_with("NG_wood/grain"))
+        .unwrap();
+    let file = grain.inputs.iter().find(|i| i.name == "file").unwrap();
+    let lux_usd::shading::NetSource::Value(lux_usd::shading::Value::File(f)) = &file.source else {
+        panic!("{file:?}");
+    };
+    let resolved = f
+        .asset
+        .resolved
+        .as_ref()
+        .expect("resolves")
+        .to_string_lossy();
+    assert!(
+        resolved.ends_with("looks.usdz[textures/wood.ppm]"),
+        "{resolved}"
+    );
+}

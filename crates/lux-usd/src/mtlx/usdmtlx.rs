@@ -561,29 +561,37 @@ pub fn to_usda(doc: &Document) -> String {
 /// layer openusd reads it as (it picks a layer's format by the resolved path's extension).
 pub const STAND_IN_SUFFIX: &str = "#usdMtlx.usda";
 
-/// Whether a resolved path names a MaterialX document (`.mtlx`, any case).
+/// Whether a resolved path names a MaterialX document (`.mtlx`, any case), also inside a
+/// `.usdz` package.
 pub fn is_mtlx(path: &str) -> bool {
-    std::path::Path::new(path)
+    // A package entry (`pkg.usdz[looks/gold.mtlx]`) counts by the entry's own extension.
+    std::path::Path::new(path.trim_end_matches(']'))
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("mtlx"))
 }
 
 /// The resolved path openusd is handed for a resolved asset: a `.mtlx` document's stand-in
-/// (`gold.mtlx#usdMtlx.usda`), any other path unchanged.
+/// (`gold.mtlx#usdMtlx.usda`; inside a package the suffix goes on the entry,
+/// `pkg.usdz[gold.mtlx#usdMtlx.usda]`, so that asset paths the document holds anchor inside
+/// the package), any other path unchanged.
 pub fn stand_in(resolved: openusd::ar::ResolvedPath) -> openusd::ar::ResolvedPath {
     let name = resolved.to_string_lossy();
-    if is_mtlx(&name) {
-        openusd::ar::ResolvedPath::new(format!("{name}{STAND_IN_SUFFIX}"))
-    } else {
-        resolved
+    if !is_mtlx(&name) {
+        return resolved;
+    }
+    match name.strip_suffix(']') {
+        Some(entry) => openusd::ar::ResolvedPath::new(format!("{entry}{STAND_IN_SUFFIX}]")),
+        None => openusd::ar::ResolvedPath::new(format!("{name}{STAND_IN_SUFFIX}")),
     }
 }
 
 /// The MaterialX document behind a stand-in path ([`stand_in`]), `None` for other paths.
-pub fn stand_in_source(resolved: &str) -> Option<&str> {
-    resolved
-        .strip_suffix(STAND_IN_SUFFIX)
-        .filter(|p| is_mtlx(p))
+pub fn stand_in_source(resolved: &str) -> Option<String> {
+    let source = match resolved.strip_suffix(']') {
+        Some(entry) => format!("{}]", entry.strip_suffix(STAND_IN_SUFFIX)?),
+        None => resolved.strip_suffix(STAND_IN_SUFFIX)?.to_string(),
+    };
+    is_mtlx(&source).then_some(source)
 }
 
 /// The `.usda` bytes serving the MaterialX document `bytes` read from `path` as a layer
