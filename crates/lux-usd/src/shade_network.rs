@@ -478,6 +478,29 @@ fn read_value(
             Err(LoadError::AttributeType { .. }) => None,
             Err(e) => return Err(e),
         },
+        Some(t @ (ValueType::Color3 | ValueType::Color4)) => {
+            let mut v = convert(&raw, t);
+            // A colour stated in another colour space (`colorSpace` metadata) is converted
+            // to lin_rec709, lux's working space.
+            let space = r
+                .metadata_text(&sprim, attr, "colorSpace")
+                .or_else(|| r.metadata_text(&hprim, &holder.1, "colorSpace"));
+            if let (Some(space), Some(Value::Numbers(c))) = (space, v.as_mut())
+                && !crate::shading::color_space::to_lin_rec709(&space, c)
+            {
+                warn(
+                    r,
+                    shader,
+                    WarningKind::Unsupported,
+                    format!(
+                        "{attr}: colour space {space:?} is not one lux converts from \
+                         (lin_rec709, srgb_texture, g22_rec709, g18_rec709, acescg); the value \
+                         is read as lin_rec709"
+                    ),
+                );
+            }
+            v
+        }
         Some(t) => convert(&raw, t),
         None => None,
     };

@@ -357,8 +357,14 @@ fn nodegraphs_fileprefix_colorspace_and_looks() {
     assert!(close(&value(scaled, "in2"), &[2.0, 2.0]));
     let (uv, _) = upstream(&g, scaled, "in1");
     assert_eq!(uv.category, "texcoord");
+    // The tint is a colour inside NG_wood, whose colorspace is srgb_texture (MaterialX 1.39.5:
+    // `getActiveColorSpace()` of NG_wood's `tint` is "srgb_texture"): converted to lin_rec709.
     let tinted = image("tinted");
-    assert!(close(&value(tinted, "in2"), &[0.9, 0.6, 0.3]));
+    let srgb = lux_usd::shading::color_space::srgb_to_linear;
+    assert!(close(
+        &value(tinted, "in2"),
+        &[srgb(0.9), srgb(0.6), srgb(0.3)]
+    ));
 
     // UsdPreviewSurface through its library graph; the input's own empty fileprefix wins.
     let g = flatten(&doc.network("M_preview").unwrap());

@@ -18,7 +18,8 @@ pub struct Input {
     /// `type`, parsed (`None` when absent or not a [`ValueType`]).
     pub ty: Option<ValueType>,
     /// `value`, parsed by type; `filename` values with `fileprefix` applied, resolved against
-    /// the document's directory and carrying the inherited `colorspace`.
+    /// the document's directory and carrying the inherited `colorspace`; colour values in
+    /// `lin_rec709` (see [`Input::colorspace`]).
     pub value: Option<Value>,
     /// `nodename`: a node in the same scope.
     pub nodename: Option<String>,
@@ -30,6 +31,11 @@ pub struct Input {
     pub interfacename: Option<String>,
     /// `channels` (MaterialX 1.37/1.38 swizzle on a connection; removed by [`super::upgrade`]).
     pub channels: Option<String>,
+    /// The colour space a `color3`/`color4` value is still in: empty when it was converted
+    /// from its active `colorspace` (its own, else the nearest enclosing element's, else the
+    /// document's) to `lin_rec709`, lux's working space
+    /// ([`crate::shading::color_space`]), or none applied; the name when lux does not know it.
+    pub colorspace: String,
     /// 1-based line.
     pub line: u32,
 }
@@ -63,6 +69,7 @@ impl Input {
             output: None,
             interfacename: None,
             channels: None,
+            colorspace: String::new(),
             line: 0,
         }
     }
@@ -78,6 +85,7 @@ impl Input {
             output: out.output.clone(),
             interfacename: out.interfacename.clone(),
             channels: None,
+            colorspace: String::new(),
             line: out.line,
         }
     }
@@ -489,6 +497,7 @@ fn parse_input(
     let scope = outer.enter(e);
     let name = ctx.name(e)?;
     let ty = e.attribute("type").and_then(ValueType::parse);
+    let mut unconverted = String::new();
     let value = match (e.attribute("value"), ty) {
         (Some(text), Some(ty)) => {
             if matches!(
@@ -519,6 +528,15 @@ fn parse_input(
                     f.asset = resolve_file(&authored, dir);
                     f.colorspace = scope.colorspace.clone();
                 }
+                // A colour value is in its active colour space: converted to lin_rec709, lux's
+                // working space (an unknown space is kept, see `Input::colorspace`).
+                if let Value::Numbers(c) = &mut v
+                    && matches!(ty, ValueType::Color3 | ValueType::Color4)
+                    && !scope.colorspace.is_empty()
+                    && !crate::shading::color_space::to_lin_rec709(&scope.colorspace, c)
+                {
+                    unconverted = scope.colorspace.clone();
+                }
                 Some(v)
             }
         }
@@ -533,6 +551,7 @@ fn parse_input(
         output: non_empty_attribute(e, "output"),
         interfacename: non_empty_attribute(e, "interfacename"),
         channels: non_empty_attribute(e, "channels"),
+        colorspace: unconverted,
         line: ctx.line(e),
     })
 }

@@ -216,19 +216,26 @@ impl Writer<'_> {
             .unwrap_or_else(|| "out".into())
     }
 
-    /// An authored value line (`decl = value`, with its `colorSpace` when it differs from the
-    /// document's).
-    fn value(&mut self, depth: usize, decl: &str, ty: ValueType, v: &Value) {
+    /// An authored value line (`decl = value`), with a `colorSpace` when the value is not in
+    /// `lin_rec709`: a file's when it differs from the document's, a colour value's when lux
+    /// could not convert it (`colorspace`, [`Input::colorspace`]).
+    fn value(&mut self, depth: usize, decl: &str, ty: ValueType, v: &Value, colorspace: &str) {
         let Some(text) = usda_value(ty, v) else {
             return;
         };
-        match v {
+        let space = match v {
             Value::File(f) if !f.colorspace.is_empty() && f.colorspace != self.doc.colorspace => {
-                self.line(depth, &format!("{decl} = {text} ("));
-                self.line(depth + 1, &format!("colorSpace = {}", quote(&f.colorspace)));
-                self.line(depth, ")");
+                f.colorspace.as_str()
             }
-            _ => self.line(depth, &format!("{decl} = {text}")),
+            Value::Numbers(_) => colorspace,
+            _ => "",
+        };
+        if space.is_empty() {
+            self.line(depth, &format!("{decl} = {text}"));
+        } else {
+            self.line(depth, &format!("{decl} = {text} ("));
+            self.line(depth + 1, &format!("colorSpace = {}", quote(space)));
+            self.line(depth, ")");
         }
     }
 
@@ -275,7 +282,7 @@ impl Writer<'_> {
             return;
         }
         if let Some(v) = &input.value {
-            self.value(depth, &decl, ty, v);
+            self.value(depth, &decl, ty, v, &input.colorspace);
         }
     }
 
@@ -390,8 +397,11 @@ impl Writer<'_> {
                     continue;
                 }
                 let decl = format!("{} inputs:{}", usd_type(ty), usd_name(&n));
-                match node.input(&n).and_then(|i| i.value.as_ref()) {
-                    Some(v) => self.value(depth + 1, &decl, ty, v),
+                match node
+                    .input(&n)
+                    .and_then(|i| Some((i.value.as_ref()?, &i.colorspace)))
+                {
+                    Some((v, space)) => self.value(depth + 1, &decl, ty, v, space),
                     None => self.line(depth + 1, &decl),
                 }
                 declared.push(n);

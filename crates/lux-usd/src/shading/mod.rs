@@ -21,6 +21,7 @@
 //!   `dielectric_bsdf`, `layer`, …), the pbrlib helpers without a graph in the library
 //!   (`roughness_anisotropy`, `artistic_ior`, …) and the stdlib nodes (`multiply`, `image`, …).
 
+pub mod color_space;
 mod flatten;
 
 pub use flatten::flatten;

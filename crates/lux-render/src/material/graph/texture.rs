@@ -10,75 +10,16 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// The colour space of a texture file's texels, converted to linear Rec.709 on load.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum ColorSpace {
-    /// `lin_rec709` (also `raw`, `none`, `Raw`): taken as is.
-    Linear,
-    /// `srgb_texture`: the sRGB transfer function undone (IEC 61966-2-1).
-    Srgb,
-    /// `g22_rec709`: `max(c, 0)^2.2`.
-    Gamma22,
-    /// `g18_rec709`: `max(c, 0)^1.8`.
-    Gamma18,
-    /// `acescg` (`lin_ap1`): the AP1 → Rec.709 matrix of MaterialX's cmlib.
-    AcesCg,
-}
+pub use lux_usd::shading::color_space::ColorSpace;
+use lux_usd::shading::color_space::is_float_format;
 
-impl ColorSpace {
-    /// The colour space a `colorspace` names for a file `path`; an empty name is sRGB for
-    /// integer (8/16-bit) formats and linear for EXR and HDR files, as MaterialX assumes.
-    /// `None` for a name lux does not know.
-    pub fn of(name: &str, path: &Path) -> Option<ColorSpace> {
-        Some(match name {
-            "" => {
-                if is_float_format(path) {
-                    ColorSpace::Linear
-                } else {
-                    ColorSpace::Srgb
-                }
-            }
-            "lin_rec709" | "raw" | "Raw" | "none" | "linear" | "scene-linear Rec.709-sRGB" => {
-                ColorSpace::Linear
-            }
-            "srgb_texture" | "sRGB" | "srgb" => ColorSpace::Srgb,
-            "g22_rec709" => ColorSpace::Gamma22,
-            "g18_rec709" => ColorSpace::Gamma18,
-            "acescg" | "lin_ap1" | "ACEScg" => ColorSpace::AcesCg,
-            _ => return None,
-        })
+/// Linear Rec.709 from a texel's encoded value `c` in `space` (sRGB decoded through the
+/// `f32` EOTF lux's image loaders use, the other spaces by [`ColorSpace::decode`]).
+fn decode_texel(space: ColorSpace, c: [f64; 3]) -> [f64; 3] {
+    match space {
+        ColorSpace::Srgb => c.map(|x| f64::from(srgb_to_linear(x as f32))),
+        _ => space.decode(c),
     }
-
-    /// Linear Rec.709 from the file's encoded value `c` (alpha is never converted).
-    fn decode(self, c: [f64; 3]) -> [f64; 3] {
-        match self {
-            ColorSpace::Linear => c,
-            ColorSpace::Srgb => c.map(|x| f64::from(srgb_to_linear(x as f32))),
-            ColorSpace::Gamma22 => c.map(|x| x.max(0.0).powf(2.2)),
-            ColorSpace::Gamma18 => c.map(|x| x.max(0.0).powf(1.8)),
-            ColorSpace::AcesCg => {
-                // MaterialX cmlib NG_acescg_to_lin_rec709 (row vector times matrix).
-                const M: [[f64; 3]; 3] = [
-                    [1.705050992658, -0.130256417507, -0.024003356805],
-                    [-0.621792120657, 1.140804736575, -0.128968976065],
-                    [-0.083258872001, -0.010548319068, 1.15297233287],
-                ];
-                let mut out = [0.0; 3];
-                for (j, o) in out.iter_mut().enumerate() {
-                    *o = c[0] * M[0][j] + c[1] * M[1][j] + c[2] * M[2][j];
-                }
-                out
-            }
-        }
-    }
-}
-
-/// Whether lux decodes the file as float data (EXR, Radiance HDR): its texels are loaded as
-/// stored; other formats are integer and decoded from sRGB on load.
-fn is_float_format(path: &Path) -> bool {
-    let name = path.to_string_lossy().to_ascii_lowercase();
-    let name = name.trim_end_matches(']');
-    name.ends_with(".exr") || name.ends_with(".hdr")
 }
 
 /// Textures loaded for shading graphs: one per resolved file and colour space, converted to
@@ -162,7 +103,7 @@ fn load(path: &Path, space: ColorSpace) -> Result<Arc<Texture>, String> {
             } else {
                 [t[0], t[1], t[2]].map(|x| f64::from(linear_to_srgb(x)))
             };
-            let c = space.decode(encoded);
+            let c = decode_texel(space, encoded);
             [c[0] as f32, c[1] as f32, c[2] as f32, t[3]]
         })
         .collect();
