@@ -7,7 +7,8 @@ mod common;
 use common::{close, options, probe_camera};
 use glam::{DMat4, DVec3};
 use lux::math::{LightShape, Profile};
-use lux::render::material::{PreviewBsdf, PreviewParams};
+use lux::render::geometry::Geometry;
+use lux::render::material::Materials;
 use lux::render::render::Renderer;
 use lux::render::settings::{AdaptiveSampling, IntegratorKind};
 use lux::usd::{Input, Light, Material, Mesh, Scene, load_stage};
@@ -192,25 +193,35 @@ fn back_faces_of_single_sided_walls_reflect_nothing() {
 fn glossy_floor_under_the_dome_reflects_its_albedo() {
     // An open UsdPreviewSurface floor (gold-ish metal, and a rough dielectric with clearcoat)
     // under a uniform dome of radiance L seen from straight above: its radiance is
-    // L·∫ f(wo, wi) cos θi dωi, the BSDF's albedo at normal view, here by quadrature of `f`.
-    // Light and BSDF samples combine with MIS; the render must find the same integral. The
-    // default DomeLight (intensity 1, white, no texture) has L = 1.
-    for params in [
-        PreviewParams {
-            diffuse_color: DVec3::new(1.0, 0.8, 0.4),
-            metallic: 1.0,
-            roughness: 0.3,
-            ..Default::default()
-        },
-        PreviewParams {
-            diffuse_color: DVec3::new(0.2, 0.5, 0.8),
-            roughness: 0.7,
-            clearcoat: 1.0,
-            clearcoat_roughness: 0.1,
-            ..Default::default()
-        },
-    ] {
-        let b = PreviewBsdf::new(&params, DVec3::Y, DVec3::Y);
+    // L·∫ f(wo, wi) cos θi dωi, the BSDF's albedo at normal view, here by quadrature of the
+    // renderer's own BSDF at the floor (the material's MaterialX graph). Light and BSDF samples
+    // combine with MIS; the render must find the same integral. The default DomeLight
+    // (intensity 1, white, no texture) has L = 1.
+    let gold = Material {
+        preview: true,
+        diffuse: Input::Value(DVec3::new(1.0, 0.8, 0.4)),
+        metallic: Input::Value(1.0),
+        roughness: Input::Value(0.3),
+        ..Material::new("/Looks/Floor")
+    };
+    let coated = Material {
+        preview: true,
+        diffuse: Input::Value(DVec3::new(0.2, 0.5, 0.8)),
+        roughness: Input::Value(0.7),
+        clearcoat: Input::Value(1.0),
+        clearcoat_roughness: Input::Value(0.1),
+        ..Material::new("/Looks/Floor")
+    };
+    for material in [gold, coated] {
+        let mut s = furnace(false, 0.0, 0.0);
+        s.materials.push(material.clone());
+        s.meshes[0].material = Some(0);
+        let geometry = Geometry::new(&s);
+        let down = DVec3::NEG_Y;
+        let hit = geometry
+            .intersect(&s, DVec3::new(0.0, 1.0, 0.0), down, 0.0, 10.0)
+            .unwrap();
+        let b = Materials::new(&s).unwrap().at(&s, &hit, down).bsdf;
         // Midpoint rule in (cos θ, φ), fine near the normal where the smooth lobes peak.
         let (nt, np) = (4000, 64);
         let mut albedo = DVec3::ZERO;
@@ -224,17 +235,6 @@ fn glossy_floor_under_the_dome_reflects_its_albedo() {
                 albedo += b.f(wi) * c * dc * std::f64::consts::TAU / np as f64;
             }
         }
-        let mut s = furnace(false, 0.0, 0.0);
-        s.materials.push(Material {
-            preview: true,
-            diffuse: Input::Value(params.diffuse_color),
-            metallic: Input::Value(params.metallic),
-            roughness: Input::Value(params.roughness),
-            clearcoat: Input::Value(params.clearcoat),
-            clearcoat_roughness: Input::Value(params.clearcoat_roughness),
-            ..Material::new("/Looks/Floor")
-        });
-        s.meshes[0].material = Some(0);
         // Eight independent renders give the estimate's own standard error; the mean must lie
         // within 4 of them (and within 0.5 %) of the quadrature.
         let runs: Vec<DVec3> = (0..8)
@@ -257,7 +257,7 @@ fn glossy_floor_under_the_dome_reflects_its_albedo() {
             assert!(
                 (mean[k] - want[k]).abs() <= (4.0 * sigma[k]).max(1e-4 * want[k])
                     && (mean[k] - want[k]).abs() <= 5e-3 * want[k],
-                "channel {k}: {} ± {} vs {} ({params:?})",
+                "channel {k}: {} ± {} vs {} ({material:?})",
                 mean[k],
                 sigma[k],
                 want[k]

@@ -34,6 +34,7 @@ pub mod mesh;
 pub mod mtlx;
 pub mod path_guard;
 pub mod points;
+mod preview_network;
 pub mod reader;
 mod resolver;
 pub mod shade_network;

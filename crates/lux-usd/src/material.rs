@@ -22,6 +22,9 @@ pub struct TextureInput {
     pub file: Option<AssetRef>,
     /// The primvar read by the `UsdPrimvarReader_float2` on `inputs:st` (default `"st"`).
     pub st_primvar: String,
+    /// That reader's `inputs:fallback`: the coordinates where the gprim lacks the primvar
+    /// (default (0, 0)).
+    pub st_fallback: DVec2,
     /// A `UsdTransform2d` between the primvar reader and `inputs:st`.
     pub transform: Option<Transform2d>,
     /// `inputs:scale` (default (1, 1, 1, 1)).
@@ -431,6 +434,44 @@ const READ_INPUTS: [&str; 12] = [
     "inputs:normal",
 ];
 
+/// A UsdPreviewSurface network's constant inputs as the fields read them: a value the fields
+/// replaced by its default (out of range, with a warning naming it) is replaced in the
+/// network too, so the graph shades what the warning says.
+fn validate_network(network: &mut crate::shading::Network, m: &Material) {
+    use crate::shading::{NetSource, Value};
+    let Some(k) = network.surface.as_ref().map(|c| c.node) else {
+        return;
+    };
+    let colour = |i: &Input<DVec3>| i.value().map(|c| c.to_array().to_vec());
+    let float = |i: &Input<f64>| i.value().map(|v| vec![v]);
+    let fields: [(&str, Option<Vec<f64>>); 10] = [
+        ("diffuseColor", colour(&m.diffuse)),
+        ("specularColor", colour(&m.specular)),
+        ("metallic", float(&m.metallic)),
+        ("roughness", float(&m.roughness)),
+        ("clearcoat", float(&m.clearcoat)),
+        ("clearcoatRoughness", float(&m.clearcoat_roughness)),
+        ("ior", float(&m.ior)),
+        ("opacity", float(&m.opacity)),
+        ("opacityThreshold", Some(vec![m.opacity_threshold])),
+        (
+            "useSpecularWorkflow",
+            Some(vec![f64::from(u8::from(m.use_specular_workflow))]),
+        ),
+    ];
+    for input in &mut network.nodes[k].inputs {
+        let Some((_, Some(valid))) = fields.iter().find(|(n, _)| *n == input.name) else {
+            continue;
+        };
+        if let NetSource::Value(Value::Numbers(v)) = &mut input.source
+            && v.len() == valid.len()
+            && v != valid
+        {
+            v.clone_from(valid);
+        }
+    }
+}
+
 /// Reads the Material at `path`.
 pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadError> {
     let first_warning = r.warnings.len();
@@ -440,14 +481,17 @@ pub fn read_material(r: &mut Reader<'_>, path: &str) -> Result<Material, LoadErr
         .surface
         .as_ref()
         .and_then(|c| network.nodes.get(c.node));
-    if let Some(node) = surface
-        && node.nodedef.is_some()
-    {
+    let nodedef = surface.and_then(|n| n.nodedef.clone());
+    if let Some(nodedef) = nodedef {
+        let mut network = network;
+        if nodedef == "UsdPreviewSurface" && out.preview {
+            validate_network(&mut network, &out);
+        }
         let graph = crate::shading::flatten(&network);
         // The renderer draws a MaterialX surface from the graph (from either terminal): the
         // UsdPreviewSurface fields' "default grey" does not apply to it — unless the shader
         // is none MaterialX knows (a `PxrSurface`), whose graph has no surface.
-        if node.nodedef.as_deref() != Some("UsdPreviewSurface") && graph.surface.is_some() {
+        if nodedef != "UsdPreviewSurface" && graph.surface.is_some() {
             r.warnings.retain(|w| {
                 !(w.prim == path && (w.message == NOT_PREVIEW_SURFACE || w.message == NO_SURFACE))
             });
@@ -691,6 +735,7 @@ fn read_texture(
 ) -> Result<TextureInput, LoadError> {
     let src = r.stage.prim(src_prim);
     let mut st_primvar = "st".to_owned();
+    let mut st_fallback = DVec2::ZERO;
     let mut transform = None;
     let (mut reader_prim, _) = follow(r, src_prim, "inputs:st")?;
     if reader_prim != src_prim {
@@ -725,6 +770,10 @@ fn read_texture(
             if let Some(v) = r.text(&vprim, &va)? {
                 st_primvar = v;
             }
+            let rp = r.stage.prim(reader_prim.as_str());
+            if let Some(f) = r.vec2(&rp, "inputs:fallback")?.filter(|f| f.is_finite()) {
+                st_fallback = f;
+            }
         }
     }
     let file = r.asset(&src, "inputs:file")?;
@@ -742,6 +791,7 @@ fn read_texture(
         shader: src_prim.to_owned(),
         file,
         st_primvar,
+        st_fallback,
         transform,
         scale: r.vec4(&src, "inputs:scale")?.unwrap_or(DVec4::ONE),
         bias: r.vec4(&src, "inputs:bias")?.unwrap_or(DVec4::ZERO),

@@ -1,6 +1,7 @@
 //! Materials: what a ray sees where it hits geometry — position, facing normals and the BSDF
-//! ([`Bsdf`]): Lambertian ([`DiffuseBsdf`]) or the UsdPreviewSurface ([`PreviewBsdf`]), its
-//! inputs each a value, a `UsdUVTexture` (`material/texture.rs`) or a primvar of the gprim
+//! ([`Bsdf`]): Lambertian ([`DiffuseBsdf`]) or a MaterialX closure tree ([`GraphBsdf`]:
+//! UsdPreviewSurface, standard_surface, open_pbr_surface as their MaterialX graphs), the
+//! Lambertian's `diffuseColor` a value, a `UsdUVTexture` (`material/texture.rs`) or a primvar of the gprim
 //! read by a `UsdPrimvarReader_*` (the hit's interpolated corner values, the reader's
 //! `fallback` where the gprim has none); without a material, the gprim's
 //! `primvars:displayColor`, else white — the white Lambertian of the reference renders; a
@@ -15,12 +16,10 @@
 mod diffuse;
 pub mod graph;
 mod graph_bsdf;
-mod preview;
 mod texture;
 
 pub use diffuse::DiffuseBsdf;
 pub use graph_bsdf::GraphBsdf;
-pub use preview::{PreviewBsdf, PreviewParams};
 
 use graph::{GraphShader, ShadingContext};
 
@@ -84,26 +83,11 @@ impl Param {
     }
 }
 
-/// A material's UsdPreviewSurface inputs beyond `diffuseColor`, prepared.
-#[derive(Clone, Debug)]
-struct PreviewInputs {
-    use_specular_workflow: bool,
-    specular: Param,
-    metallic: Param,
-    roughness: Param,
-    clearcoat: Param,
-    clearcoat_roughness: Param,
-    ior: Param,
-    /// Tangent-space normal map (`inputs:normal`).
-    normal: Option<TextureShader>,
-}
-
-/// A material, prepared: its diffuse colour, the rest of the UsdPreviewSurface unless
-/// surfaces are Lambertian, and its opacity.
+/// A material, prepared: its diffuse colour (all of it when surfaces are Lambertian), its
+/// compiled graph otherwise, and its opacity.
 #[derive(Clone, Debug)]
 struct Shader {
     diffuse: Param,
-    preview: Option<Box<PreviewInputs>>,
     /// `inputs:opacity` (`None`: opaque).
     opacity: Option<Param>,
     /// `inputs:opacityThreshold`.
@@ -113,8 +97,7 @@ struct Shader {
     emission: Option<Param>,
     /// The primvars its primvar readers read, by slot: name and `inputs:fallback`.
     primvars: Vec<(String, DVec4)>,
-    /// The material's MaterialX shading graph, compiled (`None`: Lambertian, or the legacy
-    /// UsdPreviewSurface of `preview` where no graph could be read).
+    /// The material's MaterialX shading graph, compiled (`None`: Lambertian).
     graph: Option<Box<GraphMaterial>>,
 }
 
@@ -161,8 +144,6 @@ pub struct BsdfSample {
 pub enum Bsdf {
     /// Lambertian reflection.
     Diffuse(DiffuseBsdf),
-    /// The UsdPreviewSurface (diffuse, GGX specular, clearcoat).
-    Preview(PreviewBsdf),
     /// A MaterialX closure tree (standard_surface, open_pbr_surface, UsdPreviewSurface as
     /// MaterialX defines it, or any graph of pbrlib closures).
     Graph(Box<GraphBsdf>),
@@ -174,7 +155,6 @@ impl Bsdf {
     pub fn is_black(&self) -> bool {
         match self {
             Bsdf::Diffuse(b) => b.albedo == DVec3::ZERO,
-            Bsdf::Preview(b) => b.is_black(),
             Bsdf::Graph(b) => b.bsdf.is_black(),
         }
     }
@@ -186,7 +166,7 @@ impl Bsdf {
     pub fn is_lambertian(&self) -> bool {
         match self {
             Bsdf::Diffuse(_) => true,
-            Bsdf::Preview(_) | Bsdf::Graph(_) => false,
+            Bsdf::Graph(_) => false,
         }
     }
 
@@ -195,7 +175,7 @@ impl Bsdf {
     #[inline]
     pub fn transmits(&self) -> bool {
         match self {
-            Bsdf::Diffuse(_) | Bsdf::Preview(_) => false,
+            Bsdf::Diffuse(_) => false,
             Bsdf::Graph(b) => b.transmits,
         }
     }
@@ -206,7 +186,6 @@ impl Bsdf {
     pub fn f(&self, wi: DVec3) -> DVec3 {
         match self {
             Bsdf::Diffuse(b) => b.f(wi),
-            Bsdf::Preview(b) => b.f(wi),
             Bsdf::Graph(b) => b.f(wi),
         }
     }
@@ -217,7 +196,6 @@ impl Bsdf {
     pub fn f_lobes(&self, wi: DVec3) -> (DVec3, DVec3) {
         match self {
             Bsdf::Diffuse(b) => (b.f(wi), DVec3::ZERO),
-            Bsdf::Preview(b) => b.f_lobes(wi),
             Bsdf::Graph(b) => b.f_lobes(wi),
         }
     }
@@ -238,7 +216,6 @@ impl Bsdf {
     pub fn pdf(&self, wi: DVec3) -> f64 {
         match self {
             Bsdf::Diffuse(b) => b.pdf(wi),
-            Bsdf::Preview(b) => b.pdf(wi),
             Bsdf::Graph(b) => b.pdf(wi),
         }
     }
@@ -250,7 +227,6 @@ impl Bsdf {
     pub fn sample(&self, u: [f64; 2], u_lobe: f64) -> Option<BsdfSample> {
         match self {
             Bsdf::Diffuse(b) => b.sample(u),
-            Bsdf::Preview(b) => b.sample(u),
             Bsdf::Graph(b) => b.sample(u, u_lobe),
         }
     }
@@ -309,10 +285,7 @@ fn plain_albedo(
 ) -> Option<DVec3> {
     let mesh = &scene.meshes[i];
     let shader = mesh.material.and_then(|k| materials.get(k));
-    if mesh.normals.is_some()
-        || no_response[i]
-        || shader.is_some_and(|m| m.preview.is_some() || m.graph.is_some())
-    {
+    if mesh.normals.is_some() || no_response[i] || shader.is_some_and(|m| m.graph.is_some()) {
         return None;
     }
     let albedo = match (reflectance, shader) {
@@ -763,7 +736,6 @@ impl Materials {
         let (mut ns, ng) = self.normals(scene, hit, d);
         let shader = self.material_of(scene, hit);
         let at = self.lookup(scene, hit);
-        let st = at.st;
         let albedo = match (self.mesh_reflectance[hit.mesh], shader) {
             (Some(c), _) => c,
             (None, Some(m)) => m.diffuse.eval(&at),
@@ -773,8 +745,7 @@ impl Materials {
             },
         };
         let albedo = clamped_albedo(albedo);
-        // Each arm builds the point in place (moving a `Bsdf` out of a `match` copies all of
-        // it, the UsdPreviewSurface variant's size, whatever the variant).
+        // Each branch builds the point in place.
         let point = |ns: DVec3, bsdf: Bsdf| SurfacePoint {
             p: hit.p,
             ng,
@@ -789,7 +760,7 @@ impl Materials {
             && let Some(g) = shader.and_then(|m| m.graph.as_deref())
         {
             // An interpolated normal turned away from the viewer shades with the geometric
-            // one, as for the UsdPreviewSurface below.
+            // one (near silhouettes, where microfacet closures have no value: black spots).
             if ns.dot(-d) <= 0.0 {
                 ns = ng;
             }
@@ -813,38 +784,12 @@ impl Materials {
                 })),
             );
         }
-        match shader.and_then(|m| m.preview.as_deref()) {
-            _ if self.no_response[hit.mesh] => point(
-                ns,
-                Bsdf::Diffuse(DiffuseBsdf {
-                    albedo: DVec3::ZERO,
-                    ns,
-                }),
-            ),
-            None => point(ns, Bsdf::Diffuse(DiffuseBsdf { albedo, ns })),
-            Some(p) => {
-                if let Some(map) = &p.normal {
-                    ns = self.normal_mapped(scene, hit, map, st, ns, ng);
-                }
-                // An interpolated or mapped normal can turn away from the viewer near
-                // silhouettes, where the microfacet BSDF has no value (black spots): there the
-                // geometric normal shades.
-                if ns.dot(-d) <= 0.0 {
-                    ns = ng;
-                }
-                let params = PreviewParams {
-                    diffuse_color: albedo,
-                    use_specular_workflow: p.use_specular_workflow,
-                    specular_color: p.specular.eval(&at),
-                    metallic: p.metallic.eval1(&at),
-                    roughness: p.roughness.eval1(&at),
-                    clearcoat: p.clearcoat.eval1(&at),
-                    clearcoat_roughness: p.clearcoat_roughness.eval1(&at),
-                    ior: p.ior.eval1(&at),
-                };
-                point(ns, Bsdf::Preview(PreviewBsdf::new(&params, ns, -d)))
-            }
-        }
+        let albedo = if self.no_response[hit.mesh] {
+            DVec3::ZERO
+        } else {
+            albedo
+        };
+        point(ns, Bsdf::Diffuse(DiffuseBsdf { albedo, ns }))
     }
 
     /// The world-space derivatives `(∂p/∂s, ∂p/∂t)` of the hit triangle's position in its
@@ -875,43 +820,6 @@ impl Materials {
         }
         Some((dpds, dpdt))
     }
-
-    /// The shading normal perturbed by a tangent-space normal map (UsdPreviewSurface
-    /// `inputs:normal`, the texture's `scale`/`bias` mapping texels to \[−1, 1\]³): with the
-    /// tangent `T = ∂p/∂s` made orthogonal to `ns`, `B = ±ns × T` (the sign of `∂p/∂t`),
-    /// `n' = normalize(x·T + y·B + z·ns)`, kept on the viewer's side of `ng`. Without
-    /// texture coordinates, or where they are degenerate, `ns` is unchanged.
-    fn normal_mapped(
-        &self,
-        scene: &Scene,
-        hit: &Hit,
-        map: &TextureShader,
-        st: DVec2,
-        ns: DVec3,
-        ng: DVec3,
-    ) -> DVec3 {
-        let Some((dpds, dpdt)) = self.dpds(scene, hit) else {
-            return ns;
-        };
-        let t = (dpds - ns * ns.dot(dpds)).normalize_or_zero();
-        if t == DVec3::ZERO {
-            return ns;
-        }
-        let mut b = ns.cross(t);
-        if b.dot(dpdt) < 0.0 {
-            b = -b;
-        }
-        let n = map.eval(st);
-        let mapped = (n.x * t + n.y * b + n.z * ns).normalize_or_zero();
-        if mapped == DVec3::ZERO || !mapped.is_finite() {
-            return ns;
-        }
-        if mapped.dot(ng) <= 0.0 {
-            // A perturbation past the geometric horizon: back to the interpolated normal.
-            return ns;
-        }
-        mapped
-    }
 }
 
 impl InputLoader {
@@ -924,15 +832,16 @@ impl InputLoader {
         &mut self,
         m: &lux_usd::Material,
         g: &lux_usd::shading::ShadingGraph,
+        network: Option<&lux_usd::shading::Network>,
         diffuse: Param,
         emission: Option<Param>,
     ) -> Result<Shader, RenderError> {
         let reflectance = !m.spectral.is_empty();
         // A `wavelength:reflectance` replaces a UsdPreviewSurface's `diffuseColor`: the
         // network flattened again with that colour.
-        let respectral = match (&diffuse, &m.network) {
+        let respectral = match (&diffuse, network) {
             (Param::Value(c), Some(net)) if reflectance && m.preview => {
-                let mut net = (**net).clone();
+                let mut net = net.clone();
                 let surface = net.surface.as_ref().map(|c| c.node);
                 if let Some(node) = surface.and_then(|k| net.nodes.get_mut(k)) {
                     node.inputs.retain(|i| i.name != "diffuseColor");
@@ -970,7 +879,6 @@ impl InputLoader {
             };
             return Ok(Shader {
                 diffuse,
-                preview: None,
                 opacity,
                 threshold: m.opacity_threshold,
                 emission,
@@ -1010,7 +918,6 @@ impl InputLoader {
         let tangent = shader.reads_tangent();
         Ok(Shader {
             diffuse,
-            preview: None,
             opacity,
             threshold: if m.preview { m.opacity_threshold } else { 0.0 },
             emission: if m.preview { emission } else { None },
@@ -1070,51 +977,30 @@ impl InputLoader {
         };
         let primvars = self.primvars.clone();
         // A graph whose surface shader MaterialX does not define (a `PxrSurface`) has no
-        // surface: such a material stays the default grey, as lux-usd warned.
+        // surface: such a material stays the default grey, as lux-usd warned. A
+        // UsdPreviewSurface built in code (no network read from a stage) shades as the graph
+        // of the network its fields describe (`Material::preview_network`).
+        let built = match (&m.graph, m.preview && surfaces == SurfaceModel::Preview) {
+            (None, true) => {
+                let net = m.preview_network();
+                let g = lux_usd::shading::flatten(&net);
+                Some((net, g))
+            }
+            _ => None,
+        };
+        let (network, graph) = match &built {
+            Some((net, g)) => (Some(net), Some(g)),
+            None => (m.network.as_deref(), m.graph.as_deref()),
+        };
         if surfaces == SurfaceModel::Preview
-            && let Some(g) = m.graph.as_deref().filter(|g| g.surface.is_some())
+            && let Some(g) = graph.filter(|g| g.surface.is_some())
         {
-            return self.graph_shader(m, g, diffuse, emission);
+            return self.graph_shader(m, g, network, diffuse, emission);
         }
-        if surfaces == SurfaceModel::Lambert || !m.preview {
-            return Ok(Shader {
-                diffuse,
-                preview: None,
-                opacity: None,
-                threshold: 0.0,
-                emission,
-                primvars,
-                graph: None,
-            });
-        }
-        // The schema defaults stand in for unreadable textures.
-        let d = PreviewParams::default();
-        let preview = PreviewInputs {
-            use_specular_workflow: m.use_specular_workflow,
-            specular: self.colour(path, "specularColor", &m.specular, d.specular_color)?,
-            metallic: self.float(path, "metallic", &m.metallic, d.metallic)?,
-            roughness: self.float(path, "roughness", &m.roughness, d.roughness)?,
-            clearcoat: self.float(path, "clearcoat", &m.clearcoat, d.clearcoat)?,
-            clearcoat_roughness: self.float(
-                path,
-                "clearcoatRoughness",
-                &m.clearcoat_roughness,
-                d.clearcoat_roughness,
-            )?,
-            ior: self.float(path, "ior", &m.ior, d.ior)?,
-            normal: self.texture(path, "normal", DVec3::Z, m.normal.as_deref())?,
-        };
-        let opacity = self.float(path, "opacity", &m.opacity, 1.0)?;
-        let opaque = match &opacity {
-            Param::Value(v) if m.opacity_threshold > 0.0 => v.x >= m.opacity_threshold,
-            Param::Value(v) => v.x >= 1.0,
-            Param::Texture(_) | Param::Primvar { .. } => false,
-        };
         Ok(Shader {
             diffuse,
-            preview: Some(Box::new(preview)),
-            opacity: (!opaque).then_some(opacity),
-            threshold: m.opacity_threshold,
+            opacity: None,
+            threshold: 0.0,
             emission,
             primvars,
             graph: None,
