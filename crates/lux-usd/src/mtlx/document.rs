@@ -141,6 +141,9 @@ pub struct Output {
     pub output: Option<String>,
     /// `interfacename` (an output passing an interface input through).
     pub interfacename: Option<String>,
+    /// `channels` (MaterialX 1.38 swizzle on an output's connection; removed by
+    /// [`super::upgrade`]).
+    pub channels: Option<String>,
     /// 1-based line.
     pub line: u32,
 }
@@ -460,6 +463,7 @@ fn parse_nodegraph(
                 nodename: c.attribute("nodename").map(str::to_string),
                 output: c.attribute("output").map(str::to_string),
                 interfacename: c.attribute("interfacename").map(str::to_string),
+                channels: non_empty_attribute(c, "channels"),
                 line: ctx.line(c),
             }),
             "token" | "backdrop" => {}
