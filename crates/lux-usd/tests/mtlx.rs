@@ -597,6 +597,77 @@ fn thin_film_layers_upgrade_into_networks() {
     }
 }
 
+/// A document older than 1.38 (which lux does not upgrade) is a typed error naming the file and
+/// the version, and inside a stage a composition warning: the stage loads without it.
+#[test]
+fn documents_older_than_138_are_refused_by_version() {
+    let path = data("old_137.mtlx");
+    let err = read_document(&path).unwrap_err();
+    match &err {
+        MtlxError::Version {
+            file,
+            line,
+            major,
+            minor,
+        } => {
+            assert_eq!(file, &path);
+            assert_eq!((*line, *major, *minor), (2, 1, 37));
+        }
+        e => panic!("{e:?}"),
+    }
+    let message = err.to_string();
+    assert!(message.contains("old_137.mtlx:2:"), "{message}");
+    assert!(message.contains("MaterialX 1.37 document"), "{message}");
+    let err = parse_document(
+        "<materialx version=\"1.36\"><nodegraph name=\"NG\"/></materialx>",
+        Path::new("v136.mtlx"),
+    )
+    .unwrap_err();
+    assert!(matches!(
+        err,
+        MtlxError::Version {
+            major: 1,
+            minor: 36,
+            ..
+        }
+    ));
+    assert!(
+        err.to_string().starts_with("v136.mtlx:1: a MaterialX 1.36"),
+        "{err}"
+    );
+    // 1.38 and 1.39 (and no version: the current one) are read.
+    for v in ["version=\"1.38\"", "version=\"1.39\"", ""] {
+        parse_document(&format!("<materialx {v}/>"), Path::new("x.mtlx")).unwrap();
+    }
+
+    let dir = std::env::temp_dir().join(format!("lux-mtlx-137-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let stage = dir.join("stage.usda");
+    std::fs::write(
+        &stage,
+        format!(
+            "#usda 1.0\ndef Scope \"L\" (\n    prepend references = @{}@</MaterialX/Materials>\n)\n{{\n}}\n",
+            path.display()
+        ),
+    )
+    .unwrap();
+    let scene = lux_usd::load_stage(&stage, 1.0).unwrap();
+    let warning = scene
+        .warnings
+        .iter()
+        .find(|w| w.kind == lux_usd::WarningKind::Composition)
+        .expect("a composition warning");
+    assert_eq!(warning.prim, "/L");
+    assert!(
+        warning
+            .message
+            .contains("old_137.mtlx:2: a MaterialX 1.37 document"),
+        "{}",
+        warning.message
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn bad_documents_are_typed_errors() {
     let err = parse_document(

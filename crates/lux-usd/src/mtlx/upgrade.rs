@@ -63,12 +63,19 @@
 //! converted from its colour space when the document was read ([`super::document`]), so it is
 //! swizzled after that conversion, not before.
 //!
-//! Documents older than 1.38 get these steps only.
+//! Documents older than 1.38 ([`OLDEST`]) are refused: [`super::parse_document`] returns
+//! [`super::MtlxError::Version`] naming the file and the version (inside a USD stage, the
+//! layer does not compose and the stage loads with a composition warning). MaterialX's upgrade
+//! of them (1.37 → 1.38 and earlier) rewrites `<material>`/`<shaderref>` elements, parameters,
+//! `color2` and the 1.37 BSDF nodes, which lux does not implement.
 
 use std::collections::HashSet;
 
 use super::document::{Document, Input, Node};
 use crate::shading::{Value, ValueType};
+
+/// The oldest MaterialX version lux reads (upgraded by [`upgrade`]).
+pub const OLDEST: (u32, u32) = (1, 38);
 
 /// Upgrades a MaterialX 1.38 document to 1.39 in place (see the module docs);
 /// [`Document::version`] keeps the version as authored.
