@@ -452,6 +452,13 @@ fn check_nodes(at: &str, nodes: &[lux_usd::mtlx::Node], want: &Json) {
     }
 }
 
+/// Input `input` of node `node` among the oracle's upgraded `nodes`.
+fn oracle_input<'j>(nodes: &'j Json, node: &str, input: &str) -> &'j Json {
+    let node = nodes.as_array().unwrap().iter().find(|n| n["name"] == node);
+    let inputs = node.unwrap()["inputs"].as_array().unwrap();
+    inputs.iter().find(|i| i["name"] == input).unwrap()
+}
+
 /// Where lux's upgrade knowingly differs from MaterialX's (`mtlx/upgrade.rs` docs): a port that
 /// read a thin-film layer whose base is behind a nodegraph output. MaterialX gives it the name
 /// of the node behind that output, which is not in the port's scope; lux gives it the base's
@@ -469,17 +476,7 @@ fn a_138_document_is_upgraded_as_materialx_does() {
         assert_eq!(want["version"], "1.39");
         for &(f, node, input) in UPGRADE_DIFFERS.iter().filter(|d| d.0 == file) {
             // The oracle's nodename is the node behind the nodegraph output lux's port reads.
-            let want_node = want["nodes"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .find(|n| n["name"] == node)
-                .unwrap()["inputs"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .find(|i| i["name"] == input)
-                .unwrap()["nodename"]
+            let want_node = oracle_input(&want["nodes"], node, input)["nodename"]
                 .as_str()
                 .unwrap();
             let port = doc
@@ -545,20 +542,7 @@ fn thin_film_layers_upgrade_into_networks() {
     let want = &oracle["upgraded"]["upgrade_138_pbr.mtlx"];
     let doc = read_document(&data("upgrade_138_pbr.mtlx")).unwrap();
     let wanted_value = |scope: &Json, node: &str, input: &str| -> Vec<f64> {
-        let v = scope
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|n| n["name"] == node)
-            .unwrap()["inputs"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|i| i["name"] == input)
-            .unwrap()["value"]
-            .as_str()
-            .unwrap()
-            .to_string();
+        let v = oracle_input(scope, node, input)["value"].as_str().unwrap();
         vec![v.trim().parse().unwrap()]
     };
     for (material, bsdf, scope) in [
