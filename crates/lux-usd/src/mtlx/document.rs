@@ -141,6 +141,9 @@ pub struct Output {
     pub output: Option<String>,
     /// `interfacename` (an output passing an interface input through).
     pub interfacename: Option<String>,
+    /// `channels` (MaterialX 1.38 swizzle on an output's connection; removed by
+    /// [`super::upgrade`]).
+    pub channels: Option<String>,
     /// 1-based line.
     pub line: u32,
 }
@@ -302,8 +305,9 @@ impl Ctx<'_> {
 /// Parses MaterialX document text read from `path` (used for messages and as the directory
 /// `filename` inputs resolve against), and upgrades it to 1.39 ([`super::upgrade`]).
 ///
-/// Errors: malformed XML (with line and column), a root other than `<materialx>`, an element
-/// without `name`, a value that does not parse as its type.
+/// Errors: malformed XML (with line and column), a root other than `<materialx>`, a version
+/// older than 1.38 ([`MtlxError::Version`]), an element without `name`, a value that does not
+/// parse as its type.
 pub fn parse_document(text: &str, path: &Path) -> Result<Document, MtlxError> {
     let xml = roxmltree::Document::parse(text).map_err(|e| {
         let pos = e.pos();
@@ -331,6 +335,14 @@ pub fn parse_document(text: &str, path: &Path) -> Result<Document, MtlxError> {
         Some(v) => parse_version(v)
             .ok_or_else(|| ctx.invalid(root, "materialx".into(), "version=\"major.minor\""))?,
     };
+    if version < super::upgrade::OLDEST {
+        return Err(MtlxError::Version {
+            file: path.to_path_buf(),
+            line: ctx.line(root),
+            major: version.0,
+            minor: version.1,
+        });
+    }
     let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
     let scope = Scope::default().enter(root);
     let mut doc = Document {
@@ -460,6 +472,7 @@ fn parse_nodegraph(
                 nodename: c.attribute("nodename").map(str::to_string),
                 output: c.attribute("output").map(str::to_string),
                 interfacename: c.attribute("interfacename").map(str::to_string),
+                channels: non_empty_attribute(c, "channels"),
                 line: ctx.line(c),
             }),
             "token" | "backdrop" => {}

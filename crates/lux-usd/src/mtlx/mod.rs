@@ -57,6 +57,26 @@ pub enum MtlxError {
         /// What the specification requires there.
         expected: String,
     },
+    /// The document is older than MaterialX 1.38. lux upgrades 1.38 documents to 1.39
+    /// ([`upgrade`]) but not older ones: their upgrade (MaterialX's
+    /// `Document::upgradeVersion`, 1.37 → 1.38 and earlier steps) rewrites `<material>` /
+    /// `<shaderref>` / `<bindinput>` elements into shader and material nodes, `<parameter>`s into
+    /// inputs, `color2` into `vector2` and the 1.37 BSDF nodes, which lux does not implement;
+    /// read as they are, such documents would have no materials.
+    #[error(
+        "{file}:{line}: a MaterialX {major}.{minor} document: lux reads MaterialX 1.38 and 1.39 \
+         documents, not older ones"
+    )]
+    Version {
+        /// The document.
+        file: PathBuf,
+        /// 1-based line of the `<materialx>` element.
+        line: u32,
+        /// The document's major version.
+        major: u32,
+        /// The document's minor version.
+        minor: u32,
+    },
     /// [`Document::network`] was asked for a material the document does not declare, or a
     /// connection names a node or nodegraph output that does not exist.
     #[error("{file}: {message}")]

@@ -7,10 +7,12 @@ documents here. Run with the PyPI `materialx` bindings (the committed oracle: Ma
 - `nodedefs`: every nodedef of the five embedded files (`../../../data/materialx/`): its node,
   active inputs (inherited ones included; name, type, default value as numbers/string, or null,
   defaultgeomprop, uniform), active outputs and the nodegraph implementing it, if any;
-- `resolve`: for every node of the test documents and of the library's implementation graphs,
+- `resolve`: for every node of the test documents (but `UNRESOLVED`) and of the library's implementation graphs,
   the nodedef MaterialX finds for it (`Node.getNodeDef()`), with the node's category, type and
   authored (input, type) pairs and requested version;
-- `upgraded`: the 1.39 form of `upgrade_138.mtlx` as MaterialX writes it (nodes per nodegraph).
+- `upgraded`: for each `upgrade_*.mtlx`, its 1.39 form as MaterialX's `upgradeVersion` makes it
+  on reading: the top-level nodes and each nodegraph's nodes and outputs (category, type,
+  nodedef string; every input's type, value string and bindings).
 """
 
 import json
@@ -22,6 +24,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 LIB = os.path.join(HERE, "..", "..", "..", "data", "materialx")
 FILES = ["stdlib_defs", "pbrlib_defs", "standard_surface", "open_pbr_surface", "usd_preview_surface"]
 DOCS = sorted(f for f in os.listdir(HERE) if f.endswith(".mtlx") and f != "bad.mtlx")
+# Documents whose upgraded nodes no nodedef matches, even in MaterialX: not `resolve` records.
+UNRESOLVED = {"upgrade_138_unresolved.mtlx"}
 
 
 def load_library():
@@ -90,6 +94,8 @@ def node_record(where, node):
 def resolve(lib):
     out = []
     for f in DOCS:
+        if f in UNRESOLVED:
+            continue
         doc = mx.createDocument()
         mx.readFromXmlFile(doc, os.path.join(HERE, f))
         doc.importLibrary(lib)
@@ -106,30 +112,45 @@ def resolve(lib):
     return out
 
 
-def upgraded():
+UPGRADES = sorted(f for f in DOCS if f.startswith("upgrade_"))
+
+
+def port_record(p):
+    return {
+        "name": p.getName(),
+        "type": p.getType() or None,
+        "value": p.getValueString() or None,
+        "nodename": p.getNodeName() or None,
+        "nodegraph": p.getNodeGraphString() or None,
+        "output": p.getOutputString() or None,
+        "interfacename": p.getInterfaceName() or None,
+    }
+
+
+def upgraded_node(n):
+    return {
+        "name": n.getName(),
+        "category": n.getCategory(),
+        "type": n.getType(),
+        "nodedef": n.getNodeDefString() or None,
+        "inputs": [port_record(i) for i in n.getInputs()],
+    }
+
+
+def upgraded(name):
     doc = mx.createDocument()
-    mx.readFromXmlFile(doc, os.path.join(HERE, "upgrade_138.mtlx"))
-    graphs = {}
-    for g in doc.getNodeGraphs():
-        graphs[g.getName()] = [
-            {
-                "name": n.getName(),
-                "category": n.getCategory(),
-                "type": n.getType(),
-                "inputs": [
-                    {
-                        "name": i.getName(),
-                        "value": i.getValueString() or None,
-                        "nodename": i.getNodeName() or None,
-                        "output": i.getOutputString() or None,
-                        "interfacename": i.getInterfaceName() or None,
-                    }
-                    for i in n.getInputs()
-                ],
+    mx.readFromXmlFile(doc, os.path.join(HERE, name))
+    return {
+        "version": doc.getVersionString(),
+        "nodes": [upgraded_node(n) for n in doc.getNodes()],
+        "nodegraphs": {
+            g.getName(): {
+                "nodes": [upgraded_node(n) for n in g.getNodes()],
+                "outputs": [port_record(o) for o in g.getOutputs()],
             }
-            for n in g.getNodes()
-        ]
-    return {"version": doc.getVersionString(), "nodegraphs": graphs}
+            for g in doc.getNodeGraphs()
+        },
+    }
 
 
 def main():
@@ -138,7 +159,7 @@ def main():
         "materialx": mx.getVersionString(),
         "nodedefs": nodedefs(lib),
         "resolve": resolve(lib),
-        "upgraded": upgraded(),
+        "upgraded": {f: upgraded(f) for f in UPGRADES},
     }
     with open(os.path.join(HERE, "oracle.json"), "w") as f:
         json.dump(data, f, indent=1, sort_keys=True)
