@@ -909,6 +909,38 @@ fn unknown_nodes_warn_and_take_zero() {
     assert_eq!(seen(shader.eval(&ctx(DVec2::ZERO, &[]))), DVec3::splat(0.5));
 }
 
+/// A node lux does not evaluate gives what its nodedef states for that case (MaterialX
+/// `stdlib_defs.mtlx`): `blur`'s output passes its `in` through (`defaultinput="in"`),
+/// `heighttonormal`'s is the flat normal (0.5, 0.5, 1) (`default`), each with its note.
+#[test]
+fn unevaluated_nodes_take_their_nodedef_fallbacks() {
+    let c = [0.2, 0.4, 0.6];
+    let g = emitting(
+        vec![node("blur", Color3, &[("in", Color3, num(&c))])],
+        0,
+        Color3,
+    );
+    let (shader, warnings) = compile(&g);
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(warnings[0].contains("blur"), "{warnings:?}");
+    assert_close(
+        seen(shader.eval(&ctx(DVec2::ZERO, &[]))),
+        DVec3::from_array(c),
+        "blur passes its input through",
+    );
+    let g = emitting(
+        vec![node("heighttonormal", Vector3, &[("in", Float, num(&[0.3]))])],
+        0,
+        Vector3,
+    );
+    let (shader, _) = compile(&g);
+    assert_close(
+        seen(shader.eval(&ctx(DVec2::ZERO, &[]))),
+        DVec3::new(0.5, 0.5, 1.0),
+        "heighttonormal's default",
+    );
+}
+
 #[test]
 fn malformed_graphs_do_not_panic() {
     // A forward connection, a missing output, no surface.

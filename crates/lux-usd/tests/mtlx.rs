@@ -65,6 +65,54 @@ fn every_nodedef_matches_materialx() {
             .map(|(n, t)| (n.as_str(), t.name()))
             .collect();
         assert_eq!(got_out, want_out, "{name} outputs");
+        // Each output's fallback where the node is not evaluated: `defaultinput`, `default`.
+        for p in o["outputs"].as_array().unwrap() {
+            let oname = p[0].as_str().unwrap();
+            if ValueType::parse(p[1].as_str().unwrap()).is_none() {
+                continue;
+            }
+            let got = def.output_fallback(oname);
+            match (p[2].as_str(), p[3].as_str()) {
+                (_, Some(input)) => assert_eq!(
+                    got,
+                    Some(&lux_usd::mtlx::OutputFallback::Input(input.to_string())),
+                    "{name}.{oname} defaultinput"
+                ),
+                (Some(""), None) => assert!(
+                    matches!(
+                        got,
+                        Some(lux_usd::mtlx::OutputFallback::Value(
+                            Value::String(_) | Value::File(_)
+                        ))
+                    ),
+                    "{name}.{oname} empty default: {got:?}"
+                ),
+                (Some(text), None) if text.starts_with(|c: char| c.is_ascii_uppercase()) => {
+                    assert_eq!(
+                        got,
+                        Some(&lux_usd::mtlx::OutputFallback::Geomprop(text.to_string())),
+                        "{name}.{oname} default"
+                    )
+                }
+                (Some(text), None) => {
+                    let want: Vec<f64> = text
+                        .split(',')
+                        .map(|x| match x.trim() {
+                            "true" => 1.0,
+                            "false" => 0.0,
+                            x => x.parse::<f64>().unwrap(),
+                        })
+                        .collect();
+                    match got {
+                        Some(lux_usd::mtlx::OutputFallback::Value(Value::Numbers(v))) => {
+                            assert!(close(v, &want), "{name}.{oname} default {v:?} vs {want:?}")
+                        }
+                        other => panic!("{name}.{oname} default {text}: {other:?}"),
+                    }
+                }
+                (None, None) => assert_eq!(got, None, "{name}.{oname}"),
+            }
+        }
         let want_in: Vec<&Json> = o["inputs"]
             .as_array()
             .unwrap()

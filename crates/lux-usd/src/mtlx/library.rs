@@ -28,6 +28,18 @@ pub struct DefInput {
     pub uniform: bool,
 }
 
+/// What a nodedef's output gives where its node is not evaluated.
+#[derive(Clone, Debug, PartialEq)]
+pub enum OutputFallback {
+    /// `default="…"`: a constant of the output's type.
+    Value(Value),
+    /// `defaultinput="…"`: the value of that input (a pass-through).
+    Input(String),
+    /// `default="Nworld"`: a geometric property by its `geompropdef` name (`ND_flake2d`'s
+    /// `flakenormal` falls back to the surface normal).
+    Geomprop(String),
+}
+
 /// A `<nodedef>` (MaterialX Specification, "Custom Node Declaration NodeDef Elements"), with
 /// the inputs of the nodedef it `inherit`s merged in (its own first, as MaterialX lists them).
 #[derive(Clone, Debug, PartialEq)]
@@ -40,6 +52,10 @@ pub struct NodeDef {
     pub inputs: Vec<DefInput>,
     /// The outputs: name and type.
     pub outputs: Vec<(String, ValueType)>,
+    /// What outputs give where the node is not evaluated (an output's `default` or
+    /// `defaultinput`, MaterialX Specification, "NodeDef Output Elements"): output name and
+    /// fallback, for the outputs that state one.
+    pub output_fallbacks: Vec<(String, OutputFallback)>,
     /// `version`.
     pub version: Option<String>,
     /// `isdefaultversion="true"`.
@@ -49,6 +65,14 @@ pub struct NodeDef {
 }
 
 impl NodeDef {
+    /// The fallback of output `name`, if it states one.
+    pub fn output_fallback(&self, name: &str) -> Option<&OutputFallback> {
+        self.output_fallbacks
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, f)| f)
+    }
+
     /// The input named `name`.
     pub fn input(&self, name: &str) -> Option<&DefInput> {
         self.inputs.iter().find(|i| i.name == name)
@@ -84,6 +108,7 @@ pub(crate) fn parse_nodedef(ctx: &Ctx, e: roxmltree::Node) -> Result<NodeDef, Mt
         category,
         inputs: Vec::new(),
         outputs: Vec::new(),
+        output_fallbacks: Vec::new(),
         version: e.attribute("version").map(str::to_string),
         default_version: e.attribute("isdefaultversion") == Some("true"),
         inherit: e.attribute("inherit").map(str::to_string),
@@ -99,6 +124,25 @@ pub(crate) fn parse_nodedef(ctx: &Ctx, e: roxmltree::Node) -> Result<NodeDef, Mt
             continue;
         };
         if kind == "output" {
+            if let Some(input) = c.attribute("defaultinput") {
+                def.output_fallbacks
+                    .push((iname.clone(), OutputFallback::Input(input.to_string())));
+            } else if let Some(text) = c.attribute("default") {
+                let fallback = match parse_value(ty, text) {
+                    Some(v) => OutputFallback::Value(v),
+                    None if text.chars().all(|ch| ch.is_ascii_alphanumeric()) => {
+                        OutputFallback::Geomprop(text.to_string())
+                    }
+                    None => {
+                        return Err(ctx.invalid(
+                            c,
+                            format!("output \"{iname}\" of nodedef \"{}\"", def.name),
+                            &format!("a {} default, not \"{text}\"", ty.name()),
+                        ));
+                    }
+                };
+                def.output_fallbacks.push((iname.clone(), fallback));
+            }
             def.outputs.push((iname, ty));
             continue;
         }
@@ -224,6 +268,11 @@ impl Library {
                 for o in &pdef.outputs {
                     if !def.outputs.iter().any(|(n, _)| n == &o.0) {
                         def.outputs.push(o.clone());
+                    }
+                }
+                for f in &pdef.output_fallbacks {
+                    if !def.output_fallbacks.iter().any(|(n, _)| n == &f.0) {
+                        def.output_fallbacks.push(f.clone());
                     }
                 }
                 parent = pdef.inherit.clone();

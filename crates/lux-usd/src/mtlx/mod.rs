@@ -18,7 +18,9 @@ pub use document::{
     Collection, Document, Input, Look, MaterialAssign, Node, NodeGraph, Output, parse_document,
     read_document, split_array,
 };
-pub use library::{DefInput, Library, NodeDef, NodeGraphDef, library, nodedef_for_usd_id};
+pub use library::{
+    DefInput, Library, NodeDef, NodeGraphDef, OutputFallback, library, nodedef_for_usd_id,
+};
 
 use crate::shading::{Value, ValueType};
 

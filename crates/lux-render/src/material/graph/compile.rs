@@ -479,11 +479,41 @@ impl Compiler<'_> {
             return node.outputs.iter().map(|o| zero_of(o.1)).collect();
         }
         let what = format!(
-            "node category {:?} ({}) is not supported; its outputs take their defaults (zero, no closure)",
+            "node category {:?} ({}) is not supported; its outputs take their nodedef's \
+             defaults (`default`, `defaultinput`; zero, no closure, where it states none)",
             node.category, node.nodedef
         );
         self.note(node, what);
-        node.outputs.iter().map(|o| zero_of(o.1)).collect()
+        self.output_fallbacks(index, node)
+    }
+
+    /// The outputs of a node lux does not evaluate, as its nodedef states them where the node
+    /// is not evaluated (MaterialX Specification, "NodeDef Output Elements"): an output's
+    /// `defaultinput` passes that input through, its `default` is a constant (or a geometric
+    /// property); zero (no closure) where it states none.
+    fn output_fallbacks(&mut self, index: usize, node: &GraphNode) -> Vec<Arg> {
+        use lux_usd::mtlx::OutputFallback;
+        let def = lux_usd::mtlx::library().nodedef(&node.nodedef);
+        node.outputs
+            .iter()
+            .map(
+                |(name, ty)| match def.and_then(|d| d.output_fallback(name)) {
+                    Some(OutputFallback::Input(input))
+                        if node.input(input).is_some_and(|i| i.ty == *ty) =>
+                    {
+                        self.input_or_default(index, node, input)
+                    }
+                    Some(OutputFallback::Value(v)) => {
+                        constant(v, *ty).map_or_else(|| zero_of(*ty), Arg::Const)
+                    }
+                    Some(OutputFallback::Geomprop(g)) => match Geom::of_geomprop(g) {
+                        Some((geom, _)) => Arg::Geom(geom),
+                        None => zero_of(*ty),
+                    },
+                    _ => zero_of(*ty),
+                },
+            )
+            .collect()
     }
 
     /// A node whose output is a closure (`BSDF`, `EDF`, `VDF`): the pbrlib nodes and the

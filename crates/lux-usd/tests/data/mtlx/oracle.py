@@ -72,7 +72,12 @@ def nodedefs(lib):
                 }
                 for i in nd.getActiveInputs()
             ],
-            "outputs": [[o.getName(), o.getType()] for o in nd.getActiveOutputs()],
+            "outputs": [
+                [o.getName(), o.getType(),
+                 o.getAttribute("default") if o.hasAttribute("default") else None,
+                 o.getAttribute("defaultinput") or None]
+                for o in nd.getActiveOutputs()
+            ],
             "implementation": impl.getName() if impl is not None and impl.isA(mx.NodeGraph) else None,
         }
     return out
