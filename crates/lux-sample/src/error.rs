@@ -86,3 +86,10 @@ pub(crate) fn finite(field: &'static str, value: f64) -> Result<f64, SampleError
 /// Largest number of entries any table of this crate allocates (2²⁸ ≈ 268 M, e.g. a 16384×16384
 /// dome texture); larger requests are rejected instead of exhausting memory.
 pub const MAX_ENTRIES: usize = 1 << 28;
+
+impl From<lux_math::TransformError> for SampleError {
+    /// A light-to-world matrix [`lux_math::LightTransform::new`] refused.
+    fn from(e: lux_math::TransformError) -> Self {
+        SampleError::BadTransform(e.0)
+    }
+}

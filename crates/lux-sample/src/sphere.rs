@@ -324,7 +324,8 @@ impl SphereLight {
         technique: SphereTechnique,
     ) -> Result<Self, SampleError> {
         let radius = positive("radius", radius)?;
-        let world = xf.uniform_scale_translation().and_then(|(s, centre)| {
+        let world = xf.inverse_uniform_scale().and_then(|k| {
+            let (s, centre) = (1.0 / k, xf.translation());
             let radius = radius * s;
             let inv_tau_r2 = 1.0 / (TAU * radius * radius);
             (radius.is_finite() && inv_tau_r2.is_finite()).then_some(WorldSphere {
