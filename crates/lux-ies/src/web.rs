@@ -339,21 +339,24 @@ impl PhotometricWeb {
         self.flux_midpoint
     }
 
-    /// Flux by the method `profile` prescribes: `Spec` exact, `HdEmbree` midpoint.
-    pub fn flux(&self, profile: Profile) -> f64 {
-        match profile {
+    /// Flux (lm) by the method the web's [`profile`](Self::profile) prescribes: `Spec`
+    /// [`flux_exact`](Self::flux_exact), `HdEmbree` [`flux_midpoint`](Self::flux_midpoint).
+    pub fn flux(&self) -> f64 {
+        match self.profile {
             Profile::Spec => self.flux_exact,
             Profile::HdEmbree => self.flux_midpoint,
         }
     }
 
-    /// The `shaping:ies:normalize` divisor (mean intensity, cd): [`flux`](Self::flux)`(profile)`
-    /// divided by 4π, or by 2π when the vertical range spans ≤ 95.73° (see
-    /// [`covers_sphere`](Self::covers_sphere)). The candela scale is the one chosen at
-    /// construction; for `ies:normalize` the LM-63-2019 generation-type factor cancels anyway.
-    pub fn mean_intensity(&self, profile: Profile) -> f64 {
+    /// The `inputs:shaping:ies:normalize` divisor (mean intensity, cd):
+    /// `Φ / 4π`, or `Φ / 2π` when the vertical range spans ≤ 95.73° (see
+    /// [`covers_sphere`](Self::covers_sphere)), with Φ the [`flux`](Self::flux) of the web's
+    /// own [`profile`](Self::profile) (exact under `Spec`, the midpoint rule under
+    /// `HdEmbree`). The candela scale is the one chosen at construction; for `ies:normalize`
+    /// the LM-63-2019 generation-type factor cancels anyway.
+    pub fn mean_intensity(&self) -> f64 {
         let solid = if self.covers_sphere() { 2.0 * TAU } else { TAU };
-        self.flux(profile) / solid
+        self.flux() / solid
     }
 
     /// Converts native (vertical, horizontal) radians to light-space (θ, φ).

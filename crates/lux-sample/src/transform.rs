@@ -144,8 +144,8 @@ pub(crate) fn local_direction(xf: &LightTransform, wi: DVec3) -> Option<(DVec3, 
 mod tests {
     use super::*;
     use crate::rng::SplitMix64;
-    use glam::DMat4;
     use crate::warp::sample_uniform_sphere;
+    use glam::DMat4;
 
     /// ∫ (dω/dω') dω' over the sphere is 4π for any invertible L (the map is a bijection of the
     /// sphere), checked by Monte Carlo with a sheared, scaled matrix.

@@ -33,10 +33,10 @@
 //! };
 //! let spot = Shaping::new(&params, None, ShapingOptions::default())?;
 //! // straight along the light's −Z axis: unchanged
-//! assert_eq!(spot.factor(DVec3::NEG_Z), [1.0; 3]);
+//! assert_eq!(spot.factor(DVec3::NEG_Z), DVec3::ONE);
 //! // 60° off the axis: outside the cone
 //! let t = 60f64.to_radians();
-//! assert_eq!(spot.factor(DVec3::new(t.sin(), 0.0, -t.cos())), [0.0; 3]);
+//! assert_eq!(spot.factor(DVec3::new(t.sin(), 0.0, -t.cos())), DVec3::ZERO);
 //! // a flat light radiates π (cos-weighted hemisphere) unshaped; this one much less
 //! let ratio = spot.integral_cos_hemisphere()[0] / std::f64::consts::PI;
 //! assert!(ratio > 0.2 && ratio < 0.5);

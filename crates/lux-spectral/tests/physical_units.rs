@@ -127,7 +127,7 @@ fn shaping_integral_closed_forms() {
             want
         );
         assert_eq!(
-            ShapingIntegral::from_integrals(kind, Some([1.0; 3]), DVec3::ONE),
+            ShapingIntegral::from_integrals(kind, Some(DVec3::ONE), DVec3::ONE),
             want
         );
         assert_eq!(
@@ -223,9 +223,12 @@ fn power_round_trip_with_caller_supplied_rgb_integrals() {
         inputs.color_temperature = 2700.0;
         let ill = resolve_illuminant(&inputs, ColorSpace::Rec709).unwrap();
         for (shape, emitter, channel_integrals) in shapes {
-            let g =
-                ShapingIntegral::from_integrals(emitter, Some(channel_integrals), ill.rgb_per_nit)
-                    .unwrap();
+            let g = ShapingIntegral::from_integrals(
+                emitter,
+                Some(DVec3::from(channel_integrals)),
+                ill.rgb_per_nit,
+            )
+            .unwrap();
             let area = match shape {
                 Shape::Rect(w, h) => w * h,
                 Shape::Disk(r) => PI * r * r,
