@@ -43,7 +43,11 @@ pub fn physical_inputs(l: &Light, quantity: PhysicalQuantity) -> PhysicalLightIn
     inputs.color_temperature = l.params.color_temperature;
     if let Some(p) = &l.physical {
         inputs.illuminant = p.illuminant;
-        inputs.custom_illuminant = p.custom_illuminant.clone();
+        inputs.custom_illuminant = p
+            .custom_illuminant
+            .iter()
+            .map(|&[nm, v]| [f64::from(nm), f64::from(v)])
+            .collect();
     }
     inputs
 }

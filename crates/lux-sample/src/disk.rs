@@ -308,6 +308,25 @@ impl DiskLight {
             .map(|axis| (self.xf.point(DVec3::ZERO), axis, r))
     }
 
+    /// The one-sided **projected solid angle** `Π = ∫ max(0, n·ω) dω` of the disk seen from the
+    /// receiver `r` (its `(p, n)`), clipped to the receiver's horizon (lux-irradiance's
+    /// `projected::disk`, in closed form): the unshadowed irradiance is `E = L·Π` for a uniform
+    /// radiance `L`. The disk emits from its −Z side only (spec §2): a receiver on or behind the
+    /// other side gets 0. `None` for a reference without a normal (`n = 0`) and for a disk
+    /// under a non-uniform scale or shear (an ellipse: [`world_disk`](Self::world_disk) is
+    /// `None`).
+    pub fn projected_solid_angle(&self, r: &Reference) -> Option<f64> {
+        if r.n == DVec3::ZERO {
+            return None;
+        }
+        let (centre, axis, radius) = self.world_disk()?;
+        // world_disk's axis is +Z's image; the disk emits towards −Z's
+        if !(axis.dot(r.p - centre) < 0.0) {
+            return Some(0.0);
+        }
+        lux_irradiance::projected::disk(r.p, r.n, centre, axis, radius)
+    }
+
     /// Angular extent of the disk around the foot point: (start azimuth, width Φ).
     #[inline]
     fn extent(&self, f: DVec2) -> (f64, f64) {

@@ -58,6 +58,13 @@ pub enum SampleError {
         /// Number of vertices.
         vertices: usize,
     },
+    /// A light kind that is not sampled ([`lux_math::LightShape::Portal`]: a PortalLight only
+    /// guides the dome light it belongs to and emits nothing itself).
+    #[error("{light}: not a light that is sampled")]
+    NotSampled {
+        /// The USD schema type name.
+        light: &'static str,
+    },
     /// Every weight was zero, so no distribution exists.
     #[error("{0}: all weights are zero")]
     AllZero(&'static str),

@@ -165,6 +165,26 @@ impl RectLight {
         self.technique
     }
 
+    /// The one-sided **projected solid angle** `Π = ∫ max(0, n·ω) dω` of the rect seen from the
+    /// receiver `r` (its `(p, n)`), clipped to the receiver's horizon: the unshadowed irradiance
+    /// of the light is `E = L·Π` for a uniform radiance `L` (lux-irradiance's
+    /// `projected::polygon` over [`corners`](Self::corners), Lambert's formula). The rect emits
+    /// from its −Z side only (spec §2), so a receiver on or behind its plane's other side gets 0.
+    /// `None` for a reference without a normal (`n = 0`).
+    pub fn projected_solid_angle(&self, r: &Reference) -> Option<f64> {
+        if r.n == DVec3::ZERO {
+            return None;
+        }
+        if !(self.normal.dot(r.p - self.xf.translation()) > 0.0) {
+            return Some(0.0);
+        }
+        Some(lux_irradiance::projected::polygon(
+            r.p,
+            r.n,
+            &self.corners(),
+        ))
+    }
+
     /// The world-space corners, in local order (−w/2, −h/2), (+, −), (+, +), (−, +).
     pub fn corners(&self) -> [DVec3; 4] {
         let (a, b) = (0.5 * self.width, 0.5 * self.height);

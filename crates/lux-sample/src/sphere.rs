@@ -345,6 +345,24 @@ impl SphereLight {
         })
     }
 
+    /// The **projected solid angle** `Π = ∫ max(0, n·ω) dω` of the sphere seen from the receiver
+    /// `r` (its `(p, n)`), clipped to the receiver's horizon (lux-irradiance's
+    /// `projected::sphere`, in closed form; `π sin²α cos ω` unclipped): the unshadowed irradiance
+    /// is `E = L·Π` for a uniform radiance `L`. The sphere emits outwards (spec §2), so a
+    /// receiver inside it gets 0. `None` for a reference without a normal (`n = 0`) and for a
+    /// sphere under a non-uniform scale or shear (an ellipsoid).
+    pub fn projected_solid_angle(&self, r: &Reference) -> Option<f64> {
+        if r.n == DVec3::ZERO || !self.xf.is_similarity() {
+            return None;
+        }
+        let centre = self.xf.translation();
+        let radius = self.radius * self.xf.vector(DVec3::X).length();
+        if !(r.p.distance(centre) > radius) {
+            return Some(0.0);
+        }
+        lux_irradiance::projected::sphere(r.p, r.n, centre, radius)
+    }
+
     /// The sampling technique.
     pub fn technique(&self) -> SphereTechnique {
         self.technique
