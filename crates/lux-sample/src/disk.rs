@@ -321,7 +321,7 @@ impl DiskLight {
         }
         let (centre, axis, radius) = self.world_disk()?;
         // world_disk's axis is +Z's image; the disk emits towards −Z's
-        if !(axis.dot(r.p - centre) < 0.0) {
+        if crate::not_positive(-axis.dot(r.p - centre)) {
             return Some(0.0);
         }
         lux_irradiance::projected::disk(r.p, r.n, centre, axis, radius)

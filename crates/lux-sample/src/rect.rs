@@ -175,7 +175,7 @@ impl RectLight {
         if r.n == DVec3::ZERO {
             return None;
         }
-        if !(self.normal.dot(r.p - self.xf.translation()) > 0.0) {
+        if crate::not_positive(self.normal.dot(r.p - self.xf.translation())) {
             return Some(0.0);
         }
         Some(lux_irradiance::projected::polygon(

@@ -357,7 +357,7 @@ impl SphereLight {
         }
         let centre = self.xf.translation();
         let radius = self.radius * self.xf.vector(DVec3::X).length();
-        if !(r.p.distance(centre) > radius) {
+        if crate::not_positive(r.p.distance(centre) - radius) {
             return Some(0.0);
         }
         lux_irradiance::projected::sphere(r.p, r.n, centre, radius)
