@@ -88,7 +88,10 @@ fn the_example_loop_agrees_with_the_renderer() {
         let se_ex = se.dot(REC709_LUMINANCE) / PI;
         let (got, se_render) = render(&light, x, z, 1 << 14);
         let sigma = (se_ex * se_ex + se_render * se_render).sqrt();
-        assert!(want > 5.0, "({x}, {z}): the example's {want} nits is not in the beam");
+        assert!(
+            want > 5.0,
+            "({x}, {z}): the example's {want} nits is not in the beam"
+        );
         assert!(sigma < 5e-3 * want, "({x}, {z}): σ {sigma} of {want}");
         assert!(
             (got - want).abs() < 5.0 * sigma,
@@ -117,7 +120,12 @@ fn unshaped_the_loop_converges_to_the_closed_form() {
     )
     .unwrap();
     let area = 0.4 * 0.25 * 1.5 * 0.6;
-    assert!((ex.base - DVec3::splat(LUMENS / (area * PI))).abs().max_element() < 1e-9);
+    assert!(
+        (ex.base - DVec3::splat(LUMENS / (area * PI)))
+            .abs()
+            .max_element()
+            < 1e-9
+    );
     for (x, z) in [(0.0, 0.0), (0.5, -0.3), (1.5, 0.4)] {
         let p = DVec3::new(x, 0.0, z);
         let (e, se) = ex.irradiance(p, DVec3::Y, 200_000, 3);

@@ -57,7 +57,7 @@ pub use latlong::{
 pub use light_transform::{LightTransform, TransformError};
 pub use polar::{Frame, azimuth_from_xy, light_direction, light_polar, polar_angle, polar_angles};
 pub use profile::{Profile, UnknownProfile};
-pub use scalar::{lerp, lerp_f32, smooth_step, smooth_step_f32, smooth_step_fraction};
+pub use scalar::{lerp, smooth_step, smooth_step_fraction};
 pub use shadow::{shadow_strength, shadowed};
 pub use shape::{LightKind, LightShape};
 pub use size::{

@@ -61,12 +61,13 @@ impl LatLongMap {
         self.height
     }
 
-    /// Nearest texel at (u, v) ∈ \[0,1\]² (hdEmbree looks textures up nearest-texel).
+    /// Nearest texel at (u, v) ∈ \[0,1\]² (hdEmbree looks textures up nearest-texel), widened
+    /// from the stored `f32`.
     #[inline]
-    pub fn texel(&self, uv: [f64; 2]) -> f32 {
+    pub fn texel(&self, uv: [f64; 2]) -> f64 {
         let x = ((uv[0] * self.width as f64) as usize).min(self.width - 1);
         let y = ((uv[1] * self.height as f64) as usize).min(self.height - 1);
-        self.texels[y * self.width + x]
+        f64::from(self.texels[y * self.width + x])
     }
 }
 

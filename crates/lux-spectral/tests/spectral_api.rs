@@ -54,7 +54,7 @@ fn sellmeier_bk7() {
         Sellmeier::BK7.ior(pole),
         Err(SpectralError::SellmeierDomain { .. })
     ));
-    assert!(Sellmeier::from_pairs(&[]).is_err());
+    assert!(Sellmeier::from_pairs::<f64>(&[]).is_err());
     assert!(Sellmeier::from_pairs(&[[1.0, 0.0]; 4]).is_err());
     assert!(Sellmeier::from_pairs(&[[f32::NAN, 0.0]]).is_err());
 }
