@@ -71,7 +71,7 @@ pub struct PhotometricWeb {
 /// between its two neighbours: the bilinear interpolant over 90..270 is unchanged (the inserted
 /// knot lies on it), and its mirror image then closes the circle at 0° and 360°.
 fn with_mirror_plane(file: &IesFile) -> (Cow<'_, [f64]>, Cow<'_, [f64]>) {
-    let ha = &file.horizontal_angles;
+    let ha = &file.horizontal_angles_deg;
     let nv = file.num_vertical();
     let needs_plane = file.photometric_type == PhotometricType::C
         && ha.len() > 1
@@ -198,7 +198,7 @@ impl PhotometricWeb {
             }
         };
         let v: Vec<f64> = file
-            .vertical_angles
+            .vertical_angles_deg
             .iter()
             .map(|a| a.to_radians())
             .collect();

@@ -27,8 +27,8 @@ fn base(ptype: PhotometricType, v: Vec<f64>, h: Vec<f64>, candela: Vec<f64>) -> 
         ballast_factor: 1.0,
         third_factor: 1.0,
         input_watts: 10.0,
-        vertical_angles: v,
-        horizontal_angles: h,
+        vertical_angles_deg: v,
+        horizontal_angles_deg: h,
         candela,
     }
 }
@@ -697,7 +697,7 @@ fn arb_file() -> impl Strategy<Value = IesFile> {
                 if tilt {
                     f.tilt = Tilt::Include(TiltData {
                         geometry: LampGeometry::HorizontalPerpendicular,
-                        angles: vec![0.0, 45.5, 90.0],
+                        angles_deg: vec![0.0, 45.5, 90.0],
                         factors: vec![1.0, 0.7, 0.123456789],
                     });
                 }
