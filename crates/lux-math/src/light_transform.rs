@@ -1,33 +1,4 @@
-//! The light-to-world transform every lux crate shares: a validated affine map, how it maps
-//! points, vectors, normals and **emission directions**, and the change of solid-angle measure
-//! it induces.
-//!
-//! UsdLux (spec §2) describes every light in its local space — the shape canonical (a
-//! `width × height` rectangle in XY, a round disk, a sphere, a cylinder along X), emission
-//! along local −Z, the ShapingAPI and IES angles measured from −Z — and places it with the
-//! prim's local-to-world matrix, which may scale non-uniformly and shear. A renderer needs
-//! four maps between the spaces, one per kind of quantity:
-//!
-//! | quantity | local → world | world → local |
-//! |---|---|---|
-//! | point | `L p + t` ([`LightTransform::point`]) | `L⁻¹ (p − t)` ([`LightTransform::inv_point`]) |
-//! | vector, direction | `L v` ([`LightTransform::vector`]) | `L⁻¹ v` ([`LightTransform::inv_vector`], unit: [`LightTransform::local_direction`]) |
-//! | surface normal | `L⁻ᵀ n` ([`LightTransform::normal`]) | `Lᵀ n` ([`LightTransform::inv_normal`]) |
-//! | solid-angle density | `· |L w'|³ / |det L|` ([`LightTransform::pdf_to_world`]) | its inverse |
-//!
-//! **Emission directions.** The ShapingAPI factor and the IES profile are functions of the
-//! direction from the light towards the receiver *in the light's local space*. A world
-//! direction `w` (light point → receiver) is a difference of points, so it maps as a vector:
-//! `w_local = normalize(L⁻¹ w)` ([`LightTransform::local_direction`]). This is the only
-//! mapping under which the lit region is the image of the local one: a receiver at world
-//! point `r` is lit exactly as the local receiver `L⁻¹(r − t)` is by the local light, so a
-//! cone of half-angle θ becomes the affine image of that cone (an oblique elliptic cone
-//! under non-uniform scale or shear). The normal matrix `Lᵀ` would be the mapping for
-//! planes, not directions, and disagrees with it as soon as `L` is not a similarity.
-//!
-//! Measure change: for a unit local direction `w'`, the world direction is `w = Lw'/|Lw'|` and
-//! `dω / dω' = |det L| / |L w'|³` (the Jacobian of linearly transformed cosines, Heitz et al.
-//! 2016, eq. 18).
+//! The light-to-world transform every lux crate shares: [`LightTransform`].
 
 use glam::{DMat3, DMat4, DVec3};
 use thiserror::Error;
@@ -38,11 +9,36 @@ use thiserror::Error;
 pub struct TransformError(pub &'static str);
 
 /// A validated, invertible affine light-to-world transform `x ↦ L·x + t` (the prim's
-/// `xformOp`s composed to its local-to-world matrix, spec §2).
+/// `xformOp`s composed to its local-to-world matrix, spec §2), built from a glam `DMat4` in glam's
+/// column convention (`m.transform_point3(p_local)` is the world point), i.e. the USD row-vector
+/// matrix with its rows as glam columns ([`crate::usd_matrix`]).
 ///
-/// Built from a glam `DMat4` in glam's column convention (`m.transform_point3(p_local)` is the
-/// world point), i.e. the USD row-vector matrix with its rows as glam columns
-/// ([`crate::usd_matrix`]). See the [module documentation](self) for the four maps it gives.
+/// UsdLux (spec §2) describes every light in its local space — the shape canonical (a
+/// `width × height` rectangle in XY, a round disk, a sphere, a cylinder along X), emission
+/// along local −Z, the ShapingAPI and IES angles measured from −Z — and places it with the
+/// prim's local-to-world matrix, which may scale non-uniformly and shear. A renderer needs
+/// four maps between the spaces, one per kind of quantity:
+///
+/// | quantity | local → world | world → local |
+/// |---|---|---|
+/// | point | `L p + t` ([`LightTransform::point`]) | `L⁻¹ (p − t)` ([`LightTransform::inv_point`]) |
+/// | vector, direction | `L v` ([`LightTransform::vector`]) | `L⁻¹ v` ([`LightTransform::inv_vector`], unit: [`LightTransform::local_direction`]) |
+/// | surface normal | `L⁻ᵀ n` ([`LightTransform::normal`]) | `Lᵀ n` ([`LightTransform::inv_normal`]) |
+/// | solid-angle density | `· ‖L w'‖³ / abs(det L)` ([`LightTransform::pdf_to_world`]) | its inverse |
+///
+/// **Emission directions.** The ShapingAPI factor and the IES profile are functions of the
+/// direction from the light towards the receiver *in the light's local space*. A world
+/// direction `w` (light point → receiver) is a difference of points, so it maps as a vector:
+/// `w_local = normalize(L⁻¹ w)` ([`LightTransform::local_direction`]). This is the only
+/// mapping under which the lit region is the image of the local one: a receiver at world
+/// point `r` is lit exactly as the local receiver `L⁻¹(r − t)` is by the local light, so a
+/// cone of half-angle θ becomes the affine image of that cone (an oblique elliptic cone
+/// under non-uniform scale or shear). The normal matrix `Lᵀ` would be the mapping for
+/// planes, not directions, and disagrees with it as soon as `L` is not a similarity.
+///
+/// Measure change: for a unit local direction `w'`, the world direction is `w = Lw'/|Lw'|` and
+/// `dω / dω' = |det L| / |L w'|³` (the Jacobian of linearly transformed cosines, Heitz et al.
+/// 2016, eq. 18).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightTransform {
     linear: DMat3,
@@ -198,7 +194,7 @@ impl LightTransform {
 
     /// The unit light-space **emission direction** of the world direction `w` (from a point of
     /// the light towards the receiver, any length): `normalize(L⁻¹ w)`, the mapping the
-    /// ShapingAPI and IES angles are evaluated with (see the [module documentation](self)).
+    /// ShapingAPI and IES angles are evaluated with (see [`LightTransform`]).
     /// `None` when `L⁻¹ w` is zero or not finite.
     #[inline]
     pub fn local_direction(&self, w: DVec3) -> Option<DVec3> {

@@ -8,7 +8,10 @@
 //!
 //! Conventions (spec §2–3): directions are in the light's local space and point from the light
 //! towards the receiver; the light's axis is its local −Z; θ is the angle off −Z and φ the IES
-//! azimuth of [`lux_math::light_polar`]. The factor is, in this order,
+//! azimuth of [`lux_math::light_polar`]. A world direction goes through
+//! [`Shaping::factor_world`], which maps it by `L⁻¹` ([`lux_math::LightTransform::local_direction`]).
+//! Values are `f64` and `DVec3` (glam 0.34, re-exported as `lux_math::glam`). The factor is, in
+//! this order,
 //!
 //! ```text
 //! focusColor = lerp(|cos θ|^focus, focusTint, white)               (focus > 0 only)
