@@ -99,7 +99,12 @@ fn with_mirror_plane(file: &IesFile) -> (Cow<'_, [f64]>, Cow<'_, [f64]>) {
 }
 
 impl PhotometricWeb {
-    /// Expands `file` (validated first), scaling raw values by `file.candela_scale(profile)`.
+    /// The profile of UsdLux `inputs:shaping:ies:file` (spec §3) as a web over the whole sphere:
+    /// `file` validated, its symmetry expanded (types A, B, C), raw values scaled by
+    /// `file.candela_scale(profile)` (lamps × multiplier × ballast factor, and under
+    /// [`Profile::HdEmbree`] the LM-63-2019 third factor). The web keeps `profile`, which also
+    /// chooses the flux rule of [`flux`](Self::flux) and
+    /// [`mean_intensity`](Self::mean_intensity) (exact under `Spec`, midpoint under `HdEmbree`).
     pub fn new(file: &IesFile, profile: Profile) -> Result<PhotometricWeb, IesError> {
         file.validate()?;
         let scale = file.candela_scale(profile);

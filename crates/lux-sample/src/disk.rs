@@ -158,7 +158,12 @@ impl EllipticCone {
     }
 }
 
-/// A disk light prepared for sampling (geometry in `f64`).
+/// UsdLux `DiskLight` prepared for sampling (spec §2): the disk of `inputs:radius` in local XY,
+/// emitting from its −Z side only, placed by its [`LightTransform`] (an ellipse under a
+/// non-uniform scale or shear, sampled with exact densities). `sample`/`pdf` give directions
+/// and densities per unit solid angle; [`projected_solid_angle`](Self::projected_solid_angle)
+/// the one-sided `Π` of a round disk. Build it from the schema's description with
+/// [`crate::Light::from_shape`].
 #[derive(Clone, Copy, Debug)]
 pub struct DiskLight {
     radius: f64,
@@ -274,7 +279,8 @@ fn cos_gap(t1: f64, t2: f64, h: f64) -> f64 {
 }
 
 impl DiskLight {
-    /// A disk of `radius` (> 0, UsdLux `inputs:radius`) placed by `xf`.
+    /// A disk of `radius` (> 0, UsdLux `inputs:radius`) placed by `xf`; `technique` is the one
+    /// `sample`/`pdf` use ([`Strategy::Lux`]).
     pub fn new(
         radius: f64,
         xf: LightTransform,

@@ -83,7 +83,11 @@ pub enum DomeTechnique {
     MisCompensated,
 }
 
-/// A dome light prepared for sampling.
+/// UsdLux `DomeLight` prepared for sampling (spec §2): light from infinitely far away in every
+/// direction, its `inputs:texture:file` a latlong map (+Y up, +Z at the centre column,
+/// [`crate::latlong_direction`]) oriented by its [`LightTransform`]. Without a texture,
+/// uniform over the sphere (density `1/(4π)`); with one, proportional to texel × sin θ (density
+/// `p(u, v) / (2π² sin θ)` per unit solid angle).
 #[derive(Clone, Debug)]
 pub struct DomeLight {
     xf: LightTransform,
@@ -91,7 +95,7 @@ pub struct DomeLight {
 }
 
 impl DomeLight {
-    /// A dome without texture (uniform sphere sampling) oriented by `xf`.
+    /// A dome without texture (uniform sphere sampling, density `1/(4π)`) oriented by `xf`.
     pub fn uniform(xf: LightTransform) -> Self {
         Self { xf, dist: None }
     }

@@ -23,7 +23,13 @@ pub enum RectTechnique {
     SphericalRectangleCosine,
 }
 
-/// A rectangle light prepared for sampling. Geometry in `f64`, local space per spec §2.
+/// UsdLux `RectLight` prepared for sampling (spec §2): the `inputs:width × inputs:height`
+/// rectangle centred in local XY, emitting from its −Z side only, placed by its
+/// [`LightTransform`] (any affine map: a non-uniformly scaled or sheared rect is a
+/// parallelogram, sampled with exact densities). `sample`/`pdf` give directions and densities
+/// per unit solid angle; [`projected_solid_angle`](Self::projected_solid_angle) the one-sided
+/// `Π = ∫ max(0, n·ω) dω` (`E = L·Π` for a uniform radiance L). Build it from the schema's
+/// description with [`crate::Light::from_shape`].
 #[derive(Clone, Copy, Debug)]
 pub struct RectLight {
     width: f64,
@@ -160,7 +166,7 @@ impl RectLight {
         (w[0] < w[2] && w[1] < w[3]).then_some(w)
     }
 
-    /// The sampling technique.
+    /// The sampling technique chosen at construction (see [`Strategy`] for the one rule).
     pub fn technique(&self) -> RectTechnique {
         self.technique
     }

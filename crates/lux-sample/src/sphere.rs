@@ -32,7 +32,13 @@ pub enum SphereTechnique {
     ProjectedCap,
 }
 
-/// A sphere light prepared for sampling (geometry in `f64`).
+/// UsdLux `SphereLight` prepared for sampling (spec §2): the sphere of `inputs:radius` about the
+/// local origin, every point emitting over its outward hemisphere, placed by its
+/// [`LightTransform`] (an ellipsoid under a non-uniform scale or shear, sampled with exact
+/// densities). `sample`/`pdf` give directions and densities per unit solid angle (the cone
+/// technique: `1/(2π(1 − cos α))`, `sin α = r/d`); [`projected_solid_angle`](Self::projected_solid_angle)
+/// the `Π` of a round sphere (`π sin²α cos ω` above the horizon). Build it from the schema's
+/// description with [`crate::Light::from_shape`].
 #[derive(Clone, Copy, Debug)]
 pub struct SphereLight {
     radius: f64,
@@ -317,7 +323,8 @@ impl SphereFrom<'_> {
 }
 
 impl SphereLight {
-    /// A sphere of `radius` (> 0, UsdLux `inputs:radius`) placed by `xf`.
+    /// A sphere of `radius` (> 0, UsdLux `inputs:radius`) placed by `xf`; `technique` is the one
+    /// `sample`/`pdf` use ([`Strategy::Lux`]).
     pub fn new(
         radius: f64,
         xf: LightTransform,
@@ -368,7 +375,8 @@ impl SphereLight {
         self.technique
     }
 
-    /// Samples a point seen from `r`.
+    /// Samples a point seen from `r` with the built technique: the direction `wi`, its density
+    /// per unit solid angle, the point and its outward normal.
     #[inline]
     pub fn sample(&self, r: &Reference, u: [f64; 2]) -> Option<LightSample> {
         self.sample_by(r, u, self.technique)

@@ -94,7 +94,10 @@ impl LightGeometry {
     }
 }
 
-/// What a light emits under a physical-unit API.
+/// What a light emits under a physical-unit API (PhotometricAreaLightAPI and friends): the
+/// luminance `L = Φ / (A·G)` of an area light given its power Φ (lm; W converted by the
+/// illuminant's efficacy), `L = E / (π·m)` of a dome given its illuminance, `L = E / Ω⊥` of a
+/// distant light, and its RGB `L · rgb_per_nit`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Emission {
     /// Luminance in nits: the value to use in place of `intensity·2^exposure/sizeFactor`
