@@ -612,12 +612,23 @@ fn planar_emission_half_angle(base: &LightBase) -> f64 {
 mod tests {
     use super::*;
 
+    /// Every light of `scene`, prepared under the `spec` profile.
+    fn every_light(scene: &lux_usd::Scene) -> LightSet {
+        let options = LightOptions {
+            profile: lux_math::Profile::Spec,
+            selection: LightSelection::All,
+            strict: false,
+            cone_clipping: true,
+        };
+        LightSet::new(scene, options).unwrap()
+    }
+
     /// Only a sphere seen as its projected cap samples its closed form exactly (what lets the
     /// direct integrator skip a point's own search for it): every sample's `L·cos θ / pdf`
     /// is `L·Π` there; not so for a disk or a rect, nor for a sphere cut by the horizon.
     #[test]
     fn only_a_sphere_seen_as_its_cap_samples_exactly() {
-        use lux_math::{LightShape, Profile};
+        use lux_math::LightShape;
         let down = |c: DVec3| {
             let q = glam::DQuat::from_rotation_arc(DVec3::NEG_Z, DVec3::NEG_Y);
             glam::DMat4::from_rotation_translation(q, c)
@@ -652,13 +663,7 @@ mod tests {
                 .lights
                 .push(lux_usd::Light::with_defaults(path, shape, down(c)));
         }
-        let options = LightOptions {
-            profile: Profile::Spec,
-            selection: LightSelection::All,
-            strict: false,
-            cone_clipping: true,
-        };
-        let set = LightSet::new(&scene, options).unwrap();
+        let set = every_light(&scene);
         let r = Reference::surface(DVec3::ZERO, DVec3::Y);
         let exact: Vec<bool> = set
             .lights
@@ -689,7 +694,7 @@ mod tests {
     /// the cone) while one at 45° in the other plane is dark.
     #[test]
     fn shaping_under_shear_is_factor_world() {
-        use lux_math::{LightShape, Profile};
+        use lux_math::LightShape;
         let shear = glam::DMat4::from_cols_array(&[
             3.0, 0.0, 0.0, 0.0, //
             0.4, 1.0, 0.0, 0.0, //
@@ -711,13 +716,7 @@ mod tests {
             });
             scene.lights.push(l);
         }
-        let options = LightOptions {
-            profile: Profile::Spec,
-            selection: LightSelection::All,
-            strict: false,
-            cone_clipping: true,
-        };
-        let set = LightSet::new(&scene, options).unwrap();
+        let set = every_light(&scene);
         let mut lit = 0;
         for light in &set.lights {
             let b = light.base();
