@@ -73,7 +73,7 @@ fn factor(c: &mut Criterion) {
     let sphere = directions(std::f64::consts::PI);
     let spot = ShapingParams {
         focus: 2.0,
-        focus_tint: [0.2, 0.4, 1.0],
+        focus_tint: DVec3::new(0.2, 0.4, 1.0),
         cone_angle_deg: 60.0,
         cone_softness: 0.3,
         ..ShapingParams::default()
@@ -88,7 +88,7 @@ fn factor(c: &mut Criterion) {
     let shaped = Shaping::new(
         &ShapingParams {
             focus: 1.5,
-            focus_tint: [0.1, 0.2, 0.3],
+            focus_tint: DVec3::new(0.1, 0.2, 0.3),
             cone_angle_deg: 120.0,
             cone_softness: 0.5,
             ies_angle_scale: 0.8,

@@ -207,7 +207,7 @@ fn near_field_quadrature(from_centre: bool) -> f64 {
                 continue;
             }
             let dir = if from_centre { (p - c).normalize() } else { w };
-            let f = f64::from(shaping.factor(to_light * dir)[0]);
+            let f = shaping.factor(to_light * dir)[0];
             e += f * cos_l * cos_r / (dist * dist) * da;
         }
     }

@@ -158,7 +158,7 @@ fn renderer_emits_the_converted_radiance() {
 }
 
 /// lux-spectral takes the shaping factor's integrals from the caller; the renderer computes
-/// them with lux-shaping (`physical::shaping_integrals`). For a real ShapingAPI — a soft,
+/// them with lux-shaping (`Shaping::emitter_integral`). For a real ShapingAPI — a soft,
 /// tinted, focused cone — the resulting G must equal an independent midpoint quadrature of the
 /// same factor (`ShapingIntegral::integrate`, weighted by the luminance of the light's colour of
 /// one nit), for every area light kind and illuminant colour. lux-spectral's own tests show that
@@ -166,11 +166,10 @@ fn renderer_emits_the_converted_radiance() {
 #[test]
 fn shaping_integrals_from_lux_shaping_match_a_quadrature_of_the_factor() {
     use lux::math::LightKind;
-    use lux::render::physical::shaping_integrals;
     use lux::spectral::ShapingIntegral;
     let params = ShapingParams {
         focus: 2.0,
-        focus_tint: [0.2, 0.4, 1.0],
+        focus_tint: DVec3::new(0.2, 0.4, 1.0),
         cone_angle_deg: 55.0,
         cone_softness: 0.5,
         ..ShapingParams::default()
@@ -178,8 +177,8 @@ fn shaping_integrals_from_lux_shaping_match_a_quadrature_of_the_factor() {
     let shaping = Shaping::new(&params, None, ShapingOptions::default()).unwrap();
     // The midpoint rule's error on 1024 cells in cos θ (h = 2/1024) is about h²/24·∫|f''|: the
     // cone's smoothstep ramp (27.5° to 55°, Δθ = 0.48 rad) has |f''| ≤ 6/(Δθ²·sin²27.5°) ≈ 120
-    // in cos θ over a band of 0.31, which bounds it near 4·10⁻⁵ of G (measured: 2·10⁻⁶); the
-    // f32 factor adds 6·10⁻⁸ and lux-shaping's integrals 10⁻¹⁰.
+    // in cos θ over a band of 0.31, which bounds it near 4·10⁻⁵ of G (measured: 2·10⁻⁶);
+    // lux-shaping's integrals add 10⁻¹⁰.
     const TOL: f64 = 1e-4;
     for illuminant in [IlluminantKind::White, IlluminantKind::Blackbody] {
         let mut inputs = PhysicalLightInputs::new(PhysicalQuantity::PhotometricPower(1200.0));
@@ -194,13 +193,10 @@ fn shaping_integrals_from_lux_shaping_match_a_quadrature_of_the_factor() {
             LightKind::Sphere,
             LightKind::Cylinder,
         ] {
-            let g = ShapingIntegral::from_integrals(kind, shaping_integrals(&shaping, kind), rgb)
+            let g = ShapingIntegral::from_integrals(kind, shaping.emitter_integral(kind), rgb)
                 .unwrap()
                 .value();
-            let factor = |w: DVec3| {
-                let c = shaping.factor(w);
-                lux::math::luminance(rgb * DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64))
-            };
+            let factor = |w: DVec3| lux::math::luminance(rgb * shaping.factor(w));
             let q = ShapingIntegral::integrate(kind, factor, 1024)
                 .unwrap()
                 .value();
@@ -211,10 +207,7 @@ fn shaping_integrals_from_lux_shaping_match_a_quadrature_of_the_factor() {
         }
     }
     // An identity shaping has no integrals: G is exactly the unshaped π.
-    assert_eq!(
-        shaping_integrals(&Shaping::identity(), LightKind::Rect),
-        None
-    );
+    assert_eq!(Shaping::identity().emitter_integral(LightKind::Rect), None);
     assert_eq!(
         ShapingIntegral::from_integrals(LightKind::Rect, None, DVec3::ONE).unwrap(),
         ShapingIntegral::UNSHAPED

@@ -10,7 +10,7 @@ use lux_math::Profile;
 fn check(file: &IesFile) {
     for profile in Profile::ALL {
         if let Ok(web) = PhotometricWeb::new(file, profile) {
-            let m = web.mean_intensity(profile);
+            let m = web.mean_intensity();
             assert!(m.is_finite() && m >= 0.0);
             let _ = web.beam_angles();
             for k in 0..16 {

@@ -131,8 +131,9 @@ fn info(path: &Path, json: bool) -> Result<(), String> {
     let parsed = load(path)?;
     let web = expand(path, &parsed)?;
     let f = &parsed.file;
-    let beam = web.beam_angles();
-    let field = web.field_angles();
+    // lux-ies gives radians; the summary prints degrees
+    let deg = |a: lux_ies::SpreadAngles| [a.c0_c180, a.c90_c270].map(|x| x.map(f64::to_degrees));
+    let (beam, field) = (deg(web.beam_angles()), deg(web.field_angles()));
     let (mt, mp) = web.max_direction();
     let warnings: Vec<String> = parsed.warnings.iter().map(ToString::to_string).collect();
     let mut s = String::new();
@@ -152,11 +153,11 @@ fn info(path: &Path, json: bool) -> Result<(), String> {
             "input_watts": f.input_watts,
             "flux_lm": web.flux_exact(),
             "flux_midpoint_lm": web.flux_midpoint(),
-            "mean_intensity_cd": web.mean_intensity(Profile::Spec),
+            "mean_intensity_cd": web.mean_intensity(),
             "max_cd": web.max_candela(),
             "max_direction_deg": [mt.to_degrees(), mp.to_degrees()],
-            "beam_angle_deg": {"c0_c180": beam.c0_c180, "c90_c270": beam.c90_c270},
-            "field_angle_deg": {"c0_c180": field.c0_c180, "c90_c270": field.c90_c270},
+            "beam_angle_deg": {"c0_c180": beam[0], "c90_c270": beam[1]},
+            "field_angle_deg": {"c0_c180": field[0], "c90_c270": field[1]},
             "warnings": warnings,
         });
         let _ = writeln!(
@@ -210,7 +211,7 @@ fn info(path: &Path, json: bool) -> Result<(), String> {
         let _ = writeln!(
             s,
             "mean intensity     {:.4} cd (flux / {})",
-            web.mean_intensity(Profile::Spec),
+            web.mean_intensity(),
             if web.covers_sphere() { "4π" } else { "2π" }
         );
         let _ = writeln!(
@@ -223,14 +224,14 @@ fn info(path: &Path, json: bool) -> Result<(), String> {
         let _ = writeln!(
             s,
             "beam angle (50 %)  C0-C180 {}, C90-C270 {}",
-            opt(beam.c0_c180),
-            opt(beam.c90_c270)
+            opt(beam[0]),
+            opt(beam[1])
         );
         let _ = writeln!(
             s,
             "field angle (10 %) C0-C180 {}, C90-C270 {}",
-            opt(field.c0_c180),
-            opt(field.c90_c270)
+            opt(field[0]),
+            opt(field[1])
         );
         for w in &warnings {
             let _ = writeln!(s, "warning            {w}");

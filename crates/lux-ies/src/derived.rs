@@ -3,21 +3,21 @@
 use crate::web::PhotometricWeb;
 use core::f64::consts::PI;
 
-/// Full angles (degrees) within which the intensity stays at or above a fraction of the plane
+/// Full angles (radians) within which the intensity stays at or above a fraction of the plane
 /// pair's peak, in the C0–C180 and C90–C270 plane pairs. `None` when the intensity never drops
 /// below the fraction on one side within the pair (or the plane pair is dark).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SpreadAngles {
-    /// In the plane pair φ = 0 / φ = 180°.
+    /// In the plane pair φ = 0 / φ = π (C0–C180), radians.
     pub c0_c180: Option<f64>,
-    /// In the plane pair φ = 90° / φ = 270°.
+    /// In the plane pair φ = π/2 / φ = 3π/2 (C90–C270), radians.
     pub c90_c270: Option<f64>,
 }
 
 /// Sampling step of [`spread_angle`] before refinement (degrees).
 const STEP_DEG: f64 = 0.05;
 
-/// The full angle (degrees) around the peak of the plane pair (φ, φ + π) over which the bilinear
+/// The full angle (radians) around the peak of the plane pair (φ, φ + π) over which the bilinear
 /// intensity stays ≥ `fraction` × that pair's peak. The pair is walked as one curve
 /// γ ∈ [−π, π] (γ ≥ 0: plane φ at θ = γ; γ < 0: plane φ + π at θ = −γ), sampled every 0.05° and
 /// each crossing refined by bisection to 1e-9 rad. Beam angle: `fraction = 0.5`; field: `0.1`.
@@ -75,7 +75,7 @@ pub fn spread_angle(web: &PhotometricWeb, phi: f64, fraction: f64) -> Option<f64
             break;
         }
     }
-    Some((right? - left?).to_degrees())
+    Some(right? - left?)
 }
 
 impl PhotometricWeb {

@@ -114,9 +114,9 @@ pub struct IesFile {
     /// "Input watts".
     pub input_watts: f64,
     /// Vertical angles in degrees, strictly increasing.
-    pub vertical_angles: Vec<f64>,
+    pub vertical_angles_deg: Vec<f64>,
     /// Horizontal angles in degrees, strictly increasing.
-    pub horizontal_angles: Vec<f64>,
+    pub horizontal_angles_deg: Vec<f64>,
     /// Raw candela values, `n_h` rows of `n_v` values.
     pub candela: Vec<f64>,
 }
@@ -124,12 +124,12 @@ pub struct IesFile {
 impl IesFile {
     /// Number of vertical angles.
     pub fn num_vertical(&self) -> usize {
-        self.vertical_angles.len()
+        self.vertical_angles_deg.len()
     }
 
     /// Number of horizontal angles.
     pub fn num_horizontal(&self) -> usize {
-        self.horizontal_angles.len()
+        self.horizontal_angles_deg.len()
     }
 
     /// Raw candela value at horizontal index `h`, vertical index `v` (`None` out of range).
@@ -236,9 +236,9 @@ impl IesFile {
         let none = |_| at;
         crate::parse::check_angles(
             self.photometric_type,
-            &self.vertical_angles,
+            &self.vertical_angles_deg,
             &none,
-            &self.horizontal_angles,
+            &self.horizontal_angles_deg,
             &none,
         )
     }

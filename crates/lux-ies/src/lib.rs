@@ -20,7 +20,7 @@
 //! let web = PhotometricWeb::new(&file, Profile::Spec)?;
 //! assert_eq!(web.intensity(0.0, 0.0), 100.0);
 //! assert_eq!(web.intensity(22.5f64.to_radians(), 1.0), 75.0);
-//! let normalizer = web.mean_intensity(Profile::Spec); // flux / 2π (hemisphere profile)
+//! let normalizer = web.mean_intensity(); // flux / 2π (hemisphere profile)
 //! assert!(normalizer > 0.0);
 //! # Ok::<(), lux_ies::IesError>(())
 //! ```

@@ -329,8 +329,8 @@ fn parse(text: &str, options: &ParseOptions<'_>) -> Result<Parsed, IesError> {
             ballast_factor,
             third_factor,
             input_watts,
-            vertical_angles,
-            horizontal_angles,
+            vertical_angles_deg: vertical_angles,
+            horizontal_angles_deg: horizontal_angles,
             candela,
         },
         warnings,
@@ -434,7 +434,7 @@ fn parse_tilt_block(
     }
     Ok(TiltData {
         geometry,
-        angles,
+        angles_deg: angles,
         factors,
     })
 }

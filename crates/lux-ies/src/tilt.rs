@@ -39,16 +39,17 @@ pub struct TiltData {
     /// Lamp-to-luminaire geometry.
     pub geometry: LampGeometry,
     /// Tilt angles in degrees, strictly increasing.
-    pub angles: Vec<f64>,
+    pub angles_deg: Vec<f64>,
     /// Candela multiplying factors, one per angle.
     pub factors: Vec<f64>,
 }
 
 impl TiltData {
-    /// The multiplying factor at tilt `angle` (degrees): linear interpolation between the tabulated
+    /// The multiplying factor at tilt `angle_deg` (degrees): linear interpolation between the tabulated
     /// angles, held constant beyond the first and last. A NaN angle or empty table gives 1.
-    pub fn tilt_factor(&self, angle: f64) -> f64 {
-        let (a, f) = (&self.angles, &self.factors);
+    pub fn tilt_factor(&self, angle_deg: f64) -> f64 {
+        let angle = angle_deg;
+        let (a, f) = (&self.angles_deg, &self.factors);
         let n = a.len().min(f.len());
         if n == 0 || angle.is_nan() {
             return 1.0;
@@ -92,9 +93,9 @@ impl Tilt {
         }
     }
 
-    /// The multiplying factor at lamp tilt `angle` (degrees); 1 without tilt data.
-    pub fn tilt_factor(&self, angle: f64) -> f64 {
-        self.data().map_or(1.0, |d| d.tilt_factor(angle))
+    /// The multiplying factor at lamp tilt `angle_deg` (degrees); 1 without tilt data.
+    pub fn tilt_factor(&self, angle_deg: f64) -> f64 {
+        self.data().map_or(1.0, |d| d.tilt_factor(angle_deg))
     }
 }
 
@@ -106,7 +107,7 @@ mod tests {
     fn factor_interpolates_and_clamps() {
         let d = TiltData {
             geometry: LampGeometry::Vertical,
-            angles: vec![0.0, 15.0, 30.0],
+            angles_deg: vec![0.0, 15.0, 30.0],
             factors: vec![1.0, 0.95, 0.94],
         };
         assert_eq!(d.tilt_factor(-5.0), 1.0);

@@ -71,7 +71,7 @@ pub struct PhotometricWeb {
 /// between its two neighbours: the bilinear interpolant over 90..270 is unchanged (the inserted
 /// knot lies on it), and its mirror image then closes the circle at 0° and 360°.
 fn with_mirror_plane(file: &IesFile) -> (Cow<'_, [f64]>, Cow<'_, [f64]>) {
-    let ha = &file.horizontal_angles;
+    let ha = &file.horizontal_angles_deg;
     let nv = file.num_vertical();
     let needs_plane = file.photometric_type == PhotometricType::C
         && ha.len() > 1
@@ -99,7 +99,12 @@ fn with_mirror_plane(file: &IesFile) -> (Cow<'_, [f64]>, Cow<'_, [f64]>) {
 }
 
 impl PhotometricWeb {
-    /// Expands `file` (validated first), scaling raw values by `file.candela_scale(profile)`.
+    /// The profile of UsdLux `inputs:shaping:ies:file` (spec §3) as a web over the whole sphere:
+    /// `file` validated, its symmetry expanded (types A, B, C), raw values scaled by
+    /// `file.candela_scale(profile)` (lamps × multiplier × ballast factor, and under
+    /// [`Profile::HdEmbree`] the LM-63-2019 third factor). The web keeps `profile`, which also
+    /// chooses the flux rule of [`flux`](Self::flux) and
+    /// [`mean_intensity`](Self::mean_intensity) (exact under `Spec`, midpoint under `HdEmbree`).
     pub fn new(file: &IesFile, profile: Profile) -> Result<PhotometricWeb, IesError> {
         file.validate()?;
         let scale = file.candela_scale(profile);
@@ -198,7 +203,7 @@ impl PhotometricWeb {
             }
         };
         let v: Vec<f64> = file
-            .vertical_angles
+            .vertical_angles_deg
             .iter()
             .map(|a| a.to_radians())
             .collect();
@@ -339,21 +344,24 @@ impl PhotometricWeb {
         self.flux_midpoint
     }
 
-    /// Flux by the method `profile` prescribes: `Spec` exact, `HdEmbree` midpoint.
-    pub fn flux(&self, profile: Profile) -> f64 {
-        match profile {
+    /// Flux (lm) by the method the web's [`profile`](Self::profile) prescribes: `Spec`
+    /// [`flux_exact`](Self::flux_exact), `HdEmbree` [`flux_midpoint`](Self::flux_midpoint).
+    pub fn flux(&self) -> f64 {
+        match self.profile {
             Profile::Spec => self.flux_exact,
             Profile::HdEmbree => self.flux_midpoint,
         }
     }
 
-    /// The `shaping:ies:normalize` divisor (mean intensity, cd): [`flux`](Self::flux)`(profile)`
-    /// divided by 4π, or by 2π when the vertical range spans ≤ 95.73° (see
-    /// [`covers_sphere`](Self::covers_sphere)). The candela scale is the one chosen at
-    /// construction; for `ies:normalize` the LM-63-2019 generation-type factor cancels anyway.
-    pub fn mean_intensity(&self, profile: Profile) -> f64 {
+    /// The `inputs:shaping:ies:normalize` divisor (mean intensity, cd):
+    /// `Φ / 4π`, or `Φ / 2π` when the vertical range spans ≤ 95.73° (see
+    /// [`covers_sphere`](Self::covers_sphere)), with Φ the [`flux`](Self::flux) of the web's
+    /// own [`profile`](Self::profile) (exact under `Spec`, the midpoint rule under
+    /// `HdEmbree`). The candela scale is the one chosen at construction; for `ies:normalize`
+    /// the LM-63-2019 generation-type factor cancels anyway.
+    pub fn mean_intensity(&self) -> f64 {
         let solid = if self.covers_sphere() { 2.0 * TAU } else { TAU };
-        self.flux(profile) / solid
+        self.flux() / solid
     }
 
     /// Converts native (vertical, horizontal) radians to light-space (θ, φ).

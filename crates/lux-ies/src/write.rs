@@ -73,8 +73,8 @@ impl IesFile {
             self.lamp_count,
             self.lumens_per_lamp,
             multiplier,
-            self.vertical_angles.len(),
-            self.horizontal_angles.len(),
+            self.vertical_angles_deg.len(),
+            self.horizontal_angles_deg.len(),
             self.photometric_type.code(),
             self.units.code(),
             self.width,
@@ -86,9 +86,9 @@ impl IesFile {
             "{} {} {}\r\n",
             self.ballast_factor, third, self.input_watts
         );
-        write_block(&mut s, &self.vertical_angles);
-        write_block(&mut s, &self.horizontal_angles);
-        let nv = self.vertical_angles.len().max(1);
+        write_block(&mut s, &self.vertical_angles_deg);
+        write_block(&mut s, &self.horizontal_angles_deg);
+        let nv = self.vertical_angles_deg.len().max(1);
         for row in self.candela.chunks(nv) {
             write_block(&mut s, row);
         }
@@ -97,8 +97,8 @@ impl IesFile {
 }
 
 fn write_tilt(s: &mut String, d: &TiltData) {
-    let _ = write!(s, "{}\r\n{}\r\n", d.geometry.code(), d.angles.len());
-    write_block(s, &d.angles);
+    let _ = write!(s, "{}\r\n{}\r\n", d.geometry.code(), d.angles_deg.len());
+    write_block(s, &d.angles_deg);
     write_block(s, &d.factors);
 }
 

@@ -324,8 +324,8 @@ fn file(
         ballast_factor: 1.0,
         third_factor: 1.0,
         input_watts: 10.0,
-        vertical_angles,
-        horizontal_angles,
+        vertical_angles_deg: vertical_angles,
+        horizontal_angles_deg: horizontal_angles,
         candela,
     }
 }

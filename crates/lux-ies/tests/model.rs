@@ -27,8 +27,8 @@ fn base(ptype: PhotometricType, v: Vec<f64>, h: Vec<f64>, candela: Vec<f64>) -> 
         ballast_factor: 1.0,
         third_factor: 1.0,
         input_watts: 10.0,
-        vertical_angles: v,
-        horizontal_angles: h,
+        vertical_angles_deg: v,
+        horizontal_angles_deg: h,
         candela,
     }
 }
@@ -271,10 +271,15 @@ fn candela_scale_and_2019_generation_type() {
     let h = PhotometricWeb::new(&file, Profile::HdEmbree).unwrap();
     assert_eq!(s.intensity(0.0, 0.0), 10.0);
     assert!((h.intensity(0.0, 0.0) - 11.0001).abs() < 1e-12);
-    // ies:normalize is immune to the factor: I / mean equal under both
-    let rs = s.intensity(0.3, 0.0) / s.mean_intensity(Profile::Spec);
-    let rh = h.intensity(0.3, 0.0) / h.mean_intensity(Profile::Spec);
-    assert!((rs - rh).abs() < 1e-12);
+    // ies:normalize is immune to the factor: I / flux is the same for both scales, whichever
+    // rule integrates the flux (each web's mean_intensity uses its own profile's rule)
+    for flux in [PhotometricWeb::flux_exact, PhotometricWeb::flux_midpoint] {
+        let rs = s.intensity(0.3, 0.0) / flux(&s);
+        let rh = h.intensity(0.3, 0.0) / flux(&h);
+        assert!((rs - rh).abs() < 1e-12);
+    }
+    assert_eq!(s.flux(), s.flux_exact());
+    assert_eq!(h.flux(), h.flux_midpoint());
 }
 
 #[test]
@@ -588,10 +593,12 @@ fn max_and_beam_field_angles() {
     let field = w.field_angles();
     let b = 2.0 * 10.0 * (2.0 * 2f64.ln()).sqrt();
     let fl = 2.0 * 10.0 * (2.0 * 10f64.ln()).sqrt();
-    // piecewise-linear interpolation of the Gaussian on a 0.5° grid: within 0.01°
-    assert!((beam.c0_c180.unwrap() - b).abs() < 0.01, "{beam:?} {b}");
-    assert!((beam.c90_c270.unwrap() - b).abs() < 0.01);
-    assert!((field.c0_c180.unwrap() - fl).abs() < 0.01, "{field:?} {fl}");
+    // piecewise-linear interpolation of the Gaussian on a 0.5° grid: within 0.01°; the angles
+    // are radians
+    let deg = |a: Option<f64>| a.unwrap().to_degrees();
+    assert!((deg(beam.c0_c180) - b).abs() < 0.01, "{beam:?} {b}");
+    assert!((deg(beam.c90_c270) - b).abs() < 0.01);
+    assert!((deg(field.c0_c180) - fl).abs() < 0.01, "{field:?} {fl}");
     // a uniform sphere never drops: no beam angle
     let file = base(
         PhotometricType::C,
@@ -690,7 +697,7 @@ fn arb_file() -> impl Strategy<Value = IesFile> {
                 if tilt {
                     f.tilt = Tilt::Include(TiltData {
                         geometry: LampGeometry::HorizontalPerpendicular,
-                        angles: vec![0.0, 45.5, 90.0],
+                        angles_deg: vec![0.0, 45.5, 90.0],
                         factors: vec![1.0, 0.7, 0.123456789],
                     });
                 }

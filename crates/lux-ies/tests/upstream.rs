@@ -278,8 +278,8 @@ fn characteristics_table_agrees() {
         assert_eq!(f.num_vertical(), num("n_v") as usize, "{file}");
         assert_eq!(f.num_horizontal(), num("n_h") as usize, "{file}");
         let range = |a: &[f64]| format!("{}..{}", a[0], a[a.len() - 1]);
-        assert_eq!(range(&f.vertical_angles), get("v_range"), "{file}");
-        assert_eq!(range(&f.horizontal_angles), get("h_range"), "{file}");
+        assert_eq!(range(&f.vertical_angles_deg), get("v_range"), "{file}");
+        assert_eq!(range(&f.horizontal_angles_deg), get("h_range"), "{file}");
         assert_eq!(f.lamp_count as f64, num("lamps"), "{file}");
         assert_eq!(f.lumens_per_lamp, num("lumens_per_lamp"), "{file}");
         assert_eq!(f.candela_multiplier, num("candela_mult"), "{file}");

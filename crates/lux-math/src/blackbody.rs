@@ -165,11 +165,11 @@ const XYZ_TO_REC709: [[f64; 3]; 3] = [
 ];
 
 /// Rec.709 relative luminance, the Y row of linear Rec.709 → XYZ (D65), exact from the primaries.
-pub const REC709_LUMINANCE: [f64; 3] = [
+pub const REC709_LUMINANCE: DVec3 = DVec3::new(
     0.212_639_005_871_510_36,
     0.715_168_678_767_755_9,
     0.072_192_315_360_733_71,
-];
+);
 
 /// The Rec.709 relative luminance of a linear Rec.709 colour, **Y = c · REC709_LUMINANCE**
 /// (`0.2126 r + 0.7152 g + 0.0722 b` to four digits; [`REC709_LUMINANCE`] has the exact
@@ -178,7 +178,7 @@ pub const REC709_LUMINANCE: [f64; 3] = [
 /// (glam's `dot`), so any caller writing that sum gets the same bits.
 #[inline]
 pub fn luminance(c: DVec3) -> f64 {
-    c.dot(DVec3::from(REC709_LUMINANCE))
+    c.dot(REC709_LUMINANCE)
 }
 
 /// Krystek (1985) rational fit of the Planckian locus: CIE 1960 (u, v) at `T` kelvin

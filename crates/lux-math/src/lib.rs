@@ -28,6 +28,7 @@ mod blackbody;
 mod elliptic;
 mod emission;
 mod latlong;
+mod light_transform;
 mod polar;
 mod profile;
 mod scalar;
@@ -46,13 +47,17 @@ pub use elliptic::{
     ellipsoid_area, ellipsoid_area_thomsen,
 };
 pub use emission::{LightParams, emission, emitted_radiance};
+/// glam, the vector and matrix types of every public signature (`DVec3`, `DMat4`, …), at the
+/// version lux is built with (0.34): depend on it through this re-export to never pin another.
+pub use glam;
 pub use latlong::{
     latlong_column_edge, latlong_direction, latlong_direction_from_angles, latlong_row_edge,
     latlong_uv,
 };
+pub use light_transform::{LightTransform, TransformError};
 pub use polar::{Frame, azimuth_from_xy, light_direction, light_polar, polar_angle, polar_angles};
 pub use profile::{Profile, UnknownProfile};
-pub use scalar::{lerp, lerp_f32, smooth_step, smooth_step_f32, smooth_step_fraction};
+pub use scalar::{lerp, smooth_step, smooth_step_fraction};
 pub use shadow::{shadow_strength, shadowed};
 pub use shape::{LightKind, LightShape};
 pub use size::{

@@ -8,12 +8,6 @@ pub fn lerp(t: f64, a: f64, b: f64) -> f64 {
     (1.0 - t) * a + t * b
 }
 
-/// `lerp` in single precision, same formula as [`lerp`].
-#[inline]
-pub fn lerp_f32(t: f32, a: f32, b: f32) -> f32 {
-    (1.0 - t) * a + t * b
-}
-
 /// `smoothStep(x, e0, e1)` of the UsdLux ShapingAPI text (x first): the Hermite cubic
 /// `3t² − 2t³` on `t = clamp((x − e0)/(e1 − e0), 0, 1)`.
 ///
@@ -37,19 +31,6 @@ pub fn smooth_step_fraction(t: f64) -> f64 {
     t * t * (3.0 - 2.0 * t)
 }
 
-/// Single-precision [`smooth_step`], same formula and edge rules.
-#[inline]
-pub fn smooth_step_f32(x: f32, e0: f32, e1: f32) -> f32 {
-    let w = e1 - e0;
-    let t = if w == 0.0 {
-        if x >= e0 { 1.0 } else { 0.0 }
-    } else {
-        let t = (x - e0) / w;
-        if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) }
-    };
-    t * t * (3.0 - 2.0 * t)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -59,7 +40,6 @@ mod tests {
         assert_eq!(lerp(0.0, 2.0, 5.0), 2.0);
         assert_eq!(lerp(1.0, 2.0, 5.0), 5.0);
         assert_eq!(lerp(0.5, 2.0, 5.0), 3.5);
-        assert_eq!(lerp_f32(0.25, 0.0, 4.0), 1.0);
     }
 
     #[test]
@@ -74,6 +54,5 @@ mod tests {
         assert_eq!(smooth_step(0.9, 1.0, 1.0), 0.0);
         assert_eq!(smooth_step(1.0, 1.0, 1.0), 1.0);
         assert_eq!(smooth_step(f64::NAN, 0.0, 1.0), 0.0);
-        assert!((smooth_step_f32(0.25, 0.0, 1.0) - 0.15625).abs() < 1e-7);
     }
 }

@@ -7,7 +7,7 @@
 //! 1. A Photometric/Radiometric {Area, Dome, Distant} LightAPI (`photometric:power` lm,
 //!    `radiometric:power` W, `photometric:illuminance` lux, `radiometric:irradiance` W/m²) fixes
 //!    the absolute output: `lux_spectral::emitted` with the light's world area
-//!    (`lux_math::size_factor`) and its shaping integral (the factor's integrals by lux-shaping, `shaping_integrals`), or the dome texture's
+//!    (`lux_math::size_factor`) and its shaping integral (the factor's integrals by lux-shaping, `Shaping::emitter_integral`), or the dome texture's
 //!    cosine-weighted mean, or the distant angle. `intensity`, `exposure`, `color` and
 //!    `normalize` do not enter (the proposal's `calculateRgbLuminance`).
 //! 2. Else `PhysicalLightIlluminantAPI` alone: the LightAPI luminance
@@ -43,7 +43,11 @@ pub fn physical_inputs(l: &Light, quantity: PhysicalQuantity) -> PhysicalLightIn
     inputs.color_temperature = l.params.color_temperature;
     if let Some(p) = &l.physical {
         inputs.illuminant = p.illuminant;
-        inputs.custom_illuminant = p.custom_illuminant.clone();
+        inputs.custom_illuminant = p
+            .custom_illuminant
+            .iter()
+            .map(|&[nm, v]| [f64::from(nm), f64::from(v)])
+            .collect();
     }
     inputs
 }
@@ -111,7 +115,7 @@ pub fn base_radiance(
                     world_area: lux_math::size_factor(&l.shape, &l.light_to_world, profile),
                     shaping: ShapingIntegral::from_integrals_textured(
                         kind,
-                        shaping_integrals(shaping, kind),
+                        shaping.emitter_integral(kind),
                         ill.rgb_per_nit,
                         texture_mean,
                     )
@@ -182,25 +186,6 @@ pub fn base_radiance(
         &l.light_to_world,
         profile,
     )))
-}
-
-/// The integrals of the ShapingAPI factor f that lux-spectral's shaping integral G of an area
-/// light needs (see `ShapingIntegral::from_integrals`), by lux-shaping: ∫_{emitting hemisphere}
-/// f cos θ dω for a RectLight or DiskLight, ∫_{S²} f dω for a SphereLight, ∫_{S²} f √(1 − ω_x²)
-/// dω for a CylinderLight (axis X); `None` for an identity shaping (f ≡ 1, G = π exactly) and
-/// for the kinds without an area-light emitter (lux-spectral refuses those with a typed error).
-pub fn shaping_integrals(shaping: &Shaping, kind: LightKind) -> Option<[f64; 3]> {
-    if shaping.is_identity() {
-        return None;
-    }
-    match kind {
-        LightKind::Rect | LightKind::Disk => Some(shaping.integral_cos_hemisphere()),
-        LightKind::Sphere => Some(shaping.integral_sphere()),
-        LightKind::Cylinder => {
-            Some(shaping.integral_weighted(|d| (1.0 - d.x * d.x).max(0.0).sqrt()))
-        }
-        LightKind::Distant | LightKind::Dome | LightKind::Portal | LightKind::Mesh => None,
-    }
 }
 
 fn finite(c: DVec3) -> DVec3 {

@@ -23,7 +23,11 @@ pub enum CylinderTechnique {
     SolidAngle,
 }
 
-/// A cylinder light prepared for sampling (geometry in `f64`).
+/// UsdLux `CylinderLight` prepared for sampling (spec §2): the lateral surface of the cylinder
+/// of `inputs:radius` and `inputs:length` along local X (no caps), emitting outwards, placed by
+/// its [`LightTransform`] with exact densities under any affine map. `sample`/`pdf` give
+/// directions and densities per unit solid angle. Build it from the schema's description with
+/// [`crate::Light::from_shape`].
 #[derive(Clone, Copy, Debug)]
 pub struct CylinderLight {
     radius: f64,
@@ -139,7 +143,9 @@ impl CylinderFrom<'_> {
 }
 
 impl CylinderLight {
-    /// A cylinder of `radius` and `length` (both > 0) placed by `xf`.
+    /// A cylinder of `radius` and `length` (both > 0; UsdLux `inputs:radius`, `inputs:length`,
+    /// along local X) placed by `xf`; `technique` is the one `sample`/`pdf` use
+    /// ([`Strategy::Lux`]).
     pub fn new(
         radius: f64,
         length: f64,

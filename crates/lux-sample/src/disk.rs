@@ -158,7 +158,12 @@ impl EllipticCone {
     }
 }
 
-/// A disk light prepared for sampling (geometry in `f64`).
+/// UsdLux `DiskLight` prepared for sampling (spec §2): the disk of `inputs:radius` in local XY,
+/// emitting from its −Z side only, placed by its [`LightTransform`] (an ellipse under a
+/// non-uniform scale or shear, sampled with exact densities). `sample`/`pdf` give directions
+/// and densities per unit solid angle; [`projected_solid_angle`](Self::projected_solid_angle)
+/// the one-sided `Π` of a round disk. Build it from the schema's description with
+/// [`crate::Light::from_shape`].
 #[derive(Clone, Copy, Debug)]
 pub struct DiskLight {
     radius: f64,
@@ -274,7 +279,8 @@ fn cos_gap(t1: f64, t2: f64, h: f64) -> f64 {
 }
 
 impl DiskLight {
-    /// A disk of `radius` (> 0, UsdLux `inputs:radius`) placed by `xf`.
+    /// A disk of `radius` (> 0, UsdLux `inputs:radius`) placed by `xf`; `technique` is the one
+    /// `sample`/`pdf` use ([`Strategy::Lux`]).
     pub fn new(
         radius: f64,
         xf: LightTransform,
@@ -306,6 +312,25 @@ impl DiskLight {
             .try_normalize()
             .filter(|_| r > 0.0 && r.is_finite())
             .map(|axis| (self.xf.point(DVec3::ZERO), axis, r))
+    }
+
+    /// The one-sided **projected solid angle** `Π = ∫ max(0, n·ω) dω` of the disk seen from the
+    /// receiver `r` (its `(p, n)`), clipped to the receiver's horizon (lux-irradiance's
+    /// `projected::disk`, in closed form): the unshadowed irradiance is `E = L·Π` for a uniform
+    /// radiance `L`. The disk emits from its −Z side only (spec §2): a receiver on or behind the
+    /// other side gets 0. `None` for a reference without a normal (`n = 0`) and for a disk
+    /// under a non-uniform scale or shear (an ellipse: [`world_disk`](Self::world_disk) is
+    /// `None`).
+    pub fn projected_solid_angle(&self, r: &Reference) -> Option<f64> {
+        if r.n == DVec3::ZERO {
+            return None;
+        }
+        let (centre, axis, radius) = self.world_disk()?;
+        // world_disk's axis is +Z's image; the disk emits towards −Z's
+        if crate::not_positive(-axis.dot(r.p - centre)) {
+            return Some(0.0);
+        }
+        lux_irradiance::projected::disk(r.p, r.n, centre, axis, radius)
     }
 
     /// Angular extent of the disk around the foot point: (start azimuth, width Φ).

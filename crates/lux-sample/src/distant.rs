@@ -42,7 +42,8 @@ impl DistantLight {
         self.one_minus_cos == 0.0
     }
 
-    /// Unit world direction towards the light (the cone axis).
+    /// Unit world direction towards the light (the cone axis): the light's local +Z mapped to
+    /// world, `normalize(L ẑ)` (it emits along −Z).
     #[inline]
     pub fn direction(&self) -> DVec3 {
         self.axis

@@ -61,12 +61,13 @@ impl LatLongMap {
         self.height
     }
 
-    /// Nearest texel at (u, v) ∈ \[0,1\]² (hdEmbree looks textures up nearest-texel).
+    /// Nearest texel at (u, v) ∈ \[0,1\]² (hdEmbree looks textures up nearest-texel), widened
+    /// from the stored `f32`.
     #[inline]
-    pub fn texel(&self, uv: [f64; 2]) -> f32 {
+    pub fn texel(&self, uv: [f64; 2]) -> f64 {
         let x = ((uv[0] * self.width as f64) as usize).min(self.width - 1);
         let y = ((uv[1] * self.height as f64) as usize).min(self.height - 1);
-        self.texels[y * self.width + x]
+        f64::from(self.texels[y * self.width + x])
     }
 }
 
@@ -82,7 +83,11 @@ pub enum DomeTechnique {
     MisCompensated,
 }
 
-/// A dome light prepared for sampling.
+/// UsdLux `DomeLight` prepared for sampling (spec §2): light from infinitely far away in every
+/// direction, its `inputs:texture:file` a latlong map (+Y up, +Z at the centre column,
+/// [`crate::latlong_direction`]) oriented by its [`LightTransform`]. Without a texture,
+/// uniform over the sphere (density `1/(4π)`); with one, proportional to texel × sin θ (density
+/// `p(u, v) / (2π² sin θ)` per unit solid angle).
 #[derive(Clone, Debug)]
 pub struct DomeLight {
     xf: LightTransform,
@@ -90,7 +95,7 @@ pub struct DomeLight {
 }
 
 impl DomeLight {
-    /// A dome without texture (uniform sphere sampling) oriented by `xf`.
+    /// A dome without texture (uniform sphere sampling, density `1/(4π)`) oriented by `xf`.
     pub fn uniform(xf: LightTransform) -> Self {
         Self { xf, dist: None }
     }

@@ -58,6 +58,13 @@ pub enum SampleError {
         /// Number of vertices.
         vertices: usize,
     },
+    /// A light kind that is not sampled ([`lux_math::LightShape::Portal`]: a PortalLight only
+    /// guides the dome light it belongs to and emits nothing itself).
+    #[error("{light}: not a light that is sampled")]
+    NotSampled {
+        /// The USD schema type name.
+        light: &'static str,
+    },
     /// Every weight was zero, so no distribution exists.
     #[error("{0}: all weights are zero")]
     AllZero(&'static str),
@@ -86,3 +93,10 @@ pub(crate) fn finite(field: &'static str, value: f64) -> Result<f64, SampleError
 /// Largest number of entries any table of this crate allocates (2²⁸ ≈ 268 M, e.g. a 16384×16384
 /// dome texture); larger requests are rejected instead of exhausting memory.
 pub const MAX_ENTRIES: usize = 1 << 28;
+
+impl From<lux_math::TransformError> for SampleError {
+    /// A light-to-world matrix [`lux_math::LightTransform::new`] refused.
+    fn from(e: lux_math::TransformError) -> Self {
+        SampleError::BadTransform(e.0)
+    }
+}

@@ -31,8 +31,11 @@ struct Triangle {
     area: f64,
 }
 
-/// A triangle mesh light in **world** space (the renderer applies the prim transform to the
-/// points; affine maps keep triangles triangles, so densities stay exact).
+/// A gprim with UsdLux `MeshLightAPI` prepared for sampling: its triangles in **world** space
+/// (the prim transform applied to the points — [`crate::Light::from_shape`] does it for a
+/// `LightShape::Mesh`; affine maps keep triangles triangles, so densities stay exact), one
+/// chosen by area × power (alias table), then a point by the built technique. Each triangle
+/// emits from the side of `(v1 − v0) × (v2 − v0)`, or both with UsdGeom `doubleSided`.
 #[derive(Clone, Debug)]
 pub struct MeshLight {
     tris: Vec<Triangle>,

@@ -23,7 +23,13 @@ pub enum RectTechnique {
     SphericalRectangleCosine,
 }
 
-/// A rectangle light prepared for sampling. Geometry in `f64`, local space per spec §2.
+/// UsdLux `RectLight` prepared for sampling (spec §2): the `inputs:width × inputs:height`
+/// rectangle centred in local XY, emitting from its −Z side only, placed by its
+/// [`LightTransform`] (any affine map: a non-uniformly scaled or sheared rect is a
+/// parallelogram, sampled with exact densities). `sample`/`pdf` give directions and densities
+/// per unit solid angle; [`projected_solid_angle`](Self::projected_solid_angle) the one-sided
+/// `Π = ∫ max(0, n·ω) dω` (`E = L·Π` for a uniform radiance L). Build it from the schema's
+/// description with [`crate::Light::from_shape`].
 #[derive(Clone, Copy, Debug)]
 pub struct RectLight {
     width: f64,
@@ -160,9 +166,29 @@ impl RectLight {
         (w[0] < w[2] && w[1] < w[3]).then_some(w)
     }
 
-    /// The sampling technique.
+    /// The sampling technique chosen at construction (see [`Strategy`] for the one rule).
     pub fn technique(&self) -> RectTechnique {
         self.technique
+    }
+
+    /// The one-sided **projected solid angle** `Π = ∫ max(0, n·ω) dω` of the rect seen from the
+    /// receiver `r` (its `(p, n)`), clipped to the receiver's horizon: the unshadowed irradiance
+    /// of the light is `E = L·Π` for a uniform radiance `L` (lux-irradiance's
+    /// `projected::polygon` over [`corners`](Self::corners), Lambert's formula). The rect emits
+    /// from its −Z side only (spec §2), so a receiver on or behind its plane's other side gets 0.
+    /// `None` for a reference without a normal (`n = 0`).
+    pub fn projected_solid_angle(&self, r: &Reference) -> Option<f64> {
+        if r.n == DVec3::ZERO {
+            return None;
+        }
+        if crate::not_positive(self.normal.dot(r.p - self.xf.translation())) {
+            return Some(0.0);
+        }
+        Some(lux_irradiance::projected::polygon(
+            r.p,
+            r.n,
+            &self.corners(),
+        ))
     }
 
     /// The world-space corners, in local order (−w/2, −h/2), (+, −), (+, +), (−, +).

@@ -2,7 +2,9 @@
 
 use glam::DVec3;
 
-/// The point being lit: position and (optionally) the receiver's unit normal.
+/// The point being lit (the shading point): world position and (optionally) the receiver's unit
+/// normal, from which lights are sampled and their projected solid angle `∫ max(0, n·ω) dω` is
+/// taken.
 ///
 /// A zero `n` means "no normal" (a point in a medium, or a caller that does not want the
 /// cosine-aware techniques); samplers then ignore receiver orientation.

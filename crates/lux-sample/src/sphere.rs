@@ -32,7 +32,13 @@ pub enum SphereTechnique {
     ProjectedCap,
 }
 
-/// A sphere light prepared for sampling (geometry in `f64`).
+/// UsdLux `SphereLight` prepared for sampling (spec §2): the sphere of `inputs:radius` about the
+/// local origin, every point emitting over its outward hemisphere, placed by its
+/// [`LightTransform`] (an ellipsoid under a non-uniform scale or shear, sampled with exact
+/// densities). `sample`/`pdf` give directions and densities per unit solid angle (the cone
+/// technique: `1/(2π(1 − cos α))`, `sin α = r/d`); [`projected_solid_angle`](Self::projected_solid_angle)
+/// the `Π` of a round sphere (`π sin²α cos ω` above the horizon). Build it from the schema's
+/// description with [`crate::Light::from_shape`].
 #[derive(Clone, Copy, Debug)]
 pub struct SphereLight {
     radius: f64,
@@ -317,14 +323,16 @@ impl SphereFrom<'_> {
 }
 
 impl SphereLight {
-    /// A sphere of `radius` (> 0, UsdLux `inputs:radius`) placed by `xf`.
+    /// A sphere of `radius` (> 0, UsdLux `inputs:radius`) placed by `xf`; `technique` is the one
+    /// `sample`/`pdf` use ([`Strategy::Lux`]).
     pub fn new(
         radius: f64,
         xf: LightTransform,
         technique: SphereTechnique,
     ) -> Result<Self, SampleError> {
         let radius = positive("radius", radius)?;
-        let world = xf.uniform_scale_translation().and_then(|(s, centre)| {
+        let world = xf.inverse_uniform_scale().and_then(|k| {
+            let (s, centre) = (1.0 / k, xf.translation());
             let radius = radius * s;
             let inv_tau_r2 = 1.0 / (TAU * radius * radius);
             (radius.is_finite() && inv_tau_r2.is_finite()).then_some(WorldSphere {
@@ -344,12 +352,31 @@ impl SphereLight {
         })
     }
 
+    /// The **projected solid angle** `Π = ∫ max(0, n·ω) dω` of the sphere seen from the receiver
+    /// `r` (its `(p, n)`), clipped to the receiver's horizon (lux-irradiance's
+    /// `projected::sphere`, in closed form; `π sin²α cos ω` unclipped): the unshadowed irradiance
+    /// is `E = L·Π` for a uniform radiance `L`. The sphere emits outwards (spec §2), so a
+    /// receiver inside it gets 0. `None` for a reference without a normal (`n = 0`) and for a
+    /// sphere under a non-uniform scale or shear (an ellipsoid).
+    pub fn projected_solid_angle(&self, r: &Reference) -> Option<f64> {
+        if r.n == DVec3::ZERO || !self.xf.is_similarity() {
+            return None;
+        }
+        let centre = self.xf.translation();
+        let radius = self.radius * self.xf.vector(DVec3::X).length();
+        if crate::not_positive(r.p.distance(centre) - radius) {
+            return Some(0.0);
+        }
+        lux_irradiance::projected::sphere(r.p, r.n, centre, radius)
+    }
+
     /// The sampling technique.
     pub fn technique(&self) -> SphereTechnique {
         self.technique
     }
 
-    /// Samples a point seen from `r`.
+    /// Samples a point seen from `r` with the built technique: the direction `wi`, its density
+    /// per unit solid angle, the point and its outward normal.
     #[inline]
     pub fn sample(&self, r: &Reference, u: [f64; 2]) -> Option<LightSample> {
         self.sample_by(r, u, self.technique)

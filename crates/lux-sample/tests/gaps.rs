@@ -404,7 +404,7 @@ fn dome_irradiance(map: &LatLongMap, n: DVec3, k: usize) -> f64 {
     let mut e = 0.0;
     for y in 0..h {
         for x in 0..w {
-            let l = map.texel([(x as f64 + 0.5) / w as f64, (y as f64 + 0.5) / h as f64]) as f64;
+            let l = map.texel([(x as f64 + 0.5) / w as f64, (y as f64 + 0.5) / h as f64]);
             if l == 0.0 {
                 continue;
             }
@@ -493,7 +493,7 @@ fn dome_mis_compensated_in_mis_with_cosine_sampling() {
     let sun = latlong_direction([40.5 / 64.0, 8.5 / 32.0]);
     let n_local = (DVec3::Y + sun).normalize();
     let r = Reference::surface(DVec3::new(0.3, -2.0, 1.0), m.vector(n_local).normalize());
-    let radiance = |wi: DVec3| map.texel(latlong_uv(m.inv_vector(wi).normalize())) as f64;
+    let radiance = |wi: DVec3| map.texel(latlong_uv(m.inv_vector(wi).normalize()));
 
     let exact = dome_irradiance(&map, n_local, 32);
     let coarse = dome_irradiance(&map, n_local, 16);

@@ -314,7 +314,7 @@ fn dome_matches_closed_form_and_texel_sum() {
         let (mut s1, mut s2) = (0.0, 0.0);
         for _ in 0..N {
             let v = light.sample(&r, rng.next_2d()).map_or(0.0, |ls| {
-                let l = map.texel(latlong_uv(ls.wi)) as f64;
+                let l = map.texel(latlong_uv(ls.wi));
                 l * n.dot(ls.wi).max(0.0) / ls.pdf
             });
             s1 += v;

@@ -41,10 +41,10 @@ fn report(name: &str, n: usize, mut run: impl FnMut()) {
 }
 
 /// 2²² calls, cycling through `dirs`.
-fn measure(name: &str, dirs: &[DVec3], f: impl Fn(DVec3) -> [f32; 3]) {
+fn measure(name: &str, dirs: &[DVec3], f: impl Fn(DVec3) -> DVec3) {
     let n = 1usize << 22;
     report(name, n, || {
-        let mut acc = 0.0f32;
+        let mut acc = 0.0;
         for i in 0..n {
             acc += f(black_box(dirs[i & (N - 1)]))[0];
         }
@@ -96,15 +96,15 @@ fn main() {
     let o = ShapingOptions::default();
 
     measure("calibration: harness (|d|²)", &sphere, |d| {
-        [d.length_squared() as f32; 3]
+        DVec3::splat(d.length_squared())
     });
     measure("calibration: light_polar", &sphere, |d| {
         let (t, p) = lux_math::light_polar(d).unwrap();
-        [(t + p) as f32; 3]
+        DVec3::splat(t + p)
     });
     measure("calibration: intensity(light_polar)", &sphere, |d| {
         let (t, p) = lux_math::light_polar(d).unwrap();
-        [web.intensity(t, p) as f32; 3]
+        DVec3::splat(web.intensity(t, p))
     });
     // the loop of benches/ies.rs: (θ, φ) uniform on the sphere, summed
     let pairs: Vec<(f64, f64)> = sphere
@@ -130,7 +130,7 @@ fn main() {
     measure("hard 60° cone", &sphere, |d| s.factor(d));
     let spot = ShapingParams {
         focus: 2.0,
-        focus_tint: [0.2, 0.4, 1.0],
+        focus_tint: DVec3::new(0.2, 0.4, 1.0),
         cone_angle_deg: 60.0,
         cone_softness: 0.3,
         ..ShapingParams::default()
@@ -153,7 +153,7 @@ fn main() {
     let s = mk(
         ShapingParams {
             focus: 1.5,
-            focus_tint: [0.1, 0.2, 0.3],
+            focus_tint: DVec3::new(0.1, 0.2, 0.3),
             cone_angle_deg: 120.0,
             cone_softness: 0.5,
             ies_angle_scale: 0.8,
@@ -174,7 +174,7 @@ fn main() {
     measure("ies_bicubic", &sphere, |d| s.factor(d));
     let s = mk(normalized, Some(web.clone()), o);
     measure("max_factor_in_cone (10°)", &sphere, |d| {
-        [s.max_factor_in_cone(d, 0.17); 3]
+        DVec3::splat(s.max_factor_in_cone(d, 0.17))
     });
     let t = Instant::now();
     let i = s.integral_sphere();

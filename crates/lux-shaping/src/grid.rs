@@ -226,7 +226,7 @@ mod tests {
             if EvenGrid::new(&web, 1.0).is_none() {
                 continue;
             }
-            let s = 1.0 / web.mean_intensity(Profile::Spec);
+            let s = 1.0 / web.mean_intensity();
             let e = worst_error(&web, s, 20_000, 0x9E3779B97F4A7C15);
             assert!(e <= 1.0, "{name}: {e}");
             with_grid.push(name);

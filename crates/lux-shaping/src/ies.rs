@@ -62,9 +62,8 @@ impl IesPart {
         interp: Interpolation,
         map: AngleMap,
         normalize: bool,
-        profile: lux_math::Profile,
     ) -> IesPart {
-        let normalizer = normalize.then(|| web.mean_intensity(profile));
+        let normalizer = normalize.then(|| web.mean_intensity());
         let scale = match normalizer {
             None => Scale::Mul(1.0),
             Some(m) if m > 0.0 && m.is_finite() => {

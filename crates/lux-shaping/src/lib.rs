@@ -8,7 +8,10 @@
 //!
 //! Conventions (spec §2–3): directions are in the light's local space and point from the light
 //! towards the receiver; the light's axis is its local −Z; θ is the angle off −Z and φ the IES
-//! azimuth of [`lux_math::light_polar`]. The factor is, in this order,
+//! azimuth of [`lux_math::light_polar`]. A world direction goes through
+//! [`Shaping::factor_world`], which maps it by `L⁻¹` ([`lux_math::LightTransform::local_direction`]).
+//! Values are `f64` and `DVec3` (glam 0.34, re-exported as `lux_math::glam`). The factor is, in
+//! this order,
 //!
 //! ```text
 //! focusColor = lerp(|cos θ|^focus, focusTint, white)               (focus > 0 only)
@@ -33,10 +36,10 @@
 //! };
 //! let spot = Shaping::new(&params, None, ShapingOptions::default())?;
 //! // straight along the light's −Z axis: unchanged
-//! assert_eq!(spot.factor(DVec3::NEG_Z), [1.0; 3]);
+//! assert_eq!(spot.factor(DVec3::NEG_Z), DVec3::ONE);
 //! // 60° off the axis: outside the cone
 //! let t = 60f64.to_radians();
-//! assert_eq!(spot.factor(DVec3::new(t.sin(), 0.0, -t.cos())), [0.0; 3]);
+//! assert_eq!(spot.factor(DVec3::new(t.sin(), 0.0, -t.cos())), DVec3::ZERO);
 //! // a flat light radiates π (cos-weighted hemisphere) unshaped; this one much less
 //! let ratio = spot.integral_cos_hemisphere()[0] / std::f64::consts::PI;
 //! assert!(ratio > 0.2 && ratio < 0.5);

@@ -1,5 +1,6 @@
 //! The authored `ShapingAPI` inputs and the options that choose between documented behaviours.
 
+use glam::DVec3;
 use lux_ies::Interpolation;
 use lux_math::Profile;
 
@@ -22,7 +23,7 @@ pub struct ShapingParams {
     /// `inputs:shaping:focusTint` (schema default black): the colour the emission fades to away
     /// from the axis when `focus` > 0. White disables the focus. Components must be finite;
     /// negative components are treated as 0 (an emission multiplier cannot be negative).
-    pub focus_tint: [f64; 3],
+    pub focus_tint: DVec3,
     /// `inputs:shaping:cone:angle` in degrees (schema default 90): the half-angle, measured from
     /// the light's −Z axis, beyond which nothing is emitted. Angles ≥ 180° never cut; negative
     /// angles cut everything. NaN is rejected.
@@ -42,7 +43,8 @@ pub struct ShapingParams {
     /// emission without changing its total power. Under [`Profile::Spec`] the normalized IES
     /// factor integrates to exactly 4π over the sphere (mean 1), or 2π for the narrow-range
     /// profiles (mean 1 over their emitting hemisphere when they lie within 0..90° or
-    /// 90..180°); under [`Profile::HdEmbree`] the divisor uses the midpoint-rule flux. A profile
+    /// 90..180°); for a web built under [`Profile::HdEmbree`] the divisor uses the midpoint-rule
+    /// flux. A profile
     /// whose flux is 0 gives an IES factor of 0.
     pub ies_normalize: bool,
 }
@@ -54,7 +56,7 @@ impl ShapingParams {
     /// into the hemisphere around its −Z axis.
     pub const SCHEMA_DEFAULTS: ShapingParams = ShapingParams {
         focus: 0.0,
-        focus_tint: [0.0; 3],
+        focus_tint: DVec3::ZERO,
         cone_angle_deg: 90.0,
         cone_softness: 0.0,
         ies_angle_scale: 0.0,
@@ -96,10 +98,10 @@ pub enum AngleScaleFormula {
 /// [`AngleScaleFormula::TwoBranch`], [`Interpolation::Bilinear`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct ShapingOptions {
-    /// Conformance profile. It changes two things here: cone softness clamping (`Spec` clamps to
-    /// \[0, 1\], `HdEmbree` uses the authored value) and the flux used for `ies:normalize`
-    /// (exact integral vs the reference's midpoint rule, see
-    /// [`lux_ies::PhotometricWeb::mean_intensity`]).
+    /// Conformance profile: cone softness clamping (`Spec` clamps to \[0, 1\], `HdEmbree` uses
+    /// the authored value). The flux `ies:normalize` divides by (exact integral vs the
+    /// reference's midpoint rule) is the IES web's own, chosen when it was built with
+    /// [`lux_ies::PhotometricWeb::new`] (build it with this same profile).
     pub profile: Profile,
     /// The angleScale formula.
     pub angle_scale: AngleScaleFormula,

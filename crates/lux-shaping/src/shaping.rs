@@ -13,7 +13,7 @@ use crate::quad;
 use core::f64::consts::{FRAC_PI_2, PI, TAU};
 use glam::DVec3;
 use lux_ies::PhotometricWeb;
-use lux_math::{lerp, polar_angle, polar_angles};
+use lux_math::{LightTransform, lerp, polar_angle, polar_angles};
 
 /// Relative accuracy requested from the outer (θ) quadrature.
 const REL_OUTER: f64 = 1e-10;
@@ -156,7 +156,7 @@ pub struct Shaping {
     focus: Option<Focus>,
     cone: Cone,
     ies: Option<IesPart>,
-    max_factor: f32,
+    max_factor: f64,
     emission_half_angle: f64,
     identity: bool,
 }
@@ -227,15 +227,15 @@ impl Shaping {
             });
         }
         let focus_on = params.focus > 0.0;
-        if focus_on && params.focus_tint.iter().any(|t| !t.is_finite()) {
-            let [r, g, b] = params.focus_tint;
+        if focus_on && !params.focus_tint.is_finite() {
+            let [r, g, b] = params.focus_tint.to_array();
             return Err(ShapingError::InvalidParameter {
                 attribute: "inputs:shaping:focusTint",
                 value: format!("({r}, {g}, {b})"),
                 expected: "finite colour components",
             });
         }
-        let tint = params.focus_tint.map(|t| t.max(0.0));
+        let tint = params.focus_tint.to_array().map(|t| t.max(0.0));
         let focus = (focus_on && tint != [1.0; 3]).then(|| Focus::new(params.focus, tint));
         let cone = Cone::new(params.cone_angle_deg, params.cone_softness, options.profile);
         let ies = match ies {
@@ -247,7 +247,6 @@ impl Shaping {
                     options.interpolation,
                     map,
                     params.ies_normalize,
-                    options.profile,
                 ))
             }
         };
@@ -262,17 +261,18 @@ impl Shaping {
             emission_half_angle: PI,
             identity,
         };
-        s.max_factor = f32_up(s.bound(0.0, PI));
+        s.max_factor = s.bound(0.0, PI).min(f64::MAX);
         s.emission_half_angle = s.reach();
         Ok(s)
     }
 
     /// The RGB multiplier the shaping applies to the emission towards `dir_light_space` (from
-    /// the light towards the receiver, in the light's local space, any length > 0).
+    /// the light towards the receiver, in the light's local space, any length > 0); for a world
+    /// direction use [`factor_world`](Self::factor_world).
     ///
-    /// Focus colour × cone × IES factor as described on [`Shaping`]. A zero, NaN or infinite
-    /// direction gives `[0, 0, 0]`; the result is never NaN, never negative and never infinite
-    /// (values beyond `f32::MAX` saturate). Allocation-free; the cone is tested on the cosine
+    /// `focusColor · cone · ies` as described on [`Shaping`] (spec §3, ShapingAPI), each
+    /// channel in `f64`. A zero, NaN or infinite direction gives zero; the result is never
+    /// NaN, never negative and never infinite. Allocation-free; the cone is tested on the cosine
     /// (no square root or angle unless the direction is inside a soft ramp or an IES profile is
     /// looked up), an integer focus uses multiplications only, the azimuth is computed only for
     /// IES profiles that depend on it, and the angles are those of [`lux_math::light_polar`]
@@ -283,7 +283,32 @@ impl Shaping {
     /// [`PhotometricWeb::intensity`] times the scale, to within `4ε·(nv + nh + 2)` of the
     /// largest value (the rounding of `θies/Δv` and of the web's radian knots).
     #[inline]
-    pub fn factor(&self, dir_light_space: DVec3) -> [f32; 3] {
+    pub fn factor(&self, dir_light_space: DVec3) -> DVec3 {
+        DVec3::from_array(self.factor_rgb(dir_light_space))
+    }
+
+    /// The factor towards the **world** direction `emit_world` (from a point of the light
+    /// towards the receiver, any length > 0) of the light placed by `xf`:
+    /// `factor(normalize(L⁻¹ · emit_world))`, `L` being the linear part of the light-to-world
+    /// transform ([`LightTransform::local_direction`]; spec §2–3: the ShapingAPI angles are
+    /// light-space angles off local −Z).
+    ///
+    /// This is the one mapping lux's renderer uses. Under a non-uniform scale or shear the lit
+    /// region is the affine image of the local one: a receiver at world point `r` gets the
+    /// factor the local receiver `L⁻¹(r − t)` gets from the untransformed light (a 30° cone
+    /// scaled by 3 along X reaches 60° off the world axis in the XZ plane and stays 30° in
+    /// YZ). Mapping with the normal matrix `Lᵀ` instead would disagree as soon as `L` is not a
+    /// rotation times a uniform scale. A zero or non-finite direction gives zero.
+    #[inline]
+    pub fn factor_world(&self, xf: &LightTransform, emit_world: DVec3) -> DVec3 {
+        match xf.local_direction(emit_world) {
+            Some(local) => self.factor(local),
+            None => DVec3::ZERO,
+        }
+    }
+
+    #[inline(always)]
+    fn factor_rgb(&self, dir_light_space: DVec3) -> [f64; 3] {
         let mut d = dir_light_space;
         let mut len2 = d.length_squared();
         if !(len2 > 1e-280 && len2 < 1e280) {
@@ -308,15 +333,15 @@ impl Shaping {
     /// cosines on squares, so no square root is taken outside the soft ramp; the focus uses
     /// `cos² θ = z²/|d|²`.
     #[inline(always)]
-    fn factor_no_ies(&self, d: DVec3, len2: f64) -> [f32; 3] {
+    fn factor_no_ies(&self, d: DVec3, len2: f64) -> [f64; 3] {
         let w = -d.z;
         let cone = self.cone.hit(w, len2).factor(|| polar_angle(d));
         if cone == 0.0 {
             return [0.0; 3];
         }
         match &self.focus {
-            None => [to_f32(cone); 3],
-            Some(f) => f.color_cos2(w * w / len2).map(|x| to_f32(x * cone)),
+            None => [nonneg(cone); 3],
+            Some(f) => f.color_cos2(w * w / len2).map(|x| nonneg(x * cone)),
         }
     }
 
@@ -325,7 +350,7 @@ impl Shaping {
     /// the cone tested on the cosine as without IES, the profile looked up on its even grid
     /// when it has one (see `IesPart::sample_for_factor`).
     #[inline(always)]
-    fn factor_ies(&self, d: DVec3, len2: f64, ies: &IesPart) -> [f32; 3] {
+    fn factor_ies(&self, d: DVec3, len2: f64, ies: &IesPart) -> [f64; 3] {
         let w = -d.z;
         let hit = self.cone.hit(w, len2);
         if hit == ConeHit::Dark {
@@ -339,8 +364,8 @@ impl Shaping {
         let cone = hit.factor(|| theta);
         let s = cone * ies.sample_for_factor(theta, phi);
         match &self.focus {
-            None => [to_f32(s); 3],
-            Some(f) => f.color_cos2(w * w / len2).map(|x| to_f32(x * s)),
+            None => [nonneg(s); 3],
+            Some(f) => f.color_cos2(w * w / len2).map(|x| nonneg(x * s)),
         }
     }
 
@@ -418,30 +443,10 @@ fn rescale(d: DVec3) -> Option<DVec3> {
     Some(d / m)
 }
 
-/// f64 → f32, NaN and negatives to 0, saturating at `f32::MAX`.
+/// NaN and negatives to 0, +∞ to `f64::MAX`: a factor is never NaN, negative or infinite.
 #[inline(always)]
-fn to_f32(x: f64) -> f32 {
-    if x >= 0.0 {
-        x.min(f32::MAX as f64) as f32
-    } else {
-        0.0
-    }
-}
-
-/// f64 → the smallest f32 ≥ x (saturating at `f32::MAX`); NaN gives `f32::MAX`.
-fn f32_up(x: f64) -> f32 {
-    if x.is_nan() {
-        return f32::MAX;
-    }
-    if x <= 0.0 {
-        return 0.0;
-    }
-    let f = x.min(f32::MAX as f64) as f32;
-    if (f as f64) < x {
-        f.next_up().min(f32::MAX)
-    } else {
-        f
-    }
+fn nonneg(x: f64) -> f64 {
+    if x >= 0.0 { x.min(f64::MAX) } else { 0.0 }
 }
 
 #[cfg(test)]
@@ -450,14 +455,10 @@ mod tests {
 
     #[test]
     fn conversions() {
-        assert_eq!(to_f32(f64::NAN), 0.0);
-        assert_eq!(to_f32(-1.0), 0.0);
-        assert_eq!(to_f32(1e300), f32::MAX);
-        assert_eq!(f32_up(0.0), 0.0);
-        assert_eq!(f32_up(1e300), f32::MAX);
-        assert!(f32_up(0.1) as f64 >= 0.1);
-        assert_eq!(f32_up(1.0), 1.0);
-        assert_eq!(f32_up(1.0 + 1e-12), 1.0f32.next_up());
+        assert_eq!(nonneg(f64::NAN), 0.0);
+        assert_eq!(nonneg(-1.0), 0.0);
+        assert_eq!(nonneg(1e300), 1e300);
+        assert_eq!(nonneg(f64::INFINITY), f64::MAX);
         assert_eq!(
             rescale(DVec3::new(1e200, 0.0, -1e200)),
             Some(DVec3::new(1.0, 0.0, -1.0))
@@ -470,7 +471,7 @@ mod tests {
     fn polar_and_direction_paths_agree() {
         let params = ShapingParams {
             focus: 1.5,
-            focus_tint: [0.2, 0.5, 1.5],
+            focus_tint: DVec3::new(0.2, 0.5, 1.5),
             cone_angle_deg: 70.0,
             cone_softness: 0.4,
             ..Default::default()
@@ -482,7 +483,7 @@ mod tests {
                 let a = s.factor(lux_math::light_direction(t, p) * 3.0);
                 let b = s.eval_polar(t, p);
                 for k in 0..3 {
-                    assert!((a[k] as f64 - b[k]).abs() < 1e-6, "{t} {p}");
+                    assert!((a[k] - b[k]).abs() < 1e-12, "{t} {p}");
                 }
             }
         }
@@ -521,7 +522,7 @@ mod tests {
                 (
                     ShapingParams {
                         focus: 2.0,
-                        focus_tint: [0.2, 0.5, 1.0],
+                        focus_tint: DVec3::new(0.2, 0.5, 1.0),
                         cone_angle_deg: 100.0,
                         cone_softness: 0.5,
                         ies_angle_scale: 0.7,
@@ -549,7 +550,7 @@ mod tests {
                     grid,
                     even && interpolation == lux_ies::Interpolation::Bilinear
                 );
-                let m = s.max_factor() as f64;
+                let m = s.max_factor();
                 for _ in 0..4000 {
                     let z = 2.0 * next() - 1.0;
                     let r = (1.0 - z * z).sqrt();
@@ -559,10 +560,10 @@ mod tests {
                     let a = s.factor(d);
                     let b = s.eval_polar(t, p);
                     for k in 0..3 {
-                        let err = (a[k] as f64 - b[k]).abs();
-                        // f32 rounding of the result, and the cone edge taken on the cosine
+                        let err = (a[k] - b[k]).abs();
+                        // the cone edge taken on the cosine, the grid's folded divisor
                         assert!(
-                            err <= 1e-6 * b[k].abs() + 1e-9 * m,
+                            err <= 1e-12 * b[k].abs() + 1e-9 * m,
                             "{name} {params:?} {d}: {a:?} vs {b:?}"
                         );
                         if b[k].abs() > 1e-6 * m {
@@ -572,7 +573,7 @@ mod tests {
                 }
             }
         }
-        // f32 output: half an ulp is 6·10⁻⁸
-        assert!(worst <= 1e-7, "{worst}");
+        // the even grid's rounding: 4ε·(nv + nh + 2) of the largest value (see `factor`)
+        assert!(worst <= 1e-12, "{worst}");
     }
 }

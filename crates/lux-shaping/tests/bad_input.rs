@@ -43,7 +43,7 @@ proptest! {
         d in prop::array::uniform3(wild()),
     ) {
         let p = ShapingParams {
-            focus, focus_tint: tint, cone_angle_deg: cone, cone_softness: soft,
+            focus, focus_tint: DVec3::from_array(tint), cone_angle_deg: cone, cone_softness: soft,
             ies_angle_scale: scale, ies_normalize: normalize,
         };
         let o = ShapingOptions {
@@ -68,7 +68,7 @@ proptest! {
                 prop_assert!(m.is_finite() && m >= 0.0);
                 for dir in [DVec3::from_array(d), DVec3::NEG_Z, DVec3::Z, DVec3::X, dir_deg(33.0, 71.0)] {
                     let f = s.factor(dir);
-                    for c in f {
+                    for c in f.to_array() {
                         prop_assert!(c.is_finite() && c >= 0.0 && c <= m, "{:?} at {:?} (max {})", f, dir, m);
                     }
                 }
@@ -84,7 +84,7 @@ proptest! {
         hd in any::<bool>(),
     ) {
         let p = ShapingParams {
-            focus, focus_tint: tint, cone_angle_deg: cone, cone_softness: soft,
+            focus, focus_tint: DVec3::from_array(tint), cone_angle_deg: cone, cone_softness: soft,
             ..ShapingParams::default()
         };
         let o = ShapingOptions {
@@ -92,7 +92,7 @@ proptest! {
             ..Default::default()
         };
         if let Ok(s) = Shaping::new(&p, None, o) {
-            for v in s.integral_sphere().into_iter().chain(s.integral_cos_hemisphere()) {
+            for v in s.integral_sphere().to_array().into_iter().chain(s.integral_cos_hemisphere().to_array()) {
                 // a tint near f64::MAX may overflow to +∞, never to NaN or below 0
                 prop_assert!(v >= 0.0, "{:?}", v);
             }
@@ -131,22 +131,22 @@ fn documented_results_of_special_values() {
     // +∞ focus: the tint everywhere off the axis, white on it
     let s = ok(ShapingParams {
         focus: f64::INFINITY,
-        focus_tint: [0.25, 0.5, 2.0],
+        focus_tint: DVec3::new(0.25, 0.5, 2.0),
         ..ShapingParams::NO_SHAPING
     });
-    assert_eq!(s.factor(axis), [1.0; 3]);
-    assert_eq!(s.factor(side), [0.25, 0.5, 2.0]);
+    assert_eq!(s.factor(axis), DVec3::ONE);
+    assert_eq!(s.factor(side), DVec3::new(0.25, 0.5, 2.0));
     // negative tint components count as 0
     let s = ok(ShapingParams {
         focus: 1.0,
-        focus_tint: [-3.0, 0.0, 0.5],
+        focus_tint: DVec3::new(-3.0, 0.0, 0.5),
         ..ShapingParams::NO_SHAPING
     });
-    assert_eq!(s.factor(DVec3::X), [0.0, 0.0, 0.5]);
+    assert_eq!(s.factor(DVec3::X), DVec3::new(0.0, 0.0, 0.5));
     // NaN tint with focus off is never used
     assert!(
         ok(ShapingParams {
-            focus_tint: [f64::NAN; 3],
+            focus_tint: DVec3::splat(f64::NAN),
             ..ShapingParams::NO_SHAPING
         })
         .is_identity()
@@ -155,7 +155,7 @@ fn documented_results_of_special_values() {
     let e = Shaping::new(
         &ShapingParams {
             focus: 1.0,
-            focus_tint: [0.0, f64::INFINITY, 0.0],
+            focus_tint: DVec3::new(0.0, f64::INFINITY, 0.0),
             ..Default::default()
         },
         None,
@@ -190,9 +190,9 @@ fn documented_results_of_special_values() {
             cone_angle_deg: c,
             ..Default::default()
         });
-        assert_eq!(s.factor(axis), [0.0; 3]);
+        assert_eq!(s.factor(axis), DVec3::ZERO);
         assert_eq!(s.max_factor(), 0.0);
-        assert_eq!(s.integral_sphere(), [0.0; 3]);
+        assert_eq!(s.integral_sphere(), DVec3::ZERO);
     }
     assert!(
         ok(ShapingParams {
@@ -208,7 +208,7 @@ fn documented_results_of_special_values() {
         cone_softness: f64::NAN,
         ..Default::default()
     });
-    assert_eq!(s.factor(dir_deg(44.9, 0.0)), [1.0; 3]);
+    assert_eq!(s.factor(dir_deg(44.9, 0.0)), DVec3::ONE);
     // ±∞ softness: clamped under spec, dark under hdEmbree
     let hd = ShapingOptions {
         profile: Profile::HdEmbree,
@@ -220,8 +220,11 @@ fn documented_results_of_special_values() {
             cone_softness: soft,
             ..Default::default()
         };
-        assert_eq!(ok(p).factor(axis), [1.0; 3]);
-        assert_eq!(Shaping::new(&p, None, hd).unwrap().factor(axis), [0.0; 3]);
+        assert_eq!(ok(p).factor(axis), DVec3::ONE);
+        assert_eq!(
+            Shaping::new(&p, None, hd).unwrap().factor(axis),
+            DVec3::ZERO
+        );
     }
     // angleScale NaN / ∞: an error only when there is a profile
     let spot = common::web("luxtest/bega_84693k4.ies", Profile::Spec);
@@ -242,18 +245,26 @@ fn documented_results_of_special_values() {
         DVec3::new(0.0, f64::INFINITY, -1.0),
         DVec3::splat(f64::NEG_INFINITY),
     ] {
-        assert_eq!(s.factor(d), [0.0; 3], "{d:?}");
-        assert_eq!(Shaping::identity().factor(d), [0.0; 3], "{d:?}");
+        assert_eq!(s.factor(d), DVec3::ZERO, "{d:?}");
+        assert_eq!(Shaping::identity().factor(d), DVec3::ZERO, "{d:?}");
     }
     // tiny and huge but valid directions
-    assert_eq!(s.factor(DVec3::new(0.0, 0.0, -1e-320)), [1.0; 3]);
-    assert_eq!(s.factor(DVec3::new(1e308, 0.0, -1e308)), [1.0; 3]);
-    // a huge tint saturates at f32::MAX instead of overflowing
+    assert_eq!(s.factor(DVec3::new(0.0, 0.0, -1e-320)), DVec3::ONE);
+    assert_eq!(s.factor(DVec3::new(1e308, 0.0, -1e308)), DVec3::ONE);
+    // a huge tint is the factor off the axis, bounded by max_factor; the largest one
+    // saturates the bound at f64::MAX instead of overflowing
     let s = ok(ShapingParams {
         focus: 1.0,
-        focus_tint: [1e300, 0.0, 0.0],
+        focus_tint: DVec3::new(1e300, 0.0, 0.0),
         ..ShapingParams::NO_SHAPING
     });
-    assert_eq!(s.factor(DVec3::X)[0], f32::MAX);
-    assert_eq!(s.max_factor(), f32::MAX);
+    assert_eq!(s.factor(DVec3::X)[0], 1e300);
+    assert!(s.max_factor() >= 1e300 && s.max_factor().is_finite());
+    let s = ok(ShapingParams {
+        focus: 1.0,
+        focus_tint: DVec3::new(f64::MAX, 0.0, 0.0),
+        ..ShapingParams::NO_SHAPING
+    });
+    assert_eq!(s.factor(DVec3::X)[0], f64::MAX);
+    assert_eq!(s.max_factor(), f64::MAX);
 }

@@ -6,6 +6,7 @@ mod common;
 
 use common::{file, web, web_of};
 use core::f64::consts::{FRAC_PI_2, PI, TAU};
+use glam::DVec3;
 use lux_ies::{Interpolation, PhotometricType};
 use lux_math::Profile;
 use lux_shaping::{AngleScaleFormula, Shaping, ShapingOptions, ShapingParams};
@@ -24,7 +25,8 @@ fn close(got: f64, want: f64, rel: f64) {
 }
 
 #[track_caller]
-fn close3(got: [f64; 3], want: [f64; 3], rel: f64) {
+fn close3(got: impl Into<[f64; 3]>, want: impl Into<[f64; 3]>, rel: f64) {
+    let (got, want) = (got.into(), want.into());
     for c in 0..3 {
         close(got[c], want[c], rel);
     }
@@ -94,7 +96,7 @@ fn hard_cones() {
         cone_angle_deg: -5.0,
         ..Default::default()
     });
-    assert_eq!(s.integral_sphere(), [0.0; 3]);
+    assert_eq!(s.integral_sphere(), DVec3::ZERO);
 }
 
 #[test]
@@ -159,7 +161,7 @@ fn focus_powers_of_the_cosine() {
         let tint = [0.0, 0.25, 2.0];
         let s = shaping(ShapingParams {
             focus: f,
-            focus_tint: tint,
+            focus_tint: DVec3::from_array(tint),
             cone_angle_deg: 180.0,
             ..Default::default()
         });
@@ -191,7 +193,7 @@ fn focus_powers_of_the_cosine() {
 fn weighted_integral_agrees_with_the_special_cases() {
     let p = ShapingParams {
         focus: 1.5,
-        focus_tint: [0.1, 0.6, 1.0],
+        focus_tint: DVec3::new(0.1, 0.6, 1.0),
         cone_angle_deg: 75.0,
         cone_softness: 0.4,
         ..Default::default()
@@ -326,7 +328,7 @@ fn bicubic_and_weighted_paths_agree_with_the_exact_one() {
     let f = file(PhotometricType::C, vs, hs, cd);
     let p = ShapingParams {
         focus: 0.8,
-        focus_tint: [0.3, 0.3, 0.3],
+        focus_tint: DVec3::new(0.3, 0.3, 0.3),
         cone_angle_deg: 120.0,
         cone_softness: 0.3,
         ies_angle_scale: 0.8,

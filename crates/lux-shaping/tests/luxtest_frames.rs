@@ -8,12 +8,13 @@
 mod common;
 
 use common::dir_deg;
+use glam::DVec3;
 use lux_shaping::{Shaping, ShapingOptions, ShapingParams};
 
 /// The schema defaults with `ShapingAPI` applied (what every frame starts from).
 const RECT: ShapingParams = ShapingParams::SCHEMA_DEFAULTS;
 
-fn factor(p: ShapingParams, theta_deg: f64, phi_deg: f64) -> [f32; 3] {
+fn factor(p: ShapingParams, theta_deg: f64, phi_deg: f64) -> DVec3 {
     Shaping::new(&p, None, ShapingOptions::default())
         .unwrap()
         .factor(dir_deg(theta_deg, phi_deg))
@@ -25,7 +26,7 @@ fn check(p: ShapingParams, theta_deg: f64, want: [f64; 3]) {
         let got = factor(p, theta_deg, phi);
         for c in 0..3 {
             assert!(
-                (got[c] as f64 - want[c]).abs() <= 1e-6 * want[c].abs().max(1.0),
+                (got[c] - want[c]).abs() <= 1e-12 * want[c].abs().max(1.0),
                 "θ {theta_deg}° φ {phi}°: got {got:?}, want {want:?}"
             );
         }
@@ -60,7 +61,7 @@ fn frames_26_to_30_focus_with_blue_tint() {
     let p = ShapingParams {
         cone_angle_deg: 170.0,
         focus: 2.0,
-        focus_tint: [0.0, 0.0, 1.0],
+        focus_tint: DVec3::new(0.0, 0.0, 1.0),
         ..RECT
     };
     check(p, 0.0, [1.0, 1.0, 1.0]);
@@ -138,7 +139,7 @@ fn frames_41_to_45_focus_with_red_tint() {
     for f in [0.0, 1.25, 2.5, 3.75, 5.0] {
         let p = ShapingParams {
             cone_angle_deg: 60.0,
-            focus_tint: [1.0, 0.0, 0.0],
+            focus_tint: DVec3::new(1.0, 0.0, 0.0),
             focus: f,
             ..RECT
         };
@@ -152,7 +153,7 @@ fn frames_41_to_45_focus_with_red_tint() {
     // frame 45 at 60°: (1, 2^-5, 2^-5)
     let p = ShapingParams {
         cone_angle_deg: 60.0,
-        focus_tint: [1.0, 0.0, 0.0],
+        focus_tint: DVec3::new(1.0, 0.0, 0.0),
         focus: 5.0,
         ..RECT
     };
@@ -172,7 +173,7 @@ fn frames_46_to_50_focus_tint_series() {
     for (frame, tint) in tints {
         let p = ShapingParams {
             focus: 3.0,
-            focus_tint: tint,
+            focus_tint: DVec3::from_array(tint),
             ..RECT
         };
         for theta in [0.0, 30.0, 60.0, 89.0] {

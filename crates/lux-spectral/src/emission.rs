@@ -41,6 +41,50 @@ pub enum LightGeometry {
 }
 
 impl LightGeometry {
+    /// The geometry of the light described by its UsdLux shape (lux-math's
+    /// [`lux_math::LightShape`], the same value lux-sample's `Light::from_shape` and
+    /// lux-math's `size_factor` take) under its light-to-world transform:
+    ///
+    /// | shape | geometry |
+    /// |---|---|
+    /// | rect, disk, sphere, cylinder, mesh | [`LightGeometry::Area`]: the **exact** world area under any affine map ([`lux_math::world_area`] under `profile`, the `inputs:normalize` size factor) and `shaping` |
+    /// | dome | [`LightGeometry::Dome`] with mean 1 (an untextured dome; for a texture use [`crate::latlong_cosine_weighted_mean`]) |
+    /// | distant | [`LightGeometry::Distant`] with `inputs:angle` |
+    /// | portal | [`SpectralError::NotAnAreaEmitter`]: a PortalLight emits nothing itself |
+    ///
+    /// `shaping` is the light's shaping integral G ([`ShapingIntegral::UNSHAPED`] without
+    /// ShapingAPI; from lux-shaping's `Shaping::emitter_integral` with
+    /// [`ShapingIntegral::from_integrals`] otherwise); only area lights use it.
+    pub fn from_shape(
+        shape: &lux_math::LightShape,
+        light_to_world: &lux_math::LightTransform,
+        profile: lux_math::Profile,
+        shaping: ShapingIntegral,
+    ) -> Result<LightGeometry, SpectralError> {
+        use lux_math::LightShape;
+        Ok(match shape {
+            LightShape::Rect { .. }
+            | LightShape::Disk { .. }
+            | LightShape::Sphere { .. }
+            | LightShape::Cylinder { .. }
+            | LightShape::Mesh { .. } => LightGeometry::Area {
+                world_area: lux_math::world_area(shape, &light_to_world.matrix(), profile),
+                shaping,
+            },
+            LightShape::Dome => LightGeometry::Dome {
+                cosine_weighted_mean: 1.0,
+            },
+            LightShape::Distant { angle_deg } => LightGeometry::Distant {
+                angle_deg: *angle_deg,
+            },
+            LightShape::Portal { .. } => {
+                return Err(SpectralError::NotAnAreaEmitter {
+                    light: "PortalLight",
+                });
+            }
+        })
+    }
+
     fn name(&self) -> &'static str {
         match self {
             LightGeometry::Area { .. } => "area light",
@@ -50,7 +94,10 @@ impl LightGeometry {
     }
 }
 
-/// What a light emits under a physical-unit API.
+/// What a light emits under a physical-unit API (PhotometricAreaLightAPI and friends): the
+/// luminance `L = Φ / (A·G)` of an area light given its power Φ (lm; W converted by the
+/// illuminant's efficacy), `L = E / (π·m)` of a dome given its illuminance, `L = E / Ω⊥` of a
+/// distant light, and its RGB `L · rgb_per_nit`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Emission {
     /// Luminance in nits: the value to use in place of `intensity·2^exposure/sizeFactor`

@@ -93,7 +93,7 @@ pub struct PhysicalLightInputs {
     /// `physical:illuminant` (default white).
     pub illuminant: IlluminantKind,
     /// `physical:customIlluminant` (nm, spectral radiance) pairs (default empty).
-    pub custom_illuminant: Vec<[f32; 2]>,
+    pub custom_illuminant: Vec<[f64; 2]>,
     /// `inputs:colorTemperature`, K (UsdLux default 6500), used by the blackbody illuminant.
     pub color_temperature: f64,
     /// The applied Photometric/Radiometric API and its value.

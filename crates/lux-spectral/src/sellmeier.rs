@@ -19,9 +19,9 @@ impl Sellmeier {
         c: [6.000_698_67e-3, 2.001_791_44e-2, 1.035_606_53e2],
     };
 
-    /// Validate coefficients given as USD (B, C) pairs: 1–3 pairs, all finite; errors name
-    /// `wavelength:ior`.
-    pub fn from_pairs(pairs: &[[f32; 2]]) -> Result<Self, SpectralError> {
+    /// Validate coefficients given as (B, C) pairs (C in µm²): the USD `float2[]` as authored
+    /// (`[f32; 2]`) or `[f64; 2]`; 1–3 pairs, all finite; errors name `wavelength:ior`.
+    pub fn from_pairs<T: Copy + Into<f64>>(pairs: &[[T; 2]]) -> Result<Self, SpectralError> {
         let err = |detail: String| SpectralError::Sellmeier {
             attribute: "wavelength:ior".to_owned(),
             detail,
@@ -37,7 +37,7 @@ impl Sellmeier {
             c: [0.0; 3],
         };
         for (i, p) in pairs.iter().enumerate() {
-            let (b, c) = (f64::from(p[0]), f64::from(p[1]));
+            let (b, c): (f64, f64) = (p[0].into(), p[1].into());
             if !(b.is_finite() && c.is_finite()) {
                 return Err(err(format!(
                     "pair {i}: (B, C) = ({b}, {c}), expected finite numbers"

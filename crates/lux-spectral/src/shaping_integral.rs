@@ -49,7 +49,7 @@ impl Emitter {
 ///   — π when unshaped.
 ///
 /// [`ShapingIntegral::from_integrals`] takes the integrals of the factor from the caller (lux's
-/// renderer computes them with lux-shaping, on which this crate does not depend);
+/// renderer computes them with lux-shaping's `Shaping::emitter_integral`, on which this crate does not depend);
 /// [`ShapingIntegral::integrate`] evaluates any factor by quadrature.
 /// For sphere and cylinder the forms assume a similarity transform (no non-uniform scale).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -124,6 +124,7 @@ impl ShapingIntegral {
     /// from the per-channel integrals of its RGB shaping factor f, which the caller computes
     /// with its shaping model (lux-shaping's `Shaping` in lux's renderer), for the emitter of
     /// `kind` (an error for a kind without one):
+    /// (lux-shaping's `Shaping::emitter_integral(kind)` gives exactly these):
     /// - flat (RectLight, DiskLight): I_c = ∫_{emitting hemisphere} f_c(ω) cos θ dω, and G_c = I_c
     ///   (`Shaping::integral_cos_hemisphere`);
     /// - SphereLight: I_c = ∫_{S²} f_c(ω) dω, and G_c = ¼ I_c (`Shaping::integral_sphere`);
@@ -137,7 +138,7 @@ impl ShapingIntegral {
     /// luminous flux of the tinted emission.
     pub fn from_integrals(
         kind: LightKind,
-        integrals: Option<[f64; 3]>,
+        integrals: Option<DVec3>,
         rgb_per_nit: DVec3,
     ) -> Result<Self, SpectralError> {
         let shape = Emitter::of(kind)?;
@@ -147,8 +148,7 @@ impl ShapingIntegral {
         // Σ_c (Y_c·rgb_c)·I_c, the luminance weights scaled by the colour first: the order of
         // the operations the renders were made with (`lux_math::luminance(rgb · I)`, the same
         // sum grouped Y_c·(rgb_c·I_c), can differ in the last bit)
-        let weighted =
-            (DVec3::from(lux_math::REC709_LUMINANCE) * rgb_per_nit).dot(DVec3::from(integrals));
+        let weighted = (lux_math::REC709_LUMINANCE * rgb_per_nit).dot(integrals);
         match shape {
             Emitter::Flat => Self::flat(weighted),
             Emitter::Sphere => Self::sphere(weighted),
@@ -169,7 +169,7 @@ impl ShapingIntegral {
     /// power.
     pub fn from_integrals_textured(
         kind: LightKind,
-        integrals: Option<[f64; 3]>,
+        integrals: Option<DVec3>,
         rgb_per_nit: DVec3,
         texture_mean: DVec3,
     ) -> Result<Self, SpectralError> {

@@ -69,12 +69,13 @@ impl SampledSpectrum {
         })
     }
 
-    /// Build from USD `float2[]` pairs (wavelength, value). Wavelengths are converted from `unit`
-    /// to nm; values are multiplied by `value_scale` (use [`WavelengthUnit::density_to_per_nm`]
-    /// for spectral densities such as `wavelength:emission`, 1 for reflectance or IOR). Errors
-    /// report the wavelength as written in the file.
-    pub fn from_pairs(
-        pairs: &[[f32; 2]],
+    /// Build from (wavelength, value) pairs: a USD `float2[]` as authored (`[f32; 2]`, kept as
+    /// stored) or `[f64; 2]`. Wavelengths are converted from `unit` to nm; values are multiplied
+    /// by `value_scale` (use [`WavelengthUnit::density_to_per_nm`] for spectral densities such
+    /// as `wavelength:emission`, 1 for reflectance or IOR). Errors report the wavelength as
+    /// written.
+    pub fn from_pairs<T: Copy + Into<f64>>(
+        pairs: &[[T; 2]],
         unit: WavelengthUnit,
         value_scale: f64,
         interpolation: Interpolation,
@@ -87,27 +88,29 @@ impl SampledSpectrum {
         }
         // Check raw wavelengths first so that errors quote the file's numbers.
         for (index, p) in pairs.iter().enumerate() {
-            let w = f64::from(p[0]);
+            let w: f64 = p[0].into();
             if !(w.is_finite() && w > 0.0) {
                 return Err(SpectrumError::BadWavelength {
                     index,
                     wavelength: w,
                 });
             }
-            if index > 0 && p[0] <= pairs[index - 1][0] {
+            let previous: f64 = if index > 0 {
+                pairs[index - 1][0].into()
+            } else {
+                0.0
+            };
+            if index > 0 && w <= previous {
                 return Err(SpectrumError::NotIncreasing {
                     index,
                     wavelength: w,
-                    previous: f64::from(pairs[index - 1][0]),
+                    previous,
                 });
             }
         }
         let to_nm = unit.to_nm();
-        let wavelengths = pairs.iter().map(|p| f64::from(p[0]) * to_nm).collect();
-        let values = pairs
-            .iter()
-            .map(|p| f64::from(p[1]) * value_scale)
-            .collect();
+        let wavelengths = pairs.iter().map(|p| p[0].into() * to_nm).collect();
+        let values = pairs.iter().map(|p| p[1].into() * value_scale).collect();
         Self::new(wavelengths, values, interpolation)
     }
 

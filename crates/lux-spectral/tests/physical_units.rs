@@ -127,7 +127,7 @@ fn shaping_integral_closed_forms() {
             want
         );
         assert_eq!(
-            ShapingIntegral::from_integrals(kind, Some([1.0; 3]), DVec3::ONE),
+            ShapingIntegral::from_integrals(kind, Some(DVec3::ONE), DVec3::ONE),
             want
         );
         assert_eq!(
@@ -223,9 +223,12 @@ fn power_round_trip_with_caller_supplied_rgb_integrals() {
         inputs.color_temperature = 2700.0;
         let ill = resolve_illuminant(&inputs, ColorSpace::Rec709).unwrap();
         for (shape, emitter, channel_integrals) in shapes {
-            let g =
-                ShapingIntegral::from_integrals(emitter, Some(channel_integrals), ill.rgb_per_nit)
-                    .unwrap();
+            let g = ShapingIntegral::from_integrals(
+                emitter,
+                Some(DVec3::from(channel_integrals)),
+                ill.rgb_per_nit,
+            )
+            .unwrap();
             let area = match shape {
                 Shape::Rect(w, h) => w * h,
                 Shape::Disk(r) => PI * r * r,
@@ -488,4 +491,58 @@ fn latlong_cosine_weighted_mean_of_sky_textures() {
     assert!(latlong_cosine_weighted_mean(2, 2, &[1.0; 3], DVec3::Y).is_err());
     assert!(latlong_cosine_weighted_mean(2, 1, &[1.0, f32::NAN], DVec3::Y).is_err());
     assert!(latlong_cosine_weighted_mean(2, 1, &[1.0, 1.0], DVec3::ZERO).is_err());
+}
+
+/// `LightGeometry::from_shape`: the light described once (its `LightShape` and transform), the
+/// exact world area under a non-uniform scale, and 1000 lm on a sphere light of radius r
+/// converted to the luminance `Φ / (4πr²·π)` that gives the lumens back.
+#[test]
+fn light_geometry_from_shape() {
+    use lux_math::{LightShape, LightTransform, Profile};
+    let stretch = LightTransform::new(glam::DMat4::from_scale(DVec3::new(3.0, 0.5, 2.0))).unwrap();
+    let rect = LightShape::Rect {
+        width: 2.0,
+        height: 1.0,
+    };
+    let g = LightGeometry::from_shape(&rect, &stretch, Profile::Spec, ShapingIntegral::UNSHAPED)
+        .unwrap();
+    assert_eq!(
+        g,
+        LightGeometry::Area {
+            world_area: 6.0 * 0.5,
+            shaping: ShapingIntegral::UNSHAPED
+        }
+    );
+    let r = 0.25;
+    let at = LightTransform::from_translation(DVec3::new(1.0, 2.0, 3.0));
+    let sphere = LightShape::Sphere { radius: r };
+    let g =
+        LightGeometry::from_shape(&sphere, &at, Profile::Spec, ShapingIntegral::UNSHAPED).unwrap();
+    let inputs = PhysicalLightInputs::new(PhysicalQuantity::PhotometricPower(1000.0));
+    let e = emitted(&inputs, &g, ColorSpace::Rec709).unwrap();
+    let area = 4.0 * PI * r * r;
+    assert!((e.luminance - 1000.0 / (area * PI)).abs() < 1e-12 * e.luminance);
+    assert!((e.luminance * area * PI - 1000.0).abs() < 1e-9);
+    assert_eq!(
+        LightGeometry::from_shape(
+            &LightShape::Distant { angle_deg: 0.53 },
+            &at,
+            Profile::Spec,
+            ShapingIntegral::UNSHAPED
+        )
+        .unwrap(),
+        LightGeometry::Distant { angle_deg: 0.53 }
+    );
+    assert!(matches!(
+        LightGeometry::from_shape(
+            &LightShape::Portal {
+                width: 1.0,
+                height: 1.0
+            },
+            &at,
+            Profile::Spec,
+            ShapingIntegral::UNSHAPED
+        ),
+        Err(SpectralError::NotAnAreaEmitter { .. })
+    ));
 }

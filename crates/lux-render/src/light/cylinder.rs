@@ -140,6 +140,6 @@ impl CylinderLight {
         lux_math::luminance(self.base.radiance).max(0.0)
             * area
             * std::f64::consts::PI
-            * self.base.shaping.max_factor() as f64
+            * self.base.shaping.max_factor()
     }
 }

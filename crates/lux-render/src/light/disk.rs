@@ -121,8 +121,7 @@ impl DiskLight {
 
     /// Power estimate: `Y(base) · area · G` (G = ∫ shaping · cos over the hemisphere).
     pub(super) fn power(&self, area: f64) -> f64 {
-        let g =
-            lux_math::luminance(DVec3::from(self.base.shaping.integral_cos_hemisphere())).max(0.0);
+        let g = lux_math::luminance(self.base.shaping.integral_cos_hemisphere()).max(0.0);
         lux_math::luminance(self.base.radiance).max(0.0) * area * g
     }
 }

@@ -43,10 +43,7 @@ impl DistantLight {
     /// `base · shapingFactor` along the world emission direction `emit`.
     #[inline]
     fn emitted(&self, emit: DVec3) -> DVec3 {
-        match self.base.local_direction(emit) {
-            Some(wl) => self.base.shaped(wl),
-            None => DVec3::ZERO,
-        }
+        self.base.emitted(emit)
     }
 
     /// Radiance arriving along `wi` (receiver → light): inside the cone, the emission along

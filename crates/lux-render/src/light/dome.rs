@@ -82,7 +82,7 @@ impl DomeLight {
         let Some(t) = &self.texture else {
             return self.base.radiance;
         };
-        let d = (self.base.inv_linear * wi).normalize_or_zero();
+        let d = self.base.xf.inv_vector(wi).normalize_or_zero();
         if d == DVec3::ZERO {
             return DVec3::ZERO;
         }

@@ -281,7 +281,7 @@ impl<'s> Loader<'s> {
         };
         let params = ShapingParams {
             focus: s.focus,
-            focus_tint: s.focus_tint.to_array(),
+            focus_tint: s.focus_tint,
             cone_angle_deg: s.cone_angle_deg,
             cone_softness: s.cone_softness,
             ies_angle_scale: s.ies_angle_scale,

@@ -97,10 +97,7 @@ impl MeshLight {
     /// is decided by the sampler and the hit).
     #[inline]
     pub fn le(&self, _local: DVec3, emit: DVec3, _seen: Seen) -> DVec3 {
-        match self.base.local_direction(emit) {
-            Some(wl) => self.base.shaped(wl),
-            None => DVec3::ZERO,
-        }
+        self.base.emitted(emit)
     }
 
     /// A finite light: nothing arrives from infinity.
@@ -138,6 +135,6 @@ impl MeshLight {
         lux_math::luminance(self.base.radiance).max(0.0)
             * area
             * std::f64::consts::PI
-            * self.base.shaping.max_factor() as f64
+            * self.base.shaping.max_factor()
     }
 }

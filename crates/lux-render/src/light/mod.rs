@@ -76,7 +76,7 @@ pub use shapes::{LINEAR_LIGHTS, LightShapes};
 pub use sphere::SphereLight;
 
 use crate::image_io::Texture;
-use glam::{DMat3, DVec3};
+use glam::DVec3;
 use lux_math::LightKind;
 use lux_sample::{EmissionCone, LightBounds, LightSample, LightTransform, Reference, Strategy};
 use lux_shaping::Shaping;
@@ -109,8 +109,6 @@ pub struct LightBase {
     /// LightAPI `collection:lightLink` / `collection:shadowLink` resolved over the scene
     /// (none for the default, everything).
     pub links: LightLinks,
-    /// World → light linear map, for emission directions.
-    inv_linear: DMat3,
 }
 
 impl LightBase {
@@ -132,7 +130,6 @@ impl LightBase {
             specular: 1.0,
             shadow,
             links: LightLinks::default(),
-            inv_linear: xf.linear().inverse(),
             xf,
         }
     }
@@ -163,19 +160,25 @@ impl LightBase {
     }
 
     /// The unit light-space direction of the world emission direction `emit` (from the light
-    /// towards the receiver): `normalize(L⁻¹·emit)`; `None` when it has no length.
+    /// towards the receiver): `normalize(L⁻¹·emit)` ([`LightTransform::local_direction`], the
+    /// one mapping lux-shaping's `Shaping::factor_world` uses); `None` when it has no length.
     #[inline]
     pub fn local_direction(&self, emit: DVec3) -> Option<DVec3> {
-        let wl = self.inv_linear * emit;
-        let len = wl.length();
-        (len > 0.0 && len.is_finite()).then(|| wl / len)
+        self.xf.local_direction(emit)
     }
 
-    /// `base · shapingFactor(wl)` for the unit light-space emission direction `wl`.
+    /// `base · shapingFactor(wl)` for the unit light-space emission direction `wl` (one
+    /// returned by [`LightBase::local_direction`], for the kinds that test its side first).
     #[inline]
     pub fn shaped(&self, wl: DVec3) -> DVec3 {
-        let f = self.shaping.factor(wl);
-        self.radiance * DVec3::new(f[0] as f64, f[1] as f64, f[2] as f64)
+        self.radiance * self.shaping.factor(wl)
+    }
+
+    /// `base · shapingFactor` towards the world emission direction `emit`:
+    /// `Shaping::factor_world(xf, emit)` (zero for a direction without length).
+    #[inline]
+    pub fn emitted(&self, emit: DVec3) -> DVec3 {
+        self.radiance * self.shaping.factor_world(&self.xf, emit)
     }
 
     /// Selection bounds of a finite light whose surface lies in the world box `(min, max)`:
@@ -609,12 +612,23 @@ fn planar_emission_half_angle(base: &LightBase) -> f64 {
 mod tests {
     use super::*;
 
+    /// Every light of `scene`, prepared under the `spec` profile.
+    fn every_light(scene: &lux_usd::Scene) -> LightSet {
+        let options = LightOptions {
+            profile: lux_math::Profile::Spec,
+            selection: LightSelection::All,
+            strict: false,
+            cone_clipping: true,
+        };
+        LightSet::new(scene, options).unwrap()
+    }
+
     /// Only a sphere seen as its projected cap samples its closed form exactly (what lets the
     /// direct integrator skip a point's own search for it): every sample's `L·cos θ / pdf`
     /// is `L·Π` there; not so for a disk or a rect, nor for a sphere cut by the horizon.
     #[test]
     fn only_a_sphere_seen_as_its_cap_samples_exactly() {
-        use lux_math::{LightShape, Profile};
+        use lux_math::LightShape;
         let down = |c: DVec3| {
             let q = glam::DQuat::from_rotation_arc(DVec3::NEG_Z, DVec3::NEG_Y);
             glam::DMat4::from_rotation_translation(q, c)
@@ -649,13 +663,7 @@ mod tests {
                 .lights
                 .push(lux_usd::Light::with_defaults(path, shape, down(c)));
         }
-        let options = LightOptions {
-            profile: Profile::Spec,
-            selection: LightSelection::All,
-            strict: false,
-            cone_clipping: true,
-        };
-        let set = LightSet::new(&scene, options).unwrap();
+        let set = every_light(&scene);
         let r = Reference::surface(DVec3::ZERO, DVec3::Y);
         let exact: Vec<bool> = set
             .lights
@@ -677,6 +685,78 @@ mod tests {
             })
             .collect();
         assert_eq!(exact, [true, false, false, false]);
+    }
+
+    /// The renderer shapes a light's emission with lux-shaping's world-space entry point: under a
+    /// sheared, non-uniformly scaled transform the radiance a light sample carries is
+    /// `base · Shaping::factor_world(xf, point → receiver)`, and a 40° cone stretched by 3 along
+    /// the light's X lights a receiver 60° off the world axis in that plane (the affine image of
+    /// the cone) while one at 45° in the other plane is dark.
+    #[test]
+    fn shaping_under_shear_is_factor_world() {
+        use lux_math::LightShape;
+        let shear = glam::DMat4::from_cols_array(&[
+            3.0, 0.0, 0.0, 0.0, //
+            0.4, 1.0, 0.0, 0.0, //
+            0.2, -0.3, 1.5, 0.0, //
+            0.0, 0.0, 2.0, 1.0,
+        ]);
+        let mut scene = lux_usd::Scene::empty("lights.usda");
+        for (path, shape) in [
+            ("/Disk", LightShape::Disk { radius: 0.3 }),
+            ("/Sphere", LightShape::Sphere { radius: 0.2 }),
+        ] {
+            let mut l = lux_usd::Light::with_defaults(path, shape, shear);
+            l.shaping = Some(lux_usd::ShapingInputs {
+                cone_angle_deg: 40.0,
+                cone_softness: 0.3,
+                focus: 2.0,
+                focus_tint: DVec3::new(0.1, 0.5, 0.9),
+                ..Default::default()
+            });
+            scene.lights.push(l);
+        }
+        let set = every_light(&scene);
+        let mut lit = 0;
+        for light in &set.lights {
+            let b = light.base();
+            for i in 0..64 {
+                let p = DVec3::new(-3.0 + 0.1 * i as f64, 0.05 * i as f64 - 1.0, -1.0);
+                let r = Reference::surface(p, DVec3::Z);
+                let u = [(i % 8) as f64 / 8.0 + 0.06, (i / 8) as f64 / 8.0 + 0.02];
+                let Some(s) = light.sample_li(&r, u, Strategy::Lux) else {
+                    continue;
+                };
+                let want = b.radiance * b.shaping.factor_world(&b.xf, -s.wi);
+                assert!(
+                    (s.l - want).abs().max_element() <= 1e-12 * want.max_element(),
+                    "{}: {} vs {want}",
+                    b.path,
+                    s.l
+                );
+                lit += usize::from(s.l != DVec3::ZERO);
+            }
+        }
+        assert!(lit > 20, "{lit}");
+        // the cone's edges in world space, from the disk's centre (its −Z axis is the world
+        // direction L·(−Z))
+        let disk = set.lights[0].base();
+        let stretch =
+            LightTransform::new(glam::DMat4::from_scale(DVec3::new(3.0, 1.0, 1.0))).unwrap();
+        let mut base = disk.clone();
+        base.xf = stretch;
+        let at = |deg: f64, in_x: bool| {
+            let (sn, c) = deg.to_radians().sin_cos();
+            let w = if in_x {
+                DVec3::new(sn, 0.0, -c)
+            } else {
+                DVec3::new(0.0, sn, -c)
+            };
+            base.emitted(w).max_element()
+        };
+        // atan(3·tan 40°) = 68.2° in XZ; 40° in YZ
+        assert!(at(60.0, true) > 0.0 && at(69.0, true) == 0.0);
+        assert!(at(30.0, false) > 0.0 && at(45.0, false) == 0.0);
     }
 
     #[test]

@@ -187,8 +187,7 @@ impl RectLight {
             let a = t.tex.average();
             lux_math::luminance(DVec3::new(a[0], a[1], a[2]))
         });
-        let g =
-            lux_math::luminance(DVec3::from(self.base.shaping.integral_cos_hemisphere())).max(0.0);
+        let g = lux_math::luminance(self.base.shaping.integral_cos_hemisphere()).max(0.0);
         lux_math::luminance(self.base.radiance).max(0.0) * mean_tex * area * g
     }
 }

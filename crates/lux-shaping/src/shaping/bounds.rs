@@ -13,7 +13,7 @@ impl Shaping {
     /// softness > 1), and the IES profile's largest value (candela, or divided by the normalizer)
     /// over the vertical band the cone and angleScale map to. Exact without IES whenever the tint
     /// is ≤ 1 in every channel (all maxima are on the axis); 0 for a light that emits nothing.
-    pub fn max_factor(&self) -> f32 {
+    pub fn max_factor(&self) -> f64 {
         self.max_factor
     }
 
@@ -26,7 +26,7 @@ impl Shaping {
     /// θ band only (IES: the vertical grid bands of the profile it maps to, type C). A zero or
     /// non-finite axis, a NaN half-angle, or a half-angle ≥ π gives `max_factor()`; a negative
     /// half-angle counts as 0 (the axis direction alone).
-    pub fn max_factor_in_cone(&self, axis_light_space: DVec3, half_angle: f64) -> f32 {
+    pub fn max_factor_in_cone(&self, axis_light_space: DVec3, half_angle: f64) -> f64 {
         if self.identity {
             return 1.0;
         }
@@ -41,7 +41,7 @@ impl Shaping {
         let alpha = (a.x * a.x + a.y * a.y).sqrt().atan2(-a.z);
         let lo = (alpha - h - BOUND_SLACK).max(0.0);
         let hi = (alpha + h + BOUND_SLACK).min(PI);
-        f32_up(self.bound(lo, hi)).min(self.max_factor)
+        self.bound(lo, hi).min(self.max_factor)
     }
 
     /// The half-angle θe (radians, in [0, π]) of the cone about the light's −Z outside which the

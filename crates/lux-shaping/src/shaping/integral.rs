@@ -2,6 +2,7 @@
 //! `G` of a light's flux), by adaptive quadrature split at the factor's kinks.
 
 use super::*;
+use lux_math::LightKind;
 
 impl Shaping {
     /// `∫_{S²} factor(ω) dω` per channel (steradians; 4π for the identity).
@@ -23,7 +24,11 @@ impl Shaping {
     /// where θ-circles touch the native grid lines), and, for a focus exponent above 4, at
     /// multiples of 1/√focus near the poles. Requested relative accuracy 10⁻¹⁰; the tests check
     /// 10⁻⁹ against closed forms and exact fluxes.
-    pub fn integral_sphere(&self) -> [f64; 3] {
+    pub fn integral_sphere(&self) -> DVec3 {
+        DVec3::from_array(self.sphere_rgb())
+    }
+
+    fn sphere_rgb(&self) -> [f64; 3] {
         if let Some(p) = self.native_ab() {
             return self.integrate_native(p, &|_| 1.0);
         }
@@ -33,7 +38,11 @@ impl Shaping {
     /// `∫ factor(ω) cos θ dω` over the emitting hemisphere θ < π/2 (θ off the light's −Z), per
     /// channel: what a flat emitter (rect, disk) radiates relative to an unshaped one, whose value
     /// is π. Same method as [`integral_sphere`](Self::integral_sphere).
-    pub fn integral_cos_hemisphere(&self) -> [f64; 3] {
+    pub fn integral_cos_hemisphere(&self) -> DVec3 {
+        DVec3::from_array(self.cos_hemisphere_rgb())
+    }
+
+    fn cos_hemisphere_rgb(&self) -> [f64; 3] {
         if let Some(p) = self.native_ab() {
             return self.integrate_native(p, &|d| (-d.z).max(0.0));
         }
@@ -53,7 +62,38 @@ impl Shaping {
     /// without angleScale are integrated in (V, H) as for `integral_sphere`). `w` should be
     /// finite and piecewise smooth: its own kinks are found by bisection only, so their accuracy
     /// depends on the panel budget. Non-finite values of `w` count as 0.
-    pub fn integral_weighted(&self, w: impl Fn(DVec3) -> f64) -> [f64; 3] {
+    pub fn integral_weighted(&self, w: impl Fn(DVec3) -> f64) -> DVec3 {
+        DVec3::from_array(self.weighted_rgb(w))
+    }
+
+    /// The integral of the factor over the emitting surface's directions that the shaping
+    /// integral `G` of an area light of `kind` needs (lux-spectral's
+    /// `ShapingIntegral::from_integrals`, for the luminance of a light given in lumens or
+    /// watts; `Φ = L·A·G`):
+    ///
+    /// | kind | integral | `G` |
+    /// |---|---|---|
+    /// | RectLight, DiskLight | `∫_{θ<π/2} f cos θ dω` ([`integral_cos_hemisphere`](Self::integral_cos_hemisphere)) | the integral |
+    /// | SphereLight | `∫_{S²} f dω` ([`integral_sphere`](Self::integral_sphere)) | ¼ of it |
+    /// | CylinderLight (axis X) | `∫_{S²} f √(1 − ω_x²) dω` ([`integral_weighted`](Self::integral_weighted)) | 1/π of it |
+    ///
+    /// `None` for the identity (f ≡ 1, so `G = π` exactly, with no quadrature error) and for
+    /// the kinds without an area emitter (distant, dome, portal, mesh).
+    pub fn emitter_integral(&self, kind: LightKind) -> Option<DVec3> {
+        if self.is_identity() {
+            return None;
+        }
+        match kind {
+            LightKind::Rect | LightKind::Disk => Some(self.integral_cos_hemisphere()),
+            LightKind::Sphere => Some(self.integral_sphere()),
+            LightKind::Cylinder => {
+                Some(self.integral_weighted(|d| (1.0 - d.x * d.x).max(0.0).sqrt()))
+            }
+            LightKind::Distant | LightKind::Dome | LightKind::Portal | LightKind::Mesh => None,
+        }
+    }
+
+    fn weighted_rgb(&self, w: impl Fn(DVec3) -> f64) -> [f64; 3] {
         if let Some(p) = self.native_ab() {
             return self.integrate_native(p, &w);
         }

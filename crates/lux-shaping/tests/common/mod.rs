@@ -82,8 +82,8 @@ pub fn file(ptype: PhotometricType, v: Vec<f64>, h: Vec<f64>, candela: Vec<f64>)
         ballast_factor: 1.0,
         third_factor: 1.0,
         input_watts: 10.0,
-        vertical_angles: v,
-        horizontal_angles: h,
+        vertical_angles_deg: v,
+        horizontal_angles_deg: h,
         candela,
     }
 }
