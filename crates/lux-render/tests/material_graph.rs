@@ -929,7 +929,11 @@ fn unevaluated_nodes_take_their_nodedef_fallbacks() {
         "blur passes its input through",
     );
     let g = emitting(
-        vec![node("heighttonormal", Vector3, &[("in", Float, num(&[0.3]))])],
+        vec![node(
+            "heighttonormal",
+            Vector3,
+            &[("in", Float, num(&[0.3]))],
+        )],
         0,
         Vector3,
     );
