@@ -10,7 +10,7 @@
 //!   binding further up is authored `bindMaterialAs = "strongerThanDescendants"`, which then
 //!   replaces it;
 //! - on one prim the collection bindings come before the direct binding, in property order
-//!   (names in dictionary order, rearranged by an authored `reorder properties`); a collection
+//!   (names in dictionary order, an authored `reorder properties` listing its names first); a collection
 //!   binding applies when the gprim is a member of its collection
 //!   ([`Membership::contains`]), and only the first such one on a prim is considered.
 //!
@@ -207,31 +207,25 @@ fn read_site(r: &mut Reader<'_>, prim: &Prim) -> Result<Site, LoadError> {
     Ok(site)
 }
 
-/// `names` in the prim's property order: dictionary order (usd-core's `TfDictionaryLessThan`:
-/// letters compared without case, digit runs as numbers), then rearranged by the strongest
-/// authored `propertyOrder` (`reorder properties = [...]`) as Sdf applies an order: each
-/// listed name, with the unlisted names that follow it, moves into the listed order; names
-/// before the first listed one stay in front.
+/// `names` in the prim's property order, as usd-core's `GetPropertyNames` gives it: dictionary
+/// order (usd-core's `TfDictionaryLessThan`: letters compared without case, digit runs as
+/// numbers), then, with an authored `propertyOrder` (`reorder properties = [...]`, the
+/// strongest opinion), the names it lists first in its order and the others after them in
+/// dictionary order (checked against usd-core 26.11: `[c, a]` over `a…e` gives
+/// `c, a, b, d, e`).
 fn property_order(r: &Reader<'_>, prim: &Prim, mut names: Vec<String>) -> Vec<String> {
     names.sort_by(|a, b| dictionary_cmp(a, b));
     let Some(order) = authored_order(r, prim) else {
         return names;
     };
-    let listed = |n: &String| order.iter().any(|o| o == n);
-    let mut rest = names;
-    let mut out = Vec::with_capacity(rest.len());
+    let mut out: Vec<String> = Vec::with_capacity(names.len());
     for o in &order {
-        let Some(i) = rest.iter().position(|n| n == o) else {
-            continue;
-        };
-        let mut j = i + 1;
-        while j < rest.len() && !listed(&rest[j]) {
-            j += 1;
+        if let Some(i) = names.iter().position(|n| n == o) {
+            out.push(names.remove(i));
         }
-        out.extend(rest.drain(i..j));
     }
-    rest.extend(out);
-    rest
+    out.extend(names);
+    out
 }
 
 /// The strongest `propertyOrder` authored on `prim`'s specs.

@@ -29,6 +29,7 @@ const USD_CORE: &[(&str, &str)] = &[
     ("/P/X/G", "/M/One"),
     ("/P/X/Y/H", "/M/NearY"),
     ("/F/X/G", "/M/Full"),
+    ("/Q/G", "/M/One"),
 ];
 
 #[test]

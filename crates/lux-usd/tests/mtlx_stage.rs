@@ -231,3 +231,69 @@ fn a_mtlx_document_inside_a_usdz_composes_and_resolves_inside_the_package() {
         "{resolved}"
     );
 }
+
+/// usd-core 26.11's bound materials for `tests/data/mtlx/looks_inherit.usda` on lux's
+/// translation of `looks_inherit.mtlx` (printed as for [`LOOK_BINDINGS`], with
+/// `looks_inherit` for `graph`/`looks`): the selected look `L_blue` inherits `L_base`'s
+/// assigns; its own come first (a table collection that excludes the top and includes the
+/// legs' collection); `L_base`'s `geomprefix` applies to its `geom` paths.
+const INHERITED_LOOK_BINDINGS: &[(&str, &str)] = &[
+    ("/Asset/Set/Table/Top", "/Asset/Materials/MA_top"),
+    ("/Asset/Set/Table/Legs/Leg1", "/Asset/Materials/MA_table"),
+    ("/Asset/Set/Table/Apron", "/Asset/Materials/MA_table"),
+    ("/Asset/Set/Chair", "/Asset/Materials/MA_chair2"),
+    ("/Asset/Set/Lamp", "None"),
+];
+
+#[test]
+fn an_inherited_look_binds_as_usd_core_binds_its_translation() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mtlx/looks_inherit.usda");
+    let scene = lux_usd::load_stage(&path, 1.0).unwrap();
+    assert!(
+        scene
+            .warnings
+            .iter()
+            .all(|w| w.kind != WarningKind::Composition),
+        "{:#?}",
+        scene.warnings
+    );
+    let got: Vec<(String, String)> = scene
+        .meshes
+        .iter()
+        .map(|m| {
+            let mat = m
+                .material
+                .map(|i| scene.materials[i].path.clone())
+                .unwrap_or_else(|| "None".into());
+            (m.path.clone(), mat)
+        })
+        .collect();
+    let want: Vec<(String, String)> = INHERITED_LOOK_BINDINGS
+        .iter()
+        .map(|(a, b)| (a.to_string(), b.to_string()))
+        .collect();
+    assert_eq!(got, want);
+    // MA_table is the blue material (0.1, 0.1, 0.8), MA_top the red one (0.8, 0.1, 0.1), as
+    // color3f values.
+    let colour = |path: &str| -> Vec<f64> {
+        let m = scene.materials.iter().find(|m| m.path == path).unwrap();
+        let net = m.network.as_ref().unwrap();
+        let sr = &net.nodes[net.surface.as_ref().unwrap().node];
+        match &sr
+            .inputs
+            .iter()
+            .find(|i| i.name == "base_color")
+            .unwrap()
+            .source
+        {
+            lux_usd::shading::NetSource::Value(lux_usd::shading::Value::Numbers(v)) => v.clone(),
+            other => panic!("{other:?}"),
+        }
+    };
+    let f = |x: f32| f64::from(x);
+    assert_eq!(
+        colour("/Asset/Materials/MA_table"),
+        [f(0.1), f(0.1), f(0.8)]
+    );
+    assert_eq!(colour("/Asset/Materials/MA_top"), [f(0.8), f(0.1), f(0.1)]);
+}

@@ -275,8 +275,26 @@ fn write_look(
             format!("/MaterialX/Materials/{}", usd_name(&a.material)),
         ));
     }
+    // The look's own bindings first, in assign order, then the inherited look's (usdMtlx's
+    // property order).
+    let mut names: Vec<String> = bindings.iter().map(|(r, _)| r.clone()).collect();
+    let mut parent = look.inherit.as_deref();
+    let mut seen = vec![look.name.as_str()];
+    while let Some(p) = parent.and_then(|p| doc.looks.iter().find(|l| l.name == p)) {
+        if seen.contains(&p.name.as_str()) {
+            break;
+        }
+        seen.push(&p.name);
+        for a in &p.assigns {
+            let rel = format!("material:binding:collection:{}", usd_name(&a.name));
+            if !names.contains(&rel) {
+                names.push(rel);
+            }
+        }
+        parent = p.inherit.as_deref();
+    }
     if !bindings.is_empty() {
-        let order: Vec<String> = bindings.iter().map(|(r, _)| format!("\"{r}\"")).collect();
+        let order: Vec<String> = names.iter().map(|r| format!("\"{r}\"")).collect();
         line(
             out,
             3,
