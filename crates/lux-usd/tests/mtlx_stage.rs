@@ -11,6 +11,29 @@ const SHADER_BALL: &str = concat!(
     "/../../tests/data/realusd/usdwg/full_assets/StandardShaderBall/standard_shader_ball_scene.usda"
 );
 
+/// Each mesh of `scene` with its bound material's path (`"None"` when unbound), in scene order.
+fn bound_materials(scene: &lux_usd::Scene) -> Vec<(String, String)> {
+    scene
+        .meshes
+        .iter()
+        .map(|m| {
+            let mat = m
+                .material
+                .map(|i| scene.materials[i].path.clone())
+                .unwrap_or_else(|| "None".into());
+            (m.path.clone(), mat)
+        })
+        .collect()
+}
+
+/// A (mesh, material) table as owned strings.
+fn listed(table: &[(&str, &str)]) -> Vec<(String, String)> {
+    table
+        .iter()
+        .map(|(a, b)| (a.to_string(), b.to_string()))
+        .collect()
+}
+
 #[test]
 fn translated_documents_are_usda() {
     for f in [
@@ -137,22 +160,7 @@ fn a_look_binds_its_materials_and_interface_inputs_take_overrides() {
         .filter(|w| w.kind == WarningKind::Composition)
         .collect();
     assert!(composition.is_empty(), "{composition:#?}");
-    let got: Vec<(String, String)> = scene
-        .meshes
-        .iter()
-        .map(|m| {
-            let mat = m
-                .material
-                .map(|i| scene.materials[i].path.clone())
-                .unwrap_or_else(|| "None".into());
-            (m.path.clone(), mat)
-        })
-        .collect();
-    let want: Vec<(String, String)> = LOOK_BINDINGS
-        .iter()
-        .map(|(a, b)| (a.to_string(), b.to_string()))
-        .collect();
-    assert_eq!(got, want);
+    assert_eq!(bound_materials(&scene), listed(LOOK_BINDINGS));
 
     let wood = scene
         .materials
@@ -192,19 +200,7 @@ fn a_look_binds_its_materials_and_interface_inputs_take_overrides() {
 fn a_mtlx_document_inside_a_usdz_composes_and_resolves_inside_the_package() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mtlx/looks.usdz");
     let scene = lux_usd::load_stage(&path, 1.0).unwrap();
-    let bound: Vec<(String, Option<String>)> = scene
-        .meshes
-        .iter()
-        .map(|m| {
-            let mat = m.material.map(|i| scene.materials[i].path.clone());
-            (m.path.clone(), mat)
-        })
-        .collect();
-    let want: Vec<(String, Option<String>)> = LOOK_BINDINGS
-        .iter()
-        .map(|(a, b)| (a.to_string(), (*b != "None").then(|| b.to_string())))
-        .collect();
-    assert_eq!(bound, want);
+    assert_eq!(bound_materials(&scene), listed(LOOK_BINDINGS));
     let wood = scene
         .materials
         .iter()
@@ -257,22 +253,7 @@ fn an_inherited_look_binds_as_usd_core_binds_its_translation() {
         "{:#?}",
         scene.warnings
     );
-    let got: Vec<(String, String)> = scene
-        .meshes
-        .iter()
-        .map(|m| {
-            let mat = m
-                .material
-                .map(|i| scene.materials[i].path.clone())
-                .unwrap_or_else(|| "None".into());
-            (m.path.clone(), mat)
-        })
-        .collect();
-    let want: Vec<(String, String)> = INHERITED_LOOK_BINDINGS
-        .iter()
-        .map(|(a, b)| (a.to_string(), b.to_string()))
-        .collect();
-    assert_eq!(got, want);
+    assert_eq!(bound_materials(&scene), listed(INHERITED_LOOK_BINDINGS));
     // MA_table is the blue material (0.1, 0.1, 0.8), MA_top the red one (0.8, 0.1, 0.1), as
     // color3f values.
     let colour = |path: &str| -> Vec<f64> {
