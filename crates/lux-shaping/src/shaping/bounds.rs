@@ -87,10 +87,13 @@ impl Shaping {
             return 0.0;
         }
         let hi = hi.min(self.cone.reach()).max(lo);
-        // Without IES and with every tint channel ≤ 1 the bound is exactly representable and
-        // never exceeded (lerp(f, t, 1) ≤ 1, cone ≤ 1); otherwise leave room for the rounding
-        // of the interpolation and of the products.
+        // A full cone (1) and tint channels ≤ 1 are exactly representable and never exceeded
+        // (lerp(f, t, 1) ≤ 1, cone ≤ 1); otherwise leave room for rounding: of the
+        // interpolation and the products, and of a soft edge's value, which `factor` computes
+        // from the direction's cosine and the bound from the angle (they differ in the last
+        // bits; found by the `max_factor_in_cone_is_conservative` proptest).
         const SLACK: f64 = 1.0 + 1e-12;
+        let cone = if cone < 1.0 { cone * SLACK } else { cone };
         let focus = self.focus.map_or(1.0, |f| {
             let m = f.max_over(lo, hi);
             if m > 1.0 { m * SLACK } else { m }
