@@ -82,13 +82,10 @@ pub fn linear_to_srgb(c: f32) -> f32 {
     linear_to_srgb_f64(f64::from(c)) as f32
 }
 
-/// [`srgb_to_linear`] in `f64`.
+/// [`srgb_to_linear`] in `f64` (the one formula, `lux_usd::shading::color_space`'s, which
+/// MaterialX colour values and texture texels share).
 pub(crate) fn srgb_to_linear_f64(c: f64) -> f64 {
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
+    lux_usd::shading::color_space::srgb_to_linear(c)
 }
 
 /// [`linear_to_srgb`] in `f64`.
