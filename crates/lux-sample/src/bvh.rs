@@ -163,6 +163,85 @@ impl LightBvh {
         }
     }
 
+    /// [`Self::sample`] for each of the numbers `us` at one reference point, in one descent:
+    /// `out[j]` is what `sample(r, us[j])` returns, bit for bit, but a node's children are
+    /// weighed once for all the numbers that reach it (k choices at a shading point share the
+    /// top of the tree). `out` must be as long as `us`.
+    pub fn sample_each(&self, r: &Reference, us: &[f64], out: &mut [Option<(usize, f64)>]) {
+        assert_eq!(us.len(), out.len(), "one answer per number");
+        let pinf = self.p_infinite();
+        // The numbers that go down the tree, sorted (each a descent of its own: the order only
+        // keeps the ones reaching a node contiguous), with their slot in `out`; 16 at a time,
+        // on the stack.
+        let mut buf = [(0.0f64, 0usize); 16];
+        for (c, chunk) in us.chunks(buf.len()).enumerate() {
+            let mut n_down = 0;
+            for (i, &u) in chunk.iter().enumerate() {
+                let j = c * buf.len() + i;
+                if u < pinf {
+                    let n = self.infinite.len();
+                    let k = ((u / pinf * n as f64) as usize).min(n - 1);
+                    out[j] = Some((self.infinite[k], pinf / n as f64));
+                } else if self.nodes.is_empty() {
+                    out[j] = None;
+                } else {
+                    buf[n_down] = (((u - pinf) / (1.0 - pinf)).min(1.0 - f64::EPSILON), j);
+                    n_down += 1;
+                }
+            }
+            let down = &mut buf[..n_down];
+            if !down.is_empty() {
+                down.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+                self.descend(r, 0, 1.0 - pinf, down, out);
+            }
+        }
+    }
+
+    /// The descent of [`Self::sample_each`] below `node`, reached with probability `pmf` by the
+    /// sorted numbers `down`, rescaled to \[0, 1) at this node.
+    fn descend(
+        &self,
+        r: &Reference,
+        node: usize,
+        pmf: f64,
+        down: &mut [(f64, usize)],
+        out: &mut [Option<(usize, f64)>],
+    ) {
+        let nd = &self.nodes[node];
+        if nd.leaf {
+            let hit = !(node == 0 && not_positive(nd.bounds.importance(r.p, r.n)));
+            for &(_, j) in down.iter() {
+                out[j] = hit.then_some((nd.payload as usize, pmf));
+            }
+            return;
+        }
+        let (c0, c1) = (node + 1, nd.payload as usize);
+        let i0 = self.nodes[c0].bounds.importance(r.p, r.n);
+        let i1 = self.nodes[c1].bounds.importance(r.p, r.n);
+        if not_positive(i0 + i1) {
+            for &(_, j) in down.iter() {
+                out[j] = None;
+            }
+            return;
+        }
+        let p0 = i0 / (i0 + i1);
+        // (sorted: those below p0 come first, and each side stays sorted once rescaled)
+        let split = down.partition_point(|&(u, _)| u < p0);
+        let (left, right) = down.split_at_mut(split);
+        for (u, _) in left.iter_mut() {
+            *u = (*u / p0).min(1.0 - f64::EPSILON);
+        }
+        for (u, _) in right.iter_mut() {
+            *u = ((*u - p0) / (1.0 - p0)).min(1.0 - f64::EPSILON);
+        }
+        if !left.is_empty() {
+            self.descend(r, c0, pmf * p0, left, out);
+        }
+        if !right.is_empty() {
+            self.descend(r, c1, pmf * (1.0 - p0), right, out);
+        }
+    }
+
     /// Probability that [`Self::sample`] picks `light` for `r`.
     #[inline]
     pub fn pmf(&self, r: &Reference, light: usize) -> f64 {

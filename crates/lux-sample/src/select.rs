@@ -45,6 +45,22 @@ impl LightSelector {
         }
     }
 
+    /// [`Self::sample`] for each of `us` at one reference point: `out[j]` is `sample(r, us[j])`,
+    /// bit for bit; the BVH weighs each node it visits once for all of them
+    /// ([`LightBvh::sample_each`]). `out` must be as long as `us`.
+    #[inline]
+    pub fn sample_each(&self, r: &Reference, us: &[f64], out: &mut [Option<(usize, f64)>]) {
+        match self {
+            Self::Bvh(b) => b.sample_each(r, us, out),
+            _ => {
+                assert_eq!(us.len(), out.len(), "one answer per number");
+                for (o, &u) in out.iter_mut().zip(us) {
+                    *o = self.sample(r, u);
+                }
+            }
+        }
+    }
+
     /// Probability of choosing light `i` at `r`.
     #[inline]
     pub fn pmf(&self, r: &Reference, i: usize) -> f64 {

@@ -194,3 +194,50 @@ fn wrong_pmf_is_rejected() {
     let chi2: f64 = obs.iter().map(|o| (o - e) * (o - e) / e).sum();
     assert!(chi2_p_value(chi2, 49) < 1e-6);
 }
+
+/// `sample_each` (one descent for several numbers) answers what `sample` answers for each
+/// number, bit for bit: with and without infinite lights, numbers in any order (repeats
+/// included), more numbers than one stack chunk, from receivers with and without a normal.
+#[test]
+fn sample_each_equals_sample_per_number() {
+    let mut bounds = scattered(37, 9);
+    let with_infinite = {
+        let mut b = bounds.clone();
+        b.insert(5, None);
+        b.push(None);
+        b
+    };
+    bounds.truncate(37);
+    let mut rng = SplitMix64::new(17);
+    for bs in [&bounds, &with_infinite] {
+        let bvh = LightBvh::new(bs).unwrap();
+        let sel = LightSelector::Bvh(bvh.clone());
+        for trial in 0..200 {
+            let p = DVec3::new(
+                rng.next_f64() - 0.5,
+                rng.next_f64() - 0.5,
+                rng.next_f64() - 0.5,
+            );
+            let r = if trial % 2 == 0 {
+                Reference::point(p * 3.0)
+            } else {
+                Reference::surface(p * 3.0, DVec3::new(0.3, -0.5, 0.8).normalize())
+            };
+            let k = 1 + trial % 40;
+            let mut us: Vec<f64> = (0..k).map(|_| rng.next_f64()).collect();
+            if k > 3 {
+                us[2] = us[1];
+            }
+            let mut out = vec![None; k];
+            sel.sample_each(&r, &us, &mut out);
+            for (u, o) in us.iter().zip(&out) {
+                let one = bvh.sample(&r, *u);
+                assert_eq!(
+                    one.map(|(i, p)| (i, p.to_bits())),
+                    o.map(|(i, p)| (i, p.to_bits())),
+                    "u = {u}"
+                );
+            }
+        }
+    }
+}
