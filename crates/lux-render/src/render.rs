@@ -184,7 +184,16 @@ impl<'s> Renderer<'s> {
             vis: &self.visibility,
             camera: &self.camera,
             sampling: self.options.sampling,
-            light_samples: self.options.light_samples(),
+            light_samples: {
+                // (every light sampled at each point, unless a selector chooses one)
+                let lights = &self.lights;
+                let sampled = if lights.selector.is_some() {
+                    1
+                } else {
+                    lights.lights.len()
+                };
+                self.options.light_samples_per_light(sampled)
+            },
             max_depth: self.options.max_depth,
         };
         AnyIntegrator::new(self.options.integrator, &setup)

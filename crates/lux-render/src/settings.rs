@@ -169,19 +169,30 @@ impl RenderOptions {
 pub const AUTO_LIGHT_SAMPLES: u32 = 4;
 
 impl RenderOptions {
-    /// Light samples per light (or light choice) at each shading point: the asked number,
-    /// else [`AUTO_LIGHT_SAMPLES`] for lux sampling with the direct integrator and 1 otherwise.
+    /// Light samples per light (or light choice) at each shading point of a scene with one
+    /// light: [`RenderOptions::light_samples_per_light`]`(1)`.
+    pub fn light_samples(&self) -> u32 {
+        self.light_samples_per_light(1)
+    }
+
+    /// Light samples per light (or light choice) at each shading point where `sampled` lights
+    /// are each sampled (1 where a selector chooses them): the asked number, else for lux
+    /// sampling with the direct integrator ⌈[`AUTO_LIGHT_SAMPLES`] / sampled⌉ — about
+    /// [`AUTO_LIGHT_SAMPLES`] light samples a point in all — and 1 otherwise.
     ///
     /// Why 4: a light sample (its point and shadow ray) costs 0.28–0.42 of a whole camera
     /// sample (callgrind, luxtest disk/sphere/cylinder frame 1), and where shadows fall its
     /// noise dominates the pixel's; 4 per camera sample reached a given error 1.45–8 × sooner
-    /// than 1 on the luxtest frames, 8 was slower again (BENCHMARKS.md). A path takes 1 at each
+    /// than 1 on the luxtest frames, 8 was slower again (BENCHMARKS.md). Several lights share
+    /// the 4: each sample of each light already spreads the camera sample's cost, and four
+    /// lights of four samples each made the cheapest render of the four-light clutter scene
+    /// twice as expensive for no gain (BENCHMARKS.md, issue 39). A path takes 1 at each
     /// vertex (its indirect light, not the light samples, is the noise there), and the
     /// reference estimator 1 (hdEmbree's: one sample per light per camera sample).
-    pub fn light_samples(&self) -> u32 {
+    pub fn light_samples_per_light(&self, sampled: usize) -> u32 {
         self.light_samples.unwrap_or(
             if self.sampling == SamplingMode::Lux && self.integrator == IntegratorKind::Direct {
-                AUTO_LIGHT_SAMPLES
+                AUTO_LIGHT_SAMPLES.div_ceil(sampled.max(1) as u32)
             } else {
                 1
             },
@@ -326,4 +337,32 @@ pub fn resolve(scene: &Scene, options: &RenderOptions) -> Result<Resolved, Rende
         window,
         exposure_scale: camera.linear_exposure_scale(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lux_math::Profile;
+
+    /// Automatic light samples: about 4 a point in all, shared by the lights sampled there;
+    /// an asked number, a path or the reference estimator as documented.
+    #[test]
+    fn automatic_light_samples_share_four_between_the_lights() {
+        let mut o = RenderOptions::new(ResolvedProfile {
+            profile: Profile::Spec,
+            source: crate::conformance::ProfileSource::CommandLine,
+        });
+        o.integrator = IntegratorKind::Direct;
+        let per = |o: &RenderOptions| [1, 2, 3, 4, 8, 64].map(|n| o.light_samples_per_light(n));
+        assert_eq!(per(&o), [4, 2, 2, 1, 1, 1]);
+        assert_eq!(o.light_samples(), AUTO_LIGHT_SAMPLES);
+        o.light_samples = Some(3);
+        assert_eq!(per(&o), [3; 6]);
+        o.light_samples = None;
+        o.integrator = IntegratorKind::Path;
+        assert_eq!(per(&o), [1; 6]);
+        o.integrator = IntegratorKind::Direct;
+        o.sampling = SamplingMode::Reference;
+        assert_eq!(per(&o), [1; 6]);
+    }
 }

@@ -11,9 +11,11 @@
 //!   technique's density is `k·pmf·pdf`.
 //!
 //! Light sampling alone (no BSDF ray) for the rect, disk and sphere lights of uniform radiance
-//! at a Lambertian point when every light is sampled: their samplers follow the
-//! cosine-weighted solid angle (the sphere's projected cap exactly, the rect's bilinear cosine
-//! warp closely), so a BSDF sample would only add noise. For those, [`Visibility::estimate`]
+//! at a Lambertian point: their samplers follow the cosine-weighted solid angle (the sphere's
+//! projected cap exactly, the rect's bilinear cosine warp closely), so a BSDF sample would only
+//! add noise. That holds with a selector too: its probabilities are conservative (a light BVH
+//! gives 0 only to lights that cannot reach the point), so every light that lights the point
+//! is chosen with some probability. When every light is sampled, [`Visibility::estimate`]
 //! may answer exactly (the light's closed form where nothing blocks it, its exact penumbra
 //! behind a few triangles) instead of the samples.
 //!
@@ -64,7 +66,7 @@ struct At {
     transmits: bool,
     /// Light samples per light (or light choice).
     k: u32,
-    /// Every light is sampled and the BSDF is Lambertian: uniform lights go alone.
+    /// The BSDF is Lambertian (and MIS is on): uniform lights go alone.
     lambertian: bool,
 }
 
@@ -146,7 +148,7 @@ impl<'a> Nee<'a> {
             origin_back: sp.p - sp.ng * sp.offset,
             transmits,
             k: self.light_samples * st.light_factor(),
-            lambertian: self.mis && selector.is_none() && sp.bsdf.is_lambertian(),
+            lambertian: self.mis && sp.bsdf.is_lambertian(),
         };
         let mut out = match selector {
             None => self.every_light(sp, st, bounce, &at, ctx),
@@ -234,17 +236,31 @@ impl<'a> Nee<'a> {
     ) -> DVec3 {
         let lights = &self.world.lights.lights;
         let mut out = DVec3::ZERO;
-        for j in 0..at.k {
-            let sj = st.split(j, at.k);
-            if let Some((li, pmf)) = sel.sample(&at.r, sj.get1(Dim::LightChoice { bounce }))
-                && pmf > 0.0
-                && lights[li].base().illuminates(sp.mesh, sp.instance)
-            {
-                let l = &lights[li];
-                let u = sj.get2(Dim::Light { bounce, index: 0 });
-                let ls = l.sample_li(&at.r, u, self.strategy);
-                let pmf = pmf * at.k as f64;
-                out += self.sample_light(sp, at, l, ls, pmf, false, &ShadowHint::NONE, ctx);
+        // The k choices of the point, made in one descent of the selector per 16 (they share
+        // the top of a light BVH), each then sampled as its own sub-sample.
+        const CHUNK: u32 = 16;
+        let (mut us, mut chosen) = ([0.0; CHUNK as usize], [None; CHUNK as usize]);
+        for j0 in (0..at.k).step_by(CHUNK as usize) {
+            let n = (at.k - j0).min(CHUNK) as usize;
+            for (i, u) in us[..n].iter_mut().enumerate() {
+                *u = st
+                    .split(j0 + i as u32, at.k)
+                    .get1(Dim::LightChoice { bounce });
+            }
+            sel.sample_each(&at.r, &us[..n], &mut chosen[..n]);
+            for (i, c) in chosen[..n].iter().enumerate() {
+                if let Some((li, pmf)) = *c
+                    && pmf > 0.0
+                    && lights[li].base().illuminates(sp.mesh, sp.instance)
+                {
+                    let l = &lights[li];
+                    let sj = st.split(j0 + i as u32, at.k);
+                    let u = sj.get2(Dim::Light { bounce, index: 0 });
+                    let ls = l.sample_li(&at.r, u, self.strategy);
+                    let pmf = pmf * at.k as f64;
+                    let alone = at.alone(l);
+                    out += self.sample_light(sp, at, l, ls, pmf, alone, &ShadowHint::NONE, ctx);
+                }
             }
         }
         out
