@@ -146,8 +146,9 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = SelectionArg::Auto)]
     pub light_selection: SelectionArg,
     /// Light samples per light (or per light choice) at each shading point, 1 to 64: more
-    /// shadow rays per camera ray, for penumbrae (default: 4 with the direct integrator and
-    /// lux sampling, else 1)
+    /// shadow rays per camera ray, for penumbrae (default with the direct integrator and lux
+    /// sampling: 4 shared by the lights sampled at a point, ⌈4/n⌉ each for n lights, 4 per
+    /// choice when a light BVH chooses; else 1)
     #[arg(long)]
     pub light_samples: Option<u32>,
     /// Light samples per light in shadowed pixels, 1 to 64 (1: off), times --light-samples: from
