@@ -160,8 +160,13 @@ impl LightBounds {
     /// none): Φ·cos θ'/d² × cos θ'ᵢ, where θ' = max(0, θw − θo − θb) is the smallest angle
     /// between the cone of emitted directions and the direction to `p` (θw: axis to `p`,
     /// θb: half-angle of the bounding sphere seen from `p`), zero if θ' ≥ θe; θ'ᵢ likewise for
-    /// the receiver's normal. d² is clamped below by the squared half-diagonal so that points
-    /// inside a cluster keep finite importance (Conty Estevez & Kulla 2018, eq. 3).
+    /// the receiver's normal, θᵢ measured from `n` itself: a receiver with a normal takes light
+    /// from its side of the surface only (as [`Reference`](crate::Reference)'s projected solid
+    /// angle `∫ max(0, n·ω) dω` does), so a cluster wholly below its horizon
+    /// (θᵢ − θb ≥ π/2) has importance 0 — pass a zero `n` for a receiver lit from both sides.
+    /// d² is clamped below by the squared half-diagonal so that points inside a cluster keep
+    /// finite importance (Conty Estevez & Kulla 2018, eq. 3; their `|cos θᵢ|` serves two-sided
+    /// receivers).
     #[inline]
     pub fn importance(&self, p: DVec3, n: DVec3) -> f64 {
         let pc = self.centroid();
@@ -194,7 +199,8 @@ impl LightBounds {
         }
         let mut imp = self.phi * cos_p / d2;
         if n != DVec3::ZERO {
-            let cos_i = wi.dot(n).abs();
+            // (`wi` points from the cluster to `p`: the receiver looks along −wi)
+            let cos_i = -wi.dot(n);
             let sin_i = (1.0 - cos_i * cos_i).max(0.0).sqrt();
             let (_, cos_pi) = sub_clamped(sin_i, cos_i, sin_b, cos_b);
             imp *= cos_pi;

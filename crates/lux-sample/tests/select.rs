@@ -241,3 +241,29 @@ fn sample_each_equals_sample_per_number() {
         }
     }
 }
+
+/// A receiver with a normal takes light from its side only: a light wholly below its horizon
+/// is never chosen (it is without a normal), one straddling the horizon keeps a share.
+#[test]
+fn lights_below_the_receivers_horizon_are_never_chosen() {
+    let any = EmissionCone::SPHERE;
+    let ball = |c: DVec3, r: f64| {
+        Some(LightBounds::new(c - DVec3::splat(r), c + DVec3::splat(r), 1.0, any, false).unwrap())
+    };
+    let bvh = LightBvh::new(&[
+        ball(DVec3::new(1.0, 2.0, 0.0), 0.1),   // above
+        ball(DVec3::new(-1.0, -2.0, 0.0), 0.1), // below
+        ball(DVec3::new(0.0, 0.05, 1.0), 0.2),  // straddling
+    ])
+    .unwrap();
+    let up = Reference::surface(DVec3::ZERO, DVec3::Y);
+    assert_eq!(bvh.pmf(&up, 1), 0.0);
+    assert!(bvh.pmf(&up, 0) > 0.0 && bvh.pmf(&up, 2) > 0.0);
+    assert!((bvh.pmf(&up, 0) + bvh.pmf(&up, 2) - 1.0).abs() < 1e-12);
+    let mut rng = SplitMix64::new(3);
+    for _ in 0..10_000 {
+        assert_ne!(bvh.sample(&up, rng.next_f64()).map(|c| c.0), Some(1));
+    }
+    let free = Reference::point(DVec3::ZERO);
+    assert!(bvh.pmf(&free, 1) > 0.0);
+}
