@@ -12,7 +12,7 @@
 //! to that pixel, `W` the camera's importance ([`CameraPoint::importance`]) and the ratio of
 //! cosines the adjoint correction for shading normals (Veach 1997, §5.3). It then continues
 //! along a BSDF sample, `β ← β·f·|nₛ·ωᵢ|·|n_g·ωₒ| / (p·|n_g·ωᵢ|)`, with Russian roulette on
-//! its throughput after [`ROULETTE_DEPTH`] vertices. The film divides the splats' sums by the
+//! its throughput after [`PARTICLE_ROULETTE_DEPTH`] vertices. The film divides the splats' sums by the
 //! number of camera samples of the render (one particle each).
 //!
 //! What the camera sees directly — visible lights, the background, a surface's glow — comes
@@ -31,7 +31,7 @@
 //! [`CameraPoint::importance`]: crate::camera::CameraPoint::importance
 
 use super::camera_vertex::{CameraVertex, camera_vertex};
-use super::{CameraRay, Ctx, Integrator, ROULETTE_DEPTH, Setup, closest};
+use super::{CameraRay, Ctx, Integrator, Setup, closest};
 use crate::camera::Camera;
 use crate::film::Splat;
 use crate::geometry::Hit;
@@ -43,6 +43,12 @@ use crate::world::World;
 use glam::DVec3;
 use lux_sample::AliasTable;
 use std::f64::consts::PI;
+
+/// Vertices a particle passes before Russian roulette may end it. It stays at the 3rd where
+/// the path tracer's moved to the 5th ([`super::ROULETTE_DEPTH`]): for particles the later
+/// start cost 4–9 % more time × variance (Cornell box and a clutter scene, 128², 16 spp;
+/// BENCHMARKS.md, issue 39).
+pub const PARTICLE_ROULETTE_DEPTH: u32 = 3;
 
 /// Light tracing: particles from the lights, splatted to the camera at every vertex.
 pub struct LightTracer<'a> {
@@ -168,7 +174,7 @@ impl<'a> LightTracer<'a> {
             let step = weight * adjoint * first.map_or(DVec3::ONE, |b| scale(&sp.bsdf, b, bs.wi));
             beta *= step;
             throughput *= step;
-            if depth + 1 >= ROULETTE_DEPTH {
+            if depth + 1 >= PARTICLE_ROULETTE_DEPTH {
                 let q = throughput.max_element().min(1.0);
                 if q.is_nan() || q <= 0.0 || st.get1(Dim::Roulette { bounce: depth }) >= q {
                     return;

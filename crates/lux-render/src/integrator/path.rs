@@ -23,8 +23,11 @@ use super::{CameraRay, Ctx, Integrator, SamplingMode, Setup, closest};
 use crate::sampler::{Dim, SampleStream};
 use glam::DVec3;
 
-/// Vertices lit before Russian roulette may end a path.
-pub const ROULETTE_DEPTH: u32 = 3;
+/// Vertices lit before Russian roulette may end a path (Mitsuba 3's `rr_depth` too). From the
+/// 5th rather than the 3rd, time × variance fell by 6–8 % on the Cornell box and two clutter
+/// scenes (128², 64 spp, depth 8; BENCHMARKS.md, issue 39): the short paths that roulette
+/// ended early carried light the box's walls pass on with albedos near 0.75.
+pub const ROULETTE_DEPTH: u32 = 5;
 
 /// Path tracing with next-event estimation and MIS at every vertex.
 #[derive(Clone, Copy)]
