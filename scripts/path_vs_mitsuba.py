@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """path_vs_mitsuba.py -- lux's `path` integrator against Mitsuba 3's `path` integrator.
 
-Run with the peer venv (../shared/tools/race/setup.sh makes it):
+Run with the peer venv (tools/race/setup.sh makes it):
 
   PY=~/.cache/lux-peer/bin/python
   $PY scripts/path_vs_mitsuba.py compare --lux target/release/lux            # depths 1, 2, 8
@@ -9,7 +9,7 @@ Run with the peer venv (../shared/tools/race/setup.sh makes it):
   $PY scripts/path_vs_mitsuba.py means --res 64 --spp 8192 --json tests/data/cornell/mitsuba_path_means.json
 
 The scene (default tests/data/cornell/cornell.usda) is read by usd-core and rebuilt in Mitsuba by
-the race peer (../shared/tools/race/peer_mitsuba.py: extract_scene, build_mitsuba_scene), with
+the race peer (tools/race/peer_mitsuba.py: extract_scene, build_mitsuba_scene), with
 integrator {"type": "path", "max_depth": D + 1, "hide_emitters": True}: lux's depth D counts lit
 surface vertices (1 = direct lighting), Mitsuba's max_depth counts path segments including the
 one to the emitter. Lights are hidden from the camera in both (lux's spec profile shows a
@@ -35,19 +35,14 @@ import argparse
 import json
 import math
 import os
-import re
-import subprocess
 import sys
 import tempfile
-import time
 
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
-RACE_DIR = os.environ.get("LUX_RACE_DIR", os.path.join(REPO, "..", "shared", "tools", "race"))
-if not os.path.isdir(RACE_DIR):
-    RACE_DIR = "/work/shared/tools/race"
+RACE_DIR = os.environ.get("LUX_RACE_DIR", os.path.join(REPO, "tools", "race"))
 sys.path.insert(0, RACE_DIR)
 import peer_mitsuba as pm  # noqa: E402
 import race  # noqa: E402
@@ -56,22 +51,14 @@ DEFAULT_SCENE = os.path.join(REPO, "tests", "data", "cornell", "cornell.usda")
 
 
 def mitsuba_integrator(depth: int) -> dict:
-    """Mitsuba's path integrator for lux's --max-depth `depth`."""
-    return {"type": "path", "max_depth": depth + 1, "hide_emitters": True}
+    """Mitsuba's path integrator for lux's --max-depth `depth` (race.py's)."""
+    return race.mitsuba_path_integrator(depth)
 
 
 def lux_render(lux, scene, depth, spp, out, seed, extra=()):
     """One lux process (spec profile, path integrator, Lambertian surfaces as the peer builds
-    them); (image, wall seconds, lux's own render s)."""
-    cmd = [lux, "render", scene, "--profile", "spec", "--integrator", "path", "--surfaces", "lambert", "--max-depth",
-           str(depth), "--spp", str(spp), "--seed", str(seed), "--quiet", "-o", out, *extra]
-    t0 = time.perf_counter()
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    wall = time.perf_counter() - t0
-    if r.returncode != 0:
-        raise SystemExit(f"lux failed ({' '.join(cmd)}): {r.stderr[-600:]}")
-    m = re.search(r"in ([0-9.]+) s", r.stderr + r.stdout)
-    return pm.read_exr_rgb(out), wall, float(m.group(1)) if m else float("nan")
+    them; race.py's, at frame 1 as the peer reads the stage); (image, wall seconds, lux's own render s)."""
+    return race.lux_render(lux, scene, 1, spp, out, seed, extra, depth)
 
 
 def mean_rgb(img) -> np.ndarray:

@@ -5,7 +5,7 @@ frame: how many samples lux needs for an error, whatever the machine's load (BEN
 usage: python scripts/spp_sweep.py SCENE GT.exr "LUX ARGS" 1,2,4,8 [--lux target/release/lux]
        [--scene-dir DIR] [--frame 1]
 
-GT.exr is a ground truth of the race (../shared/tools/race: race.py writes
+GT.exr is a ground truth of the race (tools/race: race.py writes
 SCENE.0001.gt.spp2048.exr); renders use the race's settings (--profile hdembree, seed 7 + spp,
 512 x 512). Needs numpy and OpenEXR (the race's peer venv has both).
 """

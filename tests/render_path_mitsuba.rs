@@ -4,7 +4,7 @@
 //!
 //! The Mitsuba means are in `tests/data/cornell/mitsuba_path_means.json`, which records the
 //! command that produced them (`scripts/path_vs_mitsuba.py means`, run with the race peer's
-//! venv: the scene rebuilt from the same USD by `../shared/tools/race/peer_mitsuba.py`, box
+//! venv: the scene rebuilt from the same USD by `tools/race/peer_mitsuba.py`, box
 //! filter, 64 × 64, 8192 spp, lights hidden from the camera in both renderers). The peer
 //! builds Lambertian BSDFs from the materials' `diffuseColor`, so lux shades them Lambertian
 //! too (`SurfaceModel::Lambert`, `--surfaces lambert`): the test is about light transport.

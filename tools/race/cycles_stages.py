@@ -9,37 +9,13 @@ OUTDIR/back.usda   the same floor with its winding reversed, lit from behind (on
 OUTDIR/<scene>_<light>.usda   with --clutter DIR (make_scenes.py output): each clutter_mix light alone, and
                    clutter_many's lights l10 and l25 alone, over the same clutter at 256² (units and shapes per light).
 """
-import argparse, os, re
+import argparse, os, re, sys
 
-HALF = 30 * 0.20955  # half the image width on the floor: camera 30 units up, tan(fov/2) = 0.20955
-EDGE = """#usda 1.0
-(
-    startTimeCode = 1
-    endTimeCode = 1
-    metersPerUnit = 1
-    upAxis = "Y"
-)
-def Scope "Render"
-{{
-    def RenderSettings "Settings"
-    {{
-        rel camera = </cameras/camera1>
-        int2 resolution = (128, 128)
-    }}
-}}
-def Xform "cameras"
-{{
-    def Camera "camera1"
-    {{
-        float2 clippingRange = (1, 1000000)
-        float focalLength = 0.5
-        float horizontalAperture = 0.20955
-        float verticalAperture = 0.20955
-        matrix4d xformOp:transform = ( (1, 0, 0, 0), (0, 0, -1, 0), (0, 1, 0, 0), (0, 30, 0, 1) )
-        uniform token[] xformOpOrder = ["xformOp:transform"]
-    }}
-}}
-def Mesh "floor"
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from make_scenes import stage_head  # noqa: E402
+
+HALF = 30 * 0.20955  # half the image width on the floor: make_scenes' camera 30 units up, tan(fov/2) = 0.20955
+EDGE = """def Mesh "floor"
 {{
     int[] faceVertexCounts = [4]
     int[] faceVertexIndices = {idx}
@@ -73,8 +49,8 @@ def main():
     os.makedirs(a.out, exist_ok=True)
     ex = (70.25 - 64) / 64 * HALF  # column 70.25 of 128
     ez = -(64 - 40.6) / 64 * HALF  # row 40.6 from the top (image up = world -Z)
-    open(os.path.join(a.out, "edge.usda"), "w").write(EDGE.format(idx="[0, 3, 2, 1]", ex=ex, ez=ez))
-    open(os.path.join(a.out, "back.usda"), "w").write(EDGE.format(idx="[0, 1, 2, 3]", ex=ex, ez=ez))
+    open(os.path.join(a.out, "edge.usda"), "w").write(stage_head(128) + EDGE.format(idx="[0, 3, 2, 1]", ex=ex, ez=ez))
+    open(os.path.join(a.out, "back.usda"), "w").write(stage_head(128) + EDGE.format(idx="[0, 1, 2, 3]", ex=ex, ez=ez))
     if a.clutter:
         for scene, keep, res in (("clutter_mix", None, 128), ("clutter_many", ("l10", "l25"), 256)):
             for name, text in split_lights(open(os.path.join(a.clutter, scene + ".usda")).read(), keep, res):

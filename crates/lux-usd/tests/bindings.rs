@@ -2,6 +2,9 @@
 //! `ComputeBoundMaterial` on `tests/data/scenes/bindings.usda`: collection bindings, the
 //! nearest prim, `strongerThanDescendants`, the `full` purpose, property order.
 
+mod common;
+
+use common::{bound_materials, listed};
 use lux_usd::load_stage;
 use std::path::PathBuf;
 
@@ -36,20 +39,5 @@ const USD_CORE: &[(&str, &str)] = &[
 fn bound_materials_match_usd_core() {
     let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes/bindings.usda");
     let scene = load_stage(p, 1.0).unwrap();
-    let got: Vec<(String, String)> = scene
-        .meshes
-        .iter()
-        .map(|m| {
-            let mat = m
-                .material
-                .map(|i| scene.materials[i].path.clone())
-                .unwrap_or_else(|| "None".into());
-            (m.path.clone(), mat)
-        })
-        .collect();
-    let want: Vec<(String, String)> = USD_CORE
-        .iter()
-        .map(|(a, b)| (a.to_string(), b.to_string()))
-        .collect();
-    assert_eq!(got, want);
+    assert_eq!(bound_materials(&scene), listed(USD_CORE));
 }

@@ -1,5 +1,8 @@
 //! `.mtlx` documents composed into USD stages in usdMtlx's layout (`lux_usd::mtlx::usdmtlx`).
 
+mod common;
+
+use common::{bound_materials, listed};
 use std::path::Path;
 
 use lux_usd::WarningKind;
@@ -10,29 +13,6 @@ const SHADER_BALL: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/../../tests/data/realusd/usdwg/full_assets/StandardShaderBall/standard_shader_ball_scene.usda"
 );
-
-/// Each mesh of `scene` with its bound material's path (`"None"` when unbound), in scene order.
-fn bound_materials(scene: &lux_usd::Scene) -> Vec<(String, String)> {
-    scene
-        .meshes
-        .iter()
-        .map(|m| {
-            let mat = m
-                .material
-                .map(|i| scene.materials[i].path.clone())
-                .unwrap_or_else(|| "None".into());
-            (m.path.clone(), mat)
-        })
-        .collect()
-}
-
-/// A (mesh, material) table as owned strings.
-fn listed(table: &[(&str, &str)]) -> Vec<(String, String)> {
-    table
-        .iter()
-        .map(|(a, b)| (a.to_string(), b.to_string()))
-        .collect()
-}
 
 #[test]
 fn translated_documents_are_usda() {
