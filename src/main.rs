@@ -70,6 +70,7 @@ fn main() -> ExitCode {
                     integrator: None,
                     visibility: cli::render::VisibilityArg::Exact,
                     max_depth: 8,
+                    splits: lux::render::settings::PATH_SPLITS,
                     surfaces: None,
                     light_samples: None,
                     penumbra_samples: 1,

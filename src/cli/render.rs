@@ -14,8 +14,8 @@ use lux_render::image_io::{ImageRgba, StagedFile, stage_png, stage_png_opaque};
 use lux_render::light::LightSelection;
 use lux_render::render::{RenderOptions, RenderStats, Renderer};
 use lux_render::settings::{
-    AdaptiveSampling, IntegratorKind, MAX_ADAPTIVE_FACTOR, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_SPP,
-    SamplingMode, VisibilityMode,
+    AdaptiveSampling, IntegratorKind, MAX_ADAPTIVE_FACTOR, MAX_DEPTH, MAX_LIGHT_SAMPLES,
+    MAX_PATH_SPLITS, MAX_SPP, SamplingMode, VisibilityMode,
 };
 use lux_usd::{LoadOptions, Time, load_stage_with};
 use std::path::{Path, PathBuf};
@@ -139,6 +139,10 @@ pub struct RenderArgs {
     /// Most surface vertices a path lights, 1 to 128 (`--integrator path`).
     #[arg(long, default_value_t = 8)]
     pub max_depth: u32,
+    /// Paths continued from each camera sample's first surface, 1 to 64 (`--integrator path`):
+    /// they share the camera ray, the first hit and its direct light.
+    #[arg(long, default_value_t = lux::render::settings::PATH_SPLITS)]
+    pub splits: u32,
     /// How surfaces scatter (default: preview in the spec profile, lambert in hdembree).
     #[arg(long, value_enum)]
     pub surfaces: Option<SurfacesArg>,
@@ -302,6 +306,7 @@ pub fn check_args(args: &RenderArgs) -> Result<Vec<(PathBuf, OutputFormat)>, Str
     for (flag, what, v, max) in [
         ("--spp", "samples per pixel", args.spp, MAX_SPP),
         ("--max-depth", "path depth", args.max_depth, MAX_DEPTH),
+        ("--splits", "path splits", args.splits, MAX_PATH_SPLITS),
         (
             "--light-samples",
             "light samples",
@@ -422,6 +427,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         VisibilityArg::Exact => VisibilityMode::Exact,
     };
     options.max_depth = args.max_depth;
+    options.path_splits = args.splits;
     if let Some(m) = args.surfaces {
         options.surfaces = match m {
             SurfacesArg::Preview => lux::render::settings::SurfaceModel::Preview,

@@ -76,7 +76,7 @@ pub fn settings_string(options: &RenderOptions, camera_light: bool) -> String {
     };
     format!(
         "lux={};spp={};resolution={resolution};crop={crop};camera={};camera_light={camera_light};\
-         profile={};sampling={};integrator={};max_depth={};surfaces={};light_selection={};\
+         profile={};sampling={};integrator={};max_depth={};path_splits={};surfaces={};light_selection={};\
          light_samples={};penumbra_samples={};adaptive={adaptive};cone_clipping={};visibility={};seed={};strict={}",
         env!("CARGO_PKG_VERSION"),
         options.spp,
@@ -85,6 +85,7 @@ pub fn settings_string(options: &RenderOptions, camera_light: bool) -> String {
         lower(&options.sampling),
         lower(&options.integrator),
         options.max_depth,
+        options.path_splits,
         lower(&options.surfaces),
         lower(&options.selection),
         options.light_samples(),

@@ -195,6 +195,7 @@ impl<'s> Renderer<'s> {
                 self.options.light_samples_per_light(sampled)
             },
             max_depth: self.options.max_depth,
+            splits: self.options.path_splits,
         };
         AnyIntegrator::new(self.options.integrator, &setup)
     }

@@ -25,6 +25,14 @@ pub use crate::visibility::VisibilityMode;
 /// Largest path depth ([`RenderOptions::max_depth`]; the sample dimensions name 128 bounces).
 pub const MAX_DEPTH: u32 = 128;
 
+/// Paths continued from each camera sample's first vertex by default
+/// ([`RenderOptions::path_splits`]): time × variance at equal time 14–23 % lower than one on the
+/// Cornell box and three clutter scenes, 4 no better than 2 (BENCHMARKS.md, issue 39).
+pub const PATH_SPLITS: u32 = 2;
+
+/// Largest [`RenderOptions::path_splits`].
+pub const MAX_PATH_SPLITS: u32 = 64;
+
 /// Largest number of light samples per shading point ([`RenderOptions::light_samples`]).
 pub const MAX_LIGHT_SAMPLES: u32 = 64;
 
@@ -49,6 +57,10 @@ pub struct RenderOptions {
     pub integrator: IntegratorKind,
     /// Most surface vertices a path lights (1 to [`MAX_DEPTH`]; `path` only).
     pub max_depth: u32,
+    /// Paths continued from each camera sample's first vertex (1 to [`MAX_PATH_SPLITS`];
+    /// `path` only): they share its camera ray, first hit and direct light, which a camera
+    /// sample of its own would trace again. Default [`PATH_SPLITS`].
+    pub path_splits: u32,
     /// How surfaces scatter: the UsdPreviewSurface or Lambertian `diffuseColor`.
     pub surfaces: SurfaceModel,
     /// Light samples per light (or per light choice) at each shading point (1 to
@@ -107,6 +119,7 @@ impl RenderOptions {
             selection: LightSelection::Auto,
             integrator,
             max_depth: 8,
+            path_splits: PATH_SPLITS,
             surfaces,
             light_samples: None,
             penumbra_samples: 1,
@@ -254,6 +267,7 @@ pub fn resolve(scene: &Scene, options: &RenderOptions) -> Result<Resolved, Rende
     for (what, v, max) in [
         ("samples per pixel", options.spp, MAX_SPP),
         ("light samples", options.light_samples(), MAX_LIGHT_SAMPLES),
+        ("path splits", options.path_splits, MAX_PATH_SPLITS),
         (
             "penumbra samples",
             options.penumbra_samples,

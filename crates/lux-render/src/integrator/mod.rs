@@ -94,6 +94,8 @@ pub struct Setup<'a> {
     pub light_samples: u32,
     /// Most surface vertices a path lights (≥ 1).
     pub max_depth: u32,
+    /// Paths continued from each camera sample's first vertex (`path`, ≥ 1).
+    pub splits: u32,
 }
 
 /// A light-transport estimator: pbrt-v4's `Integrator::Li` for one camera sample.

@@ -6,7 +6,9 @@
 //! weighted by the path throughput β, next-event estimation with the random numbers of vertex
 //! `b`: light sampling (MIS against BSDF sampling) and the emission found along the BSDF sample
 //! `Dim::Bsdf { bounce: b }` (MIS against light sampling). The path then continues along that
-//! same BSDF sample, β ← β·f·cos/pdf, to the first surface on either side (what blocks light
+//! same BSDF sample (from the camera's vertex, `splits` continuations, each drawn from its own
+//! sub-sample [`SampleStream::split`] and weighted 1/`splits`: the camera ray, the first hit
+//! and its direct light are shared by them), β ← β·f·cos/pdf, to the first surface on either side (what blocks light
 //! for the vertex's estimate), through the surface when the sample was transmitted (a
 //! dielectric's refraction, a translucent or thin-walled surface); the emission of what it
 //! meets was already counted there. The back of a single-sided surface ends the path: it
@@ -35,6 +37,8 @@ pub struct PathIntegrator<'a> {
     nee: Nee<'a>,
     /// Most surface vertices lit along a path (≥ 1).
     max_depth: u32,
+    /// Continuations from the camera's vertex (≥ 1, [`Setup::splits`]).
+    splits: u32,
 }
 
 impl<'a> PathIntegrator<'a> {
@@ -47,7 +51,80 @@ impl<'a> PathIntegrator<'a> {
         PathIntegrator {
             nee: Nee::new(setup.world, setup.vis, setup.sampling, setup.light_samples),
             max_depth,
+            splits: setup.splits.max(1),
         }
+    }
+}
+
+impl PathIntegrator<'_> {
+    /// Continues a path from `sp`, vertex `bounce`, along its BSDF sample: `beta` takes the
+    /// sample's weight (and Russian roulette's), and the surface met is returned (`None`: the
+    /// path ends).
+    #[inline]
+    fn scatter(
+        &self,
+        sp: &crate::material::SurfacePoint,
+        st: &SampleStream,
+        bounce: u32,
+        beta: &mut DVec3,
+        ctx: &mut Ctx,
+    ) -> Option<crate::material::SurfacePoint> {
+        let w = &self.nee.world;
+        let bs = super::sample_bsdf(&sp.bsdf, st, bounce)?;
+        let side = sp.ng.dot(bs.wi);
+        if side == 0.0 || (side < 0.0 && !sp.bsdf.transmits()) {
+            return None;
+        }
+        *beta *= bs.weight;
+        if bounce + 1 >= ROULETTE_DEPTH {
+            let q = beta.max_element().min(1.0);
+            if q.is_nan() || q <= 0.0 || st.get1(Dim::Roulette { bounce }) >= q {
+                return None;
+            }
+            *beta /= q;
+        }
+        ctx.counters.rays += 1;
+        // Off the surface on the side the path leaves by (through it when transmitted).
+        let origin = sp.p + sp.ng * (sp.offset * side.signum());
+        let hit = closest(w, origin, bs.wi, 0.0, f64::INFINITY, true)?;
+        // The back of a single-sided surface blocks light (as for shadow rays) but has no
+        // material there: camera rays cull it, and the path ends on it (black) — unless
+        // its material transmits, whose inside a refracted path sees (a solid glass
+        // object is closed, whatever its `doubleSided`).
+        if hit.back
+            && !w.scene.meshes[hit.mesh].double_sided
+            && !w.materials.transmits(w.scene, &hit)
+        {
+            return None;
+        }
+        Some(w.materials.at(w.scene, &hit, bs.wi))
+    }
+
+    /// What a path continued from the camera's vertex `sp0` brings back: the light of every
+    /// later vertex, weighted by the throughput to it.
+    #[inline]
+    fn continuation(
+        &self,
+        sp0: &crate::material::SurfacePoint,
+        st: &SampleStream,
+        ctx: &mut Ctx,
+    ) -> DVec3 {
+        let mut beta = DVec3::ONE;
+        let mut out = DVec3::ZERO;
+        let Some(mut sp) = self.scatter(sp0, st, 0, &mut beta, ctx) else {
+            return out;
+        };
+        for bounce in 1..self.max_depth {
+            out += beta * self.nee.estimate(&sp, st, bounce, ctx);
+            if bounce + 1 == self.max_depth {
+                break;
+            }
+            match self.scatter(&sp, st, bounce, &mut beta, ctx) {
+                Some(next) => sp = next,
+                None => break,
+            }
+        }
+        out
     }
 }
 
@@ -55,49 +132,24 @@ impl Integrator for PathIntegrator<'_> {
     /// Radiance and alpha along a camera ray.
     fn li(&self, ray: &CameraRay, st: &SampleStream, ctx: &mut Ctx) -> (DVec3, f64) {
         let w = &self.nee.world;
-        let (mut sp, glow) = match camera_vertex(w, self.nee.vis, ray, ctx) {
+        let (sp, glow) = match camera_vertex(w, self.nee.vis, ray, ctx) {
             CameraVertex::Done(rgb, alpha) => return (rgb, alpha),
             CameraVertex::Surface(hit, glow) => (w.materials.at(w.scene, &hit, ray.d), glow),
         };
-        let mut rgb = glow;
-        let mut beta = DVec3::ONE;
-        for bounce in 0..self.max_depth {
-            rgb += beta * self.nee.estimate(&sp, st, bounce, ctx);
-            if bounce + 1 == self.max_depth {
-                break;
+        let mut rgb = glow + self.nee.estimate(&sp, st, 0, ctx);
+        if self.max_depth == 1 {
+            return (rgb, 1.0);
+        }
+        let k = self.splits;
+        if k == 1 {
+            rgb += self.continuation(&sp, st, ctx);
+        } else {
+            // `k` continuations, each its own sub-sample of the pixel's stratified set
+            let mut sum = DVec3::ZERO;
+            for j in 0..k {
+                sum += self.continuation(&sp, &st.split(j, k), ctx);
             }
-            let Some(bs) = super::sample_bsdf(&sp.bsdf, st, bounce) else {
-                break;
-            };
-            let side = sp.ng.dot(bs.wi);
-            if side == 0.0 || (side < 0.0 && !sp.bsdf.transmits()) {
-                break;
-            }
-            beta *= bs.weight;
-            if bounce + 1 >= ROULETTE_DEPTH {
-                let q = beta.max_element().min(1.0);
-                if q.is_nan() || q <= 0.0 || st.get1(Dim::Roulette { bounce }) >= q {
-                    break;
-                }
-                beta /= q;
-            }
-            ctx.counters.rays += 1;
-            // Off the surface on the side the path leaves by (through it when transmitted).
-            let origin = sp.p + sp.ng * (sp.offset * side.signum());
-            let Some(hit) = closest(w, origin, bs.wi, 0.0, f64::INFINITY, true) else {
-                break;
-            };
-            // The back of a single-sided surface blocks light (as for shadow rays) but has no
-            // material there: camera rays cull it, and the path ends on it (black) — unless
-            // its material transmits, whose inside a refracted path sees (a solid glass
-            // object is closed, whatever its `doubleSided`).
-            if hit.back
-                && !w.scene.meshes[hit.mesh].double_sided
-                && !w.materials.transmits(w.scene, &hit)
-            {
-                break;
-            }
-            sp = w.materials.at(w.scene, &hit, bs.wi);
+            rgb += sum / k as f64;
         }
         (rgb, 1.0)
     }
