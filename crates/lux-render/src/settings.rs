@@ -26,8 +26,9 @@ pub use crate::visibility::VisibilityMode;
 pub const MAX_DEPTH: u32 = 128;
 
 /// Paths continued from each camera sample's first vertex by default
-/// ([`RenderOptions::path_splits`]): time × variance at equal time 14–23 % lower than one on the
-/// Cornell box and three clutter scenes, 4 no better than 2 (BENCHMARKS.md, issue 39).
+/// ([`RenderOptions::path_splits`]): time × variance 13–23 % lower than with one on the
+/// Cornell box and three clutter scenes; 4 within 6 % of 2 either way, 8 worse than 1 on a
+/// clutter scene (BENCHMARKS.md, issue 39).
 pub const PATH_SPLITS: u32 = 2;
 
 /// Largest [`RenderOptions::path_splits`].
