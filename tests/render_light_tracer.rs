@@ -97,6 +97,9 @@ fn agree(a: &[Vec<[f64; 3]>], b: &[Vec<[f64; 3]>], what: &str) {
     eprintln!("{what}: worst block {worst:.2} standard errors; largest relative error {rel:.4}");
 }
 
+/// Also the check of the path tracer's own choices against an independent estimator: its rect
+/// light sampled uniformly by area past the camera's vertex (`Nee::strategy_for`) and its two
+/// continuations from the camera's vertex (`PATH_SPLITS`).
 #[test]
 fn light_tracing_matches_path_tracing_on_the_cornell_box() {
     let s = cornell();

@@ -110,6 +110,23 @@ impl<'a> Nee<'a> {
         }
     }
 
+    /// How one light sample of `light` is drawn at path vertex `bounce`: the sampling mode's
+    /// technique, except for a rect light that goes `alone` (no MIS, so no other density to
+    /// agree with) after the camera's vertex, drawn uniformly by area (`Strategy::HdEmbree`,
+    /// density `d²/(A·cos θₗ)`): the solid-angle rectangle with its cosine warp costs several
+    /// times as much, and past the first vertex a path's noise is its directions, not its
+    /// light samples (time × variance −12 % on the Cornell box, −23 % on the StandardShaderBall's
+    /// five RectLights, −1 to −3 % on clutter_mix; BENCHMARKS.md, issue 39). Sphere lights keep
+    /// their cone (area sampling them lost 3×).
+    #[inline(always)]
+    fn strategy_for(&self, light: &Light, alone: bool, bounce: u32) -> Strategy {
+        if alone && bounce >= 1 && matches!(light, Light::Rect(_)) {
+            Strategy::HdEmbree
+        } else {
+            self.strategy
+        }
+    }
+
     /// The selector of one light per shading point, when used.
     #[inline]
     fn selector(&self) -> Option<&'a LightSelector> {
@@ -192,7 +209,8 @@ impl<'a> Nee<'a> {
                 index: li as u32,
             };
             if at.k == 1 {
-                let ls = light.sample_li(&at.r, st.get2(dim), self.strategy);
+                let strategy = self.strategy_for(light, alone, bounce);
+                let ls = light.sample_li(&at.r, st.get2(dim), strategy);
                 out += self.sample_light(sp, at, light, ls, kf, alone, &ShadowHint::NONE, ctx);
                 continue;
             }
@@ -256,9 +274,9 @@ impl<'a> Nee<'a> {
                     let l = &lights[li];
                     let sj = st.split(j0 + i as u32, at.k);
                     let u = sj.get2(Dim::Light { bounce, index: 0 });
-                    let ls = l.sample_li(&at.r, u, self.strategy);
-                    let pmf = pmf * at.k as f64;
                     let alone = at.alone(l);
+                    let ls = l.sample_li(&at.r, u, self.strategy_for(l, alone, bounce));
+                    let pmf = pmf * at.k as f64;
                     out += self.sample_light(sp, at, l, ls, pmf, alone, &ShadowHint::NONE, ctx);
                 }
             }
