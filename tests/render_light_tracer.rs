@@ -6,7 +6,7 @@
 use lux::math::Profile;
 use lux::render::conformance::{ProfileSource, ResolvedProfile};
 use lux::render::render::{RenderOptions, Renderer};
-use lux::render::settings::{AdaptiveSampling, IntegratorKind, PATH_SPLITS};
+use lux::render::settings::{AdaptiveSampling, IntegratorKind, PATH_SPLITS, SurfaceModel};
 
 const SIZE: u32 = 32;
 /// Blocks of BLOCK × BLOCK pixels compared.
@@ -28,6 +28,18 @@ fn block_means(
     spp: u32,
     splits: u32,
 ) -> Vec<Vec<[f64; 3]>> {
+    block_means_with(s, kind, depth, spp, splits, None)
+}
+
+/// [`block_means`] with the surfaces drawn as `surfaces` (`None`: the profile's).
+fn block_means_with(
+    s: &lux::usd::Scene,
+    kind: IntegratorKind,
+    depth: u32,
+    spp: u32,
+    splits: u32,
+    surfaces: Option<SurfaceModel>,
+) -> Vec<Vec<[f64; 3]>> {
     (0..SEEDS)
         .map(|seed| {
             let mut o = RenderOptions::new(ResolvedProfile {
@@ -37,6 +49,9 @@ fn block_means(
             o.integrator = kind;
             o.max_depth = depth;
             o.path_splits = splits;
+            if let Some(m) = surfaces {
+                o.surfaces = m;
+            }
             o.spp = spp;
             o.seed = 1000 + seed;
             o.resolution = Some([SIZE, SIZE]);
@@ -97,15 +112,26 @@ fn agree(a: &[Vec<[f64; 3]>], b: &[Vec<[f64; 3]>], what: &str) {
     eprintln!("{what}: worst block {worst:.2} standard errors; largest relative error {rel:.4}");
 }
 
-/// Also the check of the path tracer's own choices against an independent estimator: its rect
-/// light sampled uniformly by area past the camera's vertex (`Nee::strategy_for`) and its two
-/// continuations from the camera's vertex (`PATH_SPLITS`).
+/// Also the check of the path tracer's two continuations from the camera's vertex
+/// (`PATH_SPLITS`) against an independent estimator.
 #[test]
 fn light_tracing_matches_path_tracing_on_the_cornell_box() {
     let s = cornell();
     let path = block_means(&s, IntegratorKind::Path, 8, 256, PATH_SPLITS);
     let light = block_means(&s, IntegratorKind::Light, 8, 256, 1);
     agree(&path, &light, "depth 8");
+}
+
+/// With Lambertian receivers the box's rect light goes alone at every vertex, and past the
+/// camera's vertex the path tracer samples it uniformly by area (`Nee::strategy_for`): still
+/// the light tracer's picture.
+#[test]
+fn lambertian_path_tracing_matches_light_tracing() {
+    let s = cornell();
+    let lambert = Some(SurfaceModel::Lambert);
+    let path = block_means_with(&s, IntegratorKind::Path, 8, 128, PATH_SPLITS, lambert);
+    let light = block_means_with(&s, IntegratorKind::Light, 8, 256, 1, lambert);
+    agree(&path, &light, "depth 8, Lambertian");
 }
 
 #[test]
