@@ -1,27 +1,28 @@
 //! The `path` integrator: global illumination by path tracing, with next-event estimation
 //! (`nee.rs`) at every vertex.
 //!
-//! A path starts as every integrator's camera ray (`camera_vertex.rs`: visible lights,
-//! background, a mesh light's glow at the first surface). At each surface vertex `b` it adds,
-//! weighted by the path throughput β, next-event estimation with the random numbers of vertex
-//! `b`: light sampling (MIS against BSDF sampling) and the emission found along the BSDF sample
-//! `Dim::Bsdf { bounce: b }` (MIS against light sampling). The path then continues along that
-//! same BSDF sample (from the camera's vertex, `splits` continuations, each drawn from its own
-//! sub-sample [`SampleStream::split`] and weighted 1/`splits`: the camera ray, the first hit
-//! and its direct light are shared by them), β ← β·f·cos/pdf, to the first surface on either side (what blocks light
-//! for the vertex's estimate), through the surface when the sample was transmitted (a
-//! dielectric's refraction, a translucent or thin-walled surface); the emission of what it
-//! meets was already counted there. The back of a single-sided surface ends the path: it
-//! blocks, but reflects nothing (camera rays do not see it either) — except where its
-//! material transmits, whose inside a refracted path meets. After [`ROULETTE_DEPTH`] vertices Russian roulette ends the path
-//! with probability 1 − q, q = min(1, max(β)), and divides β by q; at most `max_depth`
-//! vertices are lit (`max_depth = 1` is the direct integrator, bit for bit). The reference
-//! estimator (`SamplingMode::Reference`) has no BSDF sampling to continue along: a path of it
-//! is the direct integrator.
+//! A path starts as every integrator's camera ray (`camera_vertex.rs`: visible lights, background,
+//! a mesh light's glow at the first surface). At each surface vertex `b` it adds, weighted by the
+//! path throughput β, next-event estimation with the random numbers of vertex `b`: light sampling
+//! (MIS against BSDF sampling) and the emission found along the BSDF sample
+//! `Dim::Bsdf { bounce: b }` (MIS against light sampling). The path then continues along that same
+//! BSDF sample (from the camera's vertex, `splits` continuations, each drawn from its own
+//! sub-sample [`SampleStream::split`] and weighted 1/`splits`: the camera ray, the first hit and
+//! its direct light are shared by them), β ← β·f·cos/pdf, to the first surface on either side (what
+//! blocks light for the vertex's estimate), through the surface when the sample was transmitted (a
+//! dielectric's refraction, a translucent or thin-walled surface); the emission of what it meets
+//! was already counted there. The back of a single-sided surface ends the path: it blocks, but
+//! reflects nothing (camera rays do not see it either) — except where its material transmits, whose
+//! inside a refracted path meets. After [`ROULETTE_DEPTH`] vertices Russian roulette ends the path
+//! with probability 1 − q, q = min(1, max(β)), and divides β by q; at most `max_depth` vertices are
+//! lit (`max_depth = 1` is the direct integrator, bit for bit). The reference estimator
+//! (`SamplingMode::Reference`) has no BSDF sampling to continue along: a path of it is the direct
+//! integrator.
 
 use super::camera_vertex::{CameraVertex, camera_vertex};
 use super::nee::Nee;
 use super::{CameraRay, Ctx, Integrator, SamplingMode, Setup, closest};
+use crate::material::SurfacePoint;
 use crate::sampler::{Dim, SampleStream};
 use glam::DVec3;
 
@@ -63,12 +64,12 @@ impl PathIntegrator<'_> {
     #[inline]
     fn scatter(
         &self,
-        sp: &crate::material::SurfacePoint,
+        sp: &SurfacePoint,
         st: &SampleStream,
         bounce: u32,
         beta: &mut DVec3,
         ctx: &mut Ctx,
-    ) -> Option<crate::material::SurfacePoint> {
+    ) -> Option<SurfacePoint> {
         let w = &self.nee.world;
         let bs = super::sample_bsdf(&sp.bsdf, st, bounce)?;
         let side = sp.ng.dot(bs.wi);
@@ -103,12 +104,7 @@ impl PathIntegrator<'_> {
     /// What a path continued from the camera's vertex `sp0` brings back: the light of every
     /// later vertex, weighted by the throughput to it.
     #[inline]
-    fn continuation(
-        &self,
-        sp0: &crate::material::SurfacePoint,
-        st: &SampleStream,
-        ctx: &mut Ctx,
-    ) -> DVec3 {
+    fn continuation(&self, sp0: &SurfacePoint, st: &SampleStream, ctx: &mut Ctx) -> DVec3 {
         let mut beta = DVec3::ONE;
         let mut out = DVec3::ZERO;
         let Some(mut sp) = self.scatter(sp0, st, 0, &mut beta, ctx) else {
