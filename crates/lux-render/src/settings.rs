@@ -26,9 +26,9 @@ pub use crate::visibility::VisibilityMode;
 pub const MAX_DEPTH: u32 = 128;
 
 /// Paths continued from each camera sample's first vertex by default
-/// ([`RenderOptions::path_splits`]): time × variance 13–23 % lower than with one on the
-/// Cornell box and three clutter scenes; 4 within 6 % of 2 either way, 8 worse than 1 on a
-/// clutter scene (BENCHMARKS.md, issue 39).
+/// ([`RenderOptions::path_splits`]): time × variance 9–23 % lower than with one on the
+/// Cornell box, three clutter scenes and the StandardShaderBall; 4 within 6 % of 2 either way,
+/// 8 worse than 1 on a clutter scene (BENCHMARKS.md, issue 39).
 pub const PATH_SPLITS: u32 = 2;
 
 /// Largest [`RenderOptions::path_splits`].
