@@ -20,19 +20,8 @@ fn cornell() -> lux::usd::Scene {
 }
 
 /// Per seed, the mean RGB of each block (`splits` paths continued from each camera sample's
-/// first vertex, for the path tracer).
+/// first vertex, for the path tracer; surfaces drawn as `surfaces`, `None`: the profile's).
 fn block_means(
-    s: &lux::usd::Scene,
-    kind: IntegratorKind,
-    depth: u32,
-    spp: u32,
-    splits: u32,
-) -> Vec<Vec<[f64; 3]>> {
-    block_means_with(s, kind, depth, spp, splits, None)
-}
-
-/// [`block_means`] with the surfaces drawn as `surfaces` (`None`: the profile's).
-fn block_means_with(
     s: &lux::usd::Scene,
     kind: IntegratorKind,
     depth: u32,
@@ -117,8 +106,8 @@ fn agree(a: &[Vec<[f64; 3]>], b: &[Vec<[f64; 3]>], what: &str) {
 #[test]
 fn light_tracing_matches_path_tracing_on_the_cornell_box() {
     let s = cornell();
-    let path = block_means(&s, IntegratorKind::Path, 8, 256, PATH_SPLITS);
-    let light = block_means(&s, IntegratorKind::Light, 8, 256, 1);
+    let path = block_means(&s, IntegratorKind::Path, 8, 256, PATH_SPLITS, None);
+    let light = block_means(&s, IntegratorKind::Light, 8, 256, 1, None);
     agree(&path, &light, "depth 8");
 }
 
@@ -129,16 +118,16 @@ fn light_tracing_matches_path_tracing_on_the_cornell_box() {
 fn lambertian_path_tracing_matches_light_tracing() {
     let s = cornell();
     let lambert = Some(SurfaceModel::Lambert);
-    let path = block_means_with(&s, IntegratorKind::Path, 8, 128, PATH_SPLITS, lambert);
-    let light = block_means_with(&s, IntegratorKind::Light, 8, 256, 1, lambert);
+    let path = block_means(&s, IntegratorKind::Path, 8, 128, PATH_SPLITS, lambert);
+    let light = block_means(&s, IntegratorKind::Light, 8, 256, 1, lambert);
     agree(&path, &light, "depth 8, Lambertian");
 }
 
 #[test]
 fn light_tracing_of_one_bounce_matches_direct_lighting() {
     let s = cornell();
-    let direct = block_means(&s, IntegratorKind::Direct, 1, 256, 1);
-    let light = block_means(&s, IntegratorKind::Light, 1, 256, 1);
+    let direct = block_means(&s, IntegratorKind::Direct, 1, 256, 1, None);
+    let light = block_means(&s, IntegratorKind::Light, 1, 256, 1, None);
     agree(&direct, &light, "depth 1");
 }
 
@@ -148,8 +137,8 @@ fn light_tracing_of_one_bounce_matches_direct_lighting() {
 #[test]
 fn first_vertex_splits_match_one_continuation() {
     let s = cornell();
-    let one = block_means(&s, IntegratorKind::Path, 8, 64, 1);
-    let four = block_means(&s, IntegratorKind::Path, 8, 64, 4);
+    let one = block_means(&s, IntegratorKind::Path, 8, 64, 1, None);
+    let four = block_means(&s, IntegratorKind::Path, 8, 64, 4, None);
     agree(&one, &four, "4 splits");
     let spread = |runs: &[Vec<[f64; 3]>]| -> f64 {
         (0..runs[0].len()).map(|k| stat(runs, k, 1).1).sum::<f64>()

@@ -136,17 +136,14 @@ impl Integrator for PathIntegrator<'_> {
         if self.max_depth == 1 {
             return (rgb, 1.0);
         }
+        // `k` continuations, each its own sub-sample of the pixel's stratified set (`k = 1`:
+        // `split(0, 1)` is `st` itself, and the sum is divided by 1)
         let k = self.splits;
-        if k == 1 {
-            rgb += self.continuation(&sp, st, ctx);
-        } else {
-            // `k` continuations, each its own sub-sample of the pixel's stratified set
-            let mut sum = DVec3::ZERO;
-            for j in 0..k {
-                sum += self.continuation(&sp, &st.split(j, k), ctx);
-            }
-            rgb += sum / k as f64;
+        let mut sum = DVec3::ZERO;
+        for j in 0..k {
+            sum += self.continuation(&sp, &st.split(j, k), ctx);
         }
+        rgb += sum / k as f64;
         (rgb, 1.0)
     }
 }
