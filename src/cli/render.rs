@@ -151,8 +151,8 @@ pub struct RenderArgs {
     pub light_selection: SelectionArg,
     /// Light samples per light (or per light choice) at each shading point, 1 to 64: more
     /// shadow rays per camera ray, for penumbrae (default with the direct integrator and lux
-    /// sampling: 4 shared by the lights sampled at a point, ⌈4/n⌉ each for n lights, 4 per
-    /// choice when a light BVH chooses; else 1)
+    /// sampling: 4 shared by the lights sampled at a point, ⌈4/n⌉ each for n lights, 16
+    /// choices of one sample each when a light BVH chooses; else 1)
     #[arg(long)]
     pub light_samples: Option<u32>,
     /// Light samples per light in shadowed pixels, 1 to 64 (1: off), times --light-samples: from

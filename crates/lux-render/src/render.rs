@@ -185,12 +185,11 @@ impl<'s> Renderer<'s> {
             camera: &self.camera,
             sampling: self.options.sampling,
             light_samples: {
-                // (every light sampled at each point, unless a selector chooses one)
+                // (every light sampled at each point, unless a selector chooses them)
                 let lights = &self.lights;
-                let sampled = if lights.selector.is_some() {
-                    1
-                } else {
-                    lights.lights.len()
+                let sampled = match lights.selector {
+                    Some(_) => None,
+                    None => Some(lights.lights.len()),
                 };
                 self.options.light_samples_per_light(sampled)
             },

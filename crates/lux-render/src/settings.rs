@@ -179,20 +179,26 @@ impl RenderOptions {
 }
 
 /// Light samples per shading point when none are asked for, with lux sampling and the
-/// direct integrator ([`RenderOptions::light_samples`]).
+/// direct integrator, where every light is sampled ([`RenderOptions::light_samples_per_light`]).
 pub const AUTO_LIGHT_SAMPLES: u32 = 4;
+
+/// Light choices per shading point when none are asked for, with lux sampling and the direct
+/// integrator, where a selector (the light BVH of a scene of many lights) chooses them
+/// ([`RenderOptions::light_samples_per_light`]`(None)`).
+pub const AUTO_LIGHT_CHOICES: u32 = 16;
 
 impl RenderOptions {
     /// Light samples per light (or light choice) at each shading point of a scene with one
-    /// light: [`RenderOptions::light_samples_per_light`]`(1)`.
+    /// light: [`RenderOptions::light_samples_per_light`]`(Some(1))`.
     pub fn light_samples(&self) -> u32 {
-        self.light_samples_per_light(1)
+        self.light_samples_per_light(Some(1))
     }
 
-    /// Light samples per light (or light choice) at each shading point where `sampled` lights
-    /// are each sampled (1 where a selector chooses them): the asked number, else for lux
+    /// Light samples per light at each shading point where `sampled` lights are each sampled,
+    /// or light choices where a selector chooses them (`None`): the asked number, else for lux
     /// sampling with the direct integrator ⌈[`AUTO_LIGHT_SAMPLES`] / sampled⌉ — about
-    /// [`AUTO_LIGHT_SAMPLES`] light samples a point in all — and 1 otherwise.
+    /// [`AUTO_LIGHT_SAMPLES`] light samples a point in all — or [`AUTO_LIGHT_CHOICES`], and 1
+    /// otherwise.
     ///
     /// Why 4: a light sample (its point and shadow ray) costs 0.28–0.42 of a whole camera
     /// sample (callgrind, luxtest disk/sphere/cylinder frame 1), and where shadows fall its
@@ -200,13 +206,20 @@ impl RenderOptions {
     /// than 1 on the luxtest frames, 8 was slower again (BENCHMARKS.md). Several lights share
     /// the 4: each sample of each light already spreads the camera sample's cost, and four
     /// lights of four samples each made the cheapest render of the four-light clutter scene
-    /// twice as expensive for no gain (BENCHMARKS.md, issue 39). A path takes 1 at each
-    /// vertex (its indirect light, not the light samples, is the noise there), and the
-    /// reference estimator 1 (hdEmbree's: one sample per light per camera sample).
-    pub fn light_samples_per_light(&self, sampled: usize) -> u32 {
+    /// twice as expensive for no gain (BENCHMARKS.md, issue 39). Why 16 choices: among many
+    /// lights a few choices a point leave most of the lights that matter there unsampled, and
+    /// the choices share the camera sample and the top of the light BVH; on the 64-light
+    /// clutter scenes 16 reached a given error about twice as soon as 4 (BENCHMARKS.md,
+    /// issue 39). A path takes 1 at each vertex (its indirect light, not the light samples, is
+    /// the noise there), and the reference estimator 1 (hdEmbree's: one sample per light per
+    /// camera sample).
+    pub fn light_samples_per_light(&self, sampled: Option<usize>) -> u32 {
         self.light_samples.unwrap_or(
             if self.sampling == SamplingMode::Lux && self.integrator == IntegratorKind::Direct {
-                AUTO_LIGHT_SAMPLES.div_ceil(sampled.max(1) as u32)
+                match sampled {
+                    Some(n) => AUTO_LIGHT_SAMPLES.div_ceil(n.max(1) as u32),
+                    None => AUTO_LIGHT_CHOICES,
+                }
             } else {
                 1
             },
@@ -359,25 +372,29 @@ mod tests {
     use super::*;
     use lux_math::Profile;
 
-    /// Automatic light samples: about 4 a point in all, shared by the lights sampled there;
-    /// an asked number, a path or the reference estimator as documented.
+    /// Automatic light samples: about 4 a point in all, shared by the lights sampled there, or
+    /// 16 choices where a selector chooses; an asked number, a path or the reference
+    /// estimator as documented.
     #[test]
-    fn automatic_light_samples_share_four_between_the_lights() {
+    fn automatic_light_samples_share_four_between_the_lights_or_choose_sixteen() {
         let mut o = RenderOptions::new(ResolvedProfile {
             profile: Profile::Spec,
             source: crate::conformance::ProfileSource::CommandLine,
         });
         o.integrator = IntegratorKind::Direct;
-        let per = |o: &RenderOptions| [1, 2, 3, 4, 8, 64].map(|n| o.light_samples_per_light(n));
-        assert_eq!(per(&o), [4, 2, 2, 1, 1, 1]);
+        let per = |o: &RenderOptions| {
+            [Some(1), Some(2), Some(3), Some(4), Some(8), Some(64), None]
+                .map(|n| o.light_samples_per_light(n))
+        };
+        assert_eq!(per(&o), [4, 2, 2, 1, 1, 1, 16]);
         assert_eq!(o.light_samples(), AUTO_LIGHT_SAMPLES);
         o.light_samples = Some(3);
-        assert_eq!(per(&o), [3; 6]);
+        assert_eq!(per(&o), [3; 7]);
         o.light_samples = None;
         o.integrator = IntegratorKind::Path;
-        assert_eq!(per(&o), [1; 6]);
+        assert_eq!(per(&o), [1; 7]);
         o.integrator = IntegratorKind::Direct;
         o.sampling = SamplingMode::Reference;
-        assert_eq!(per(&o), [1; 6]);
+        assert_eq!(per(&o), [1; 7]);
     }
 }
