@@ -15,6 +15,10 @@ pub struct DiskLight {
     pub(super) sampler: lux_sample::DiskLight,
     /// [`DiskLight::world_disk`].
     world: Option<(DVec3, DVec3, f64)>,
+    /// For a disk of uniform radiance (identity shaping): its world normal on the local +Z
+    /// side, `L⁻ᵀ ẑ`, so that a light sample's radiance is the light's own wherever
+    /// `emit · n < 0` (the −Z side [`DiskLight::le`] tests as `(L⁻¹ emit).z < 0`).
+    uniform_side: Option<DVec3>,
 }
 
 impl DiskLight {
@@ -25,7 +29,9 @@ impl DiskLight {
             lux_sample::DiskLight::new(radius, base.xf, lux_sample::DiskTechnique::EllipticCone)
                 .map_err(|e| e.to_string())?;
         let world = sampler.world_disk();
+        let uniform_side = base.shaping.is_identity().then(|| base.xf.normal(DVec3::Z));
         Ok(DiskLight {
+            uniform_side,
             base,
             radius,
             sampler,
@@ -44,7 +50,11 @@ impl DiskLight {
     #[inline(always)]
     pub fn sample_li_from(&self, from: &lux_sample::DiskFrom, u: [f64; 2]) -> Option<LiSample> {
         let s = from.sample(u)?;
-        let l = self.le(self.base.to_local(s.point), -s.wi, Seen::Lit);
+        let l = match self.uniform_side {
+            Some(n) if s.wi.dot(n) > 0.0 => self.base.radiance,
+            Some(_) => DVec3::ZERO,
+            None => self.le(self.base.to_local(s.point), -s.wi, Seen::Lit),
+        };
         Some(LiSample::new(s, l))
     }
 

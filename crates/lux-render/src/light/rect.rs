@@ -23,6 +23,11 @@ pub struct RectLight {
     /// [`RectLight::bounding_sphere`]).
     corners: [DVec3; 4],
     bound: (DVec3, f64),
+    /// For a rect of uniform radiance (no texture, identity shaping): its world normal on the
+    /// local +Z side, `L⁻ᵀ ẑ`, so that a light sample's radiance is the light's own wherever
+    /// `emit · n < 0` (the −Z side [`RectLight::le`] tests as `(L⁻¹ emit).z < 0`), without the
+    /// light-space point and direction.
+    uniform_side: Option<DVec3>,
 }
 
 impl RectLight {
@@ -57,7 +62,10 @@ impl RectLight {
             .iter()
             .map(|q| q.distance(centre))
             .fold(0.0, f64::max);
+        let uniform_side =
+            (texture.is_none() && base.shaping.is_identity()).then(|| base.xf.normal(DVec3::Z));
         Ok(RectLight {
+            uniform_side,
             base,
             half: [0.5 * width, 0.5 * height],
             texture,
@@ -94,7 +102,11 @@ impl RectLight {
     #[inline(always)]
     pub fn sample_li_from(&self, from: &lux_sample::RectFrom, u: [f64; 2]) -> Option<LiSample> {
         let s = from.sample(u)?;
-        let l = self.le(self.base.to_local(s.point), -s.wi, Seen::Lit);
+        let l = match self.uniform_side {
+            Some(n) if s.wi.dot(n) > 0.0 => self.base.radiance,
+            Some(_) => DVec3::ZERO,
+            None => self.le(self.base.to_local(s.point), -s.wi, Seen::Lit),
+        };
         Some(LiSample::new(s, l))
     }
 
