@@ -13,6 +13,11 @@ pub struct SphereLight {
     radius: f64,
     /// lux-sample's sampler of the shape ([`super::Light::seen_from`] reads it).
     pub(super) sampler: lux_sample::SphereLight,
+    /// For a sphere of uniform radiance (identity shaping) under a similarity transform: its
+    /// world centre, so that a light sample's radiance is the light's own wherever
+    /// `(q − centre) · emit > 0` at its point `q` (the outward side [`SphereLight::le`] tests
+    /// in light space, whose dot products a similarity keeps the signs of).
+    uniform_centre: Option<DVec3>,
 }
 
 impl SphereLight {
@@ -26,7 +31,10 @@ impl SphereLight {
             lux_sample::SphereTechnique::ProjectedCap,
         )
         .map_err(|e| e.to_string())?;
+        let uniform_centre = (base.shaping.is_identity() && base.xf.is_similarity())
+            .then(|| base.xf.point(DVec3::ZERO));
         Ok(SphereLight {
+            uniform_centre,
             base,
             radius,
             sampler,
@@ -44,7 +52,11 @@ impl SphereLight {
     #[inline(always)]
     pub fn sample_li_from(&self, from: &lux_sample::SphereFrom, u: [f64; 2]) -> Option<LiSample> {
         let s = from.sample(u)?;
-        let l = self.le(self.base.to_local(s.point), -s.wi, Seen::Lit);
+        let l = match self.uniform_centre {
+            Some(c) if (s.point - c).dot(s.wi) < 0.0 => self.base.radiance,
+            Some(_) => DVec3::ZERO,
+            None => self.le(self.base.to_local(s.point), -s.wi, Seen::Lit),
+        };
         Some(LiSample::new(s, l))
     }
 
