@@ -14,6 +14,12 @@ pub struct CylinderLight {
     half_length: f64,
     /// lux-sample's sampler of the shape ([`super::Light::seen_from`] reads it).
     pub(super) sampler: lux_sample::CylinderLight,
+    /// For a cylinder of uniform radiance (identity shaping) under a similarity transform:
+    /// its world centre and unit axis, so that a light sample's radiance is the light's own
+    /// wherever the radial part of `q − centre` at its point `q` points along `emit` (the
+    /// outward side [`CylinderLight::le`] tests in light space, whose dot products a
+    /// similarity keeps the signs of).
+    uniform_axis: Option<(DVec3, DVec3)>,
 }
 
 impl CylinderLight {
@@ -39,7 +45,14 @@ impl CylinderLight {
         .map_err(|e| e.to_string())?
         // only the stretch of each line inside the shaping's emission cone
         .with_emission_cone(cut);
+        let uniform_axis = (base.shaping.is_identity() && base.xf.is_similarity()).then(|| {
+            (
+                base.xf.point(DVec3::ZERO),
+                base.xf.vector(DVec3::X).normalize(),
+            )
+        });
         Ok(CylinderLight {
+            uniform_axis,
             base,
             radius,
             half_length: 0.5 * length,
@@ -58,7 +71,17 @@ impl CylinderLight {
     #[inline(always)]
     pub fn sample_li_from(&self, from: &lux_sample::CylinderFrom, u: [f64; 2]) -> Option<LiSample> {
         let s = from.sample(u)?;
-        let l = self.le(self.base.to_local(s.point), -s.wi, Seen::Lit);
+        let l = match self.uniform_axis {
+            Some((c, a)) => {
+                let q = s.point - c;
+                if q.dot(s.wi) - q.dot(a) * a.dot(s.wi) < 0.0 {
+                    self.base.radiance
+                } else {
+                    DVec3::ZERO
+                }
+            }
+            None => self.le(self.base.to_local(s.point), -s.wi, Seen::Lit),
+        };
         Some(LiSample::new(s, l))
     }
 
