@@ -122,6 +122,75 @@ mod tests {
         set.lights.into_iter().next().unwrap()
     }
 
+    /// A light sample's radiance is [`Light::le`] at its point towards the receiver, for
+    /// every shape under a similarity (where rects, disks, spheres and cylinders of uniform
+    /// radiance take it from a world side test) and under a shear and non-uniform scale
+    /// (where they ask `le`), from receivers all around, with both strategies: bit for bit,
+    /// away from the silhouette where the side test is a rounding error from 0.
+    #[test]
+    fn light_samples_carry_the_radiance_le_gives() {
+        use lux_sample::{Reference, Strategy};
+        let similar = DMat4::from_translation(DVec3::new(0.3, -0.2, 0.5))
+            * DMat4::from_rotation_x(0.4)
+            * DMat4::from_rotation_z(0.9)
+            * DMat4::from_scale(DVec3::splat(1.7));
+        let mut sheared = similar * DMat4::from_scale(DVec3::new(1.0, 2.0, 0.5));
+        sheared.y_axis.x = 0.4;
+        let shapes = [
+            LightShape::Rect {
+                width: 1.0,
+                height: 2.0,
+            },
+            LightShape::Disk { radius: 0.7 },
+            LightShape::Sphere { radius: 0.6 },
+            LightShape::Cylinder {
+                radius: 0.5,
+                length: 1.5,
+            },
+        ];
+        let mut rng = SplitMix64::new(11);
+        let (mut checked, mut lit) = (0, 0);
+        for shape in shapes {
+            for xf in [similar, sheared] {
+                let l = light(shape.clone(), xf);
+                for _ in 0..400 {
+                    let p = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) * 8.0
+                        - DVec3::splat(4.0);
+                    let n = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) - 0.5;
+                    let r = Reference::surface(p, n.normalize());
+                    for strategy in [Strategy::Lux, Strategy::HdEmbree] {
+                        let u = [rng.next_f64(), rng.next_f64()];
+                        let Some(s) = l.sample_li(&r, u, strategy) else {
+                            continue;
+                        };
+                        let local = l.base().to_local(s.point);
+                        let wl = l.base().local_direction(-s.wi).unwrap();
+                        let side = match shape {
+                            LightShape::Rect { .. } | LightShape::Disk { .. } => -wl.z,
+                            LightShape::Sphere { .. } => local.normalize().dot(wl),
+                            _ => DVec3::new(0.0, local.y, local.z).normalize().dot(wl),
+                        };
+                        if side.abs() < 1e-9 {
+                            continue;
+                        }
+                        assert_eq!(
+                            s.l,
+                            l.le(local, -s.wi, Seen::Lit),
+                            "{shape:?} {strategy:?} from {p}"
+                        );
+                        checked += 1;
+                        lit += (s.l != DVec3::ZERO) as u32;
+                    }
+                }
+            }
+        }
+        // (most samples count, both sides among them)
+        assert!(
+            checked > 4000 && lit > 1000 && lit < checked,
+            "{checked} {lit}"
+        );
+    }
+
     /// A particle's expected weight is the light's emitted flux `L·π·A` (radiance 1; `A` its
     /// world area under rotations and non-uniform scales, both sides of nothing) — here every
     /// sample's weight is, since each density is uniform — its point lies on the surface, and
