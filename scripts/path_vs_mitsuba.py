@@ -58,7 +58,8 @@ def mitsuba_integrator(depth: int) -> dict:
 def lux_render(lux, scene, depth, spp, out, seed, extra=()):
     """One lux process (spec profile, path integrator, Lambertian surfaces as the peer builds
     them; race.py's, at frame 1 as the peer reads the stage); (image, wall seconds, lux's own render s)."""
-    return race.lux_render(lux, scene, 1, spp, out, seed, extra, depth)
+    img, wall, own, _ = race.lux_render(lux, scene, 1, spp, out, seed, extra, depth)
+    return img, wall, own
 
 
 def mean_rgb(img) -> np.ndarray:
