@@ -29,13 +29,14 @@ pub fn sample_concentric_disk(u: [f64; 2]) -> DVec2 {
 }
 
 /// `(sin x, cos x)` for |x| ≤ π/4 from their Taylor series, through x¹⁵ and x¹⁶: the first
-/// terms left out, x¹⁷/17! and x¹⁸/18!, stay below 5·10⁻¹⁷ there, so the result is within a
-/// few ulp of `f64::sin_cos` at a third of its cost (no argument reduction), which the
-/// concentric mapping of every disk, cap and cosine-hemisphere sample pays.
+/// terms left out, x¹⁷/17! and x¹⁸/18!, stay below 5·10⁻¹⁷ there, so the result is within 2
+/// ulp of `f64::sin_cos` without its argument reduction and library call, which the
+/// concentric mapping of every disk, cap and cosine-hemisphere sample paid (a path traced
+/// through the Cornell box 4 % faster; BENCHMARKS.md).
 #[inline(always)]
 fn sin_cos_quarter(x: f64) -> (f64, f64) {
-    // (1/n! for the odd and the even n, Horner in x²; plain products and sums, since a
-    // `mul_add` without the FMA target feature is a library call)
+    // (±1/n! for the odd and the even n, as polynomials in x²; plain products and sums,
+    // since a `mul_add` without the FMA target feature is a library call)
     const S: [f64; 7] = [
         -1.0 / 6.0,
         1.0 / 120.0,
