@@ -71,17 +71,14 @@ impl CylinderLight {
     #[inline(always)]
     pub fn sample_li_from(&self, from: &lux_sample::CylinderFrom, u: [f64; 2]) -> Option<LiSample> {
         let s = from.sample(u)?;
-        let l = match self.uniform_axis {
-            Some((c, a)) => {
-                let q = s.point - c;
-                if q.dot(s.wi) - q.dot(a) * a.dot(s.wi) < 0.0 {
-                    self.base.radiance
-                } else {
-                    DVec3::ZERO
-                }
-            }
-            None => self.le(self.base.to_local(s.point), -s.wi, Seen::Lit),
-        };
+        // (the radial part of q − centre against the direction to the receiver)
+        let outward = self.uniform_axis.map(|(c, a)| {
+            let q = s.point - c;
+            q.dot(s.wi) - q.dot(a) * a.dot(s.wi) < 0.0
+        });
+        let l = self.base.sample_radiance(outward, || {
+            self.le(self.base.to_local(s.point), -s.wi, Seen::Lit)
+        });
         Some(LiSample::new(s, l))
     }
 

@@ -50,11 +50,10 @@ impl DiskLight {
     #[inline(always)]
     pub fn sample_li_from(&self, from: &lux_sample::DiskFrom, u: [f64; 2]) -> Option<LiSample> {
         let s = from.sample(u)?;
-        let l = match self.uniform_side {
-            Some(n) if s.wi.dot(n) > 0.0 => self.base.radiance,
-            Some(_) => DVec3::ZERO,
-            None => self.le(self.base.to_local(s.point), -s.wi, Seen::Lit),
-        };
+        let outward = self.uniform_side.map(|n| s.wi.dot(n) > 0.0);
+        let l = self.base.sample_radiance(outward, || {
+            self.le(self.base.to_local(s.point), -s.wi, Seen::Lit)
+        });
         Some(LiSample::new(s, l))
     }
 

@@ -167,6 +167,19 @@ impl LightBase {
         self.xf.local_direction(emit)
     }
 
+    /// The radiance a light sample carries: for a light of uniform radiance (identity
+    /// shaping, no texture) whose side test a world dot product answers (`outward`: the
+    /// sample's emission direction leaves the emitting side), `base` or 0 — what `le` gives
+    /// there, without the light-space point and direction; else `le()`.
+    #[inline(always)]
+    pub fn sample_radiance(&self, outward: Option<bool>, le: impl FnOnce() -> DVec3) -> DVec3 {
+        match outward {
+            Some(true) => self.radiance,
+            Some(false) => DVec3::ZERO,
+            None => le(),
+        }
+    }
+
     /// `base · shapingFactor(wl)` for the unit light-space emission direction `wl` (one
     /// returned by [`LightBase::local_direction`], for the kinds that test its side first).
     #[inline]
