@@ -494,12 +494,82 @@ fn closed_forms_change_the_luxtest_frames_by_rounding_or_noise_only() {
     }
 }
 
+/// A closed box of half-extent `h` about `c`, turned by `turn` (12 triangles, wound either
+/// way: the solid test orients them).
+fn solid_box(path: &str, c: DVec3, h: f64, turn: glam::DQuat) -> Mesh {
+    let points = (0..8)
+        .map(|i| {
+            let s = |b: usize| if i & b == 0 { -h } else { h };
+            c + turn * DVec3::new(s(1), s(2), s(4))
+        })
+        .collect();
+    let quads = [
+        [0, 1, 3, 2],
+        [4, 6, 7, 5],
+        [0, 4, 5, 1],
+        [2, 3, 7, 6],
+        [0, 2, 6, 4],
+        [1, 5, 7, 3],
+    ];
+    let tris = quads
+        .iter()
+        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+        .collect();
+    Mesh::new(path, points, tris)
+}
+
+/// A faceted ball of radius `r` about `c`: an octahedron whose faces are split in four
+/// `levels` times, corners pushed out to the sphere (8·4^levels triangles).
+fn faceted_ball(path: &str, c: DVec3, r: f64, levels: u32) -> Mesh {
+    let mut points = vec![
+        DVec3::X,
+        DVec3::NEG_X,
+        DVec3::Y,
+        DVec3::NEG_Y,
+        DVec3::Z,
+        DVec3::NEG_Z,
+    ];
+    let mut tris: Vec<[u32; 3]> = vec![
+        [0, 2, 4],
+        [2, 1, 4],
+        [1, 3, 4],
+        [3, 0, 4],
+        [2, 0, 5],
+        [1, 2, 5],
+        [3, 1, 5],
+        [0, 3, 5],
+    ];
+    for _ in 0..levels {
+        let mut mid = std::collections::HashMap::new();
+        let mut split = |a: u32, b: u32, points: &mut Vec<DVec3>| {
+            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                points.push((points[a as usize] + points[b as usize]).normalize());
+                points.len() as u32 - 1
+            })
+        };
+        tris = tris
+            .iter()
+            .flat_map(|&[a, b, c]| {
+                let (ab, bc, ca) = (
+                    split(a, b, &mut points),
+                    split(b, c, &mut points),
+                    split(c, a, &mut points),
+                );
+                [[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]
+            })
+            .collect();
+    }
+    Mesh::new(path, points.iter().map(|p| c + r * *p).collect(), tris)
+}
+
 /// A sphere, a rect and a disk light behind a few opaque triangles (visibility/penumbra.rs): where the
-/// triangles lie in front of the light and do not overlap as seen from the point, its
-/// penumbra is exact — no shadow ray, the same value at any seed and sample count — and equals
-/// what light sampling with shadow rays (`--visibility rays`) and MIS converge to. Where they
-/// overlap, or one reaches past the sphere's nearest point or the rect's or disk's plane, it is
-/// sampled as before and converges to the same.
+/// triangles lie in front of the light, its penumbra is exact — no shadow ray, the same value
+/// at any seed and sample count — and equals what light sampling with shadow rays
+/// (`--visibility rays`) and MIS converge to: behind one card, behind two overlapping ones
+/// (their union), behind a closed box and a faceted ball of 512 triangles overlapping each
+/// other and a card (their silhouettes, visibility/solid.rs). Where one reaches past the
+/// sphere's nearest point or the rect's or disk's plane, it is sampled as before and converges
+/// to the same.
 #[test]
 fn sphere_rect_and_disk_penumbrae_are_exact_where_few_triangles_block() {
     let c = DVec3::new(0.3, 1.2, -0.2);
@@ -597,6 +667,20 @@ fn sphere_rect_and_disk_penumbrae_are_exact_where_few_triangles_block() {
         let mut long = one.clone();
         long.meshes.pop();
         long.meshes.push(quad("/Long", long_card));
+        // A box and a ball overlapping each other and the card as seen from the point.
+        let mut solids = one.clone();
+        solids.meshes.push(solid_box(
+            "/Box",
+            DVec3::new(0.2, 0.42, -0.08),
+            0.06,
+            glam::DQuat::from_euler(glam::EulerRot::XYZ, 0.3, 0.5, 0.2),
+        ));
+        solids.meshes.push(faceted_ball(
+            "/Ball",
+            DVec3::new(0.15, 0.85, -0.22),
+            0.08,
+            3,
+        ));
         // The card subdivided 4 × 4: its outline in the shadow BVH stands for it, one convex
         // polygon rather than triangles (visibility/planar.rs, penumbra::past), and the penumbra
         // is the two-triangle card's.
@@ -625,7 +709,8 @@ fn sphere_rect_and_disk_penumbrae_are_exact_where_few_triangles_block() {
         );
         for (what, s, exact) in [
             ("one card", &one, true),
-            ("overlapping cards", &two, false),
+            ("overlapping cards", &two, true),
+            ("a box, a ball and a card", &solids, true),
             ("a long card", &long, false),
         ] {
             let what = format!("{name}, {what}");

@@ -9,7 +9,8 @@
 //!   from a Lambertian point (a conservative search of the shadow rays' region: a cone
 //!   `cone.rs`, a pyramid `pyramid.rs`, `regions.rs`), whose light-only estimate is then its
 //!   exact unshadowed irradiance `L·Π` (lux-irradiance);
-//! - **exact penumbrae** behind a few blockers (`penumbra.rs`): `L·(Π − Σ H)`;
+//! - **exact penumbrae** behind a few blockers (`penumbra.rs`): `L·(Π − Σ H)`, of closed
+//!   convex meshes only the faces towards the point (`solid.rs`);
 //! - **patches** of surface that share those searches (`patches.rs`, per worker);
 //! - a **shadow BVH** where flat cards tiling a convex polygon stand as their outlines
 //!   (`planar.rs`, `shadows.rs`), whose outlines the penumbrae use;
@@ -30,12 +31,14 @@
 
 pub(crate) mod cone;
 pub(crate) mod frustum;
+pub(crate) mod overlap;
 pub(crate) mod patches;
 pub(crate) mod penumbra;
 pub(crate) mod planar;
 pub(crate) mod pyramid;
 pub(crate) mod regions;
 pub(crate) mod shadows;
+pub(crate) mod solid;
 
 use crate::camera::Camera;
 use crate::geometry::{Geometry, Hit, Occluder, Region};
@@ -82,6 +85,8 @@ pub enum Visibility {
 pub struct Scratch {
     /// Patch answers (`patches.rs`).
     patches: ClearPatches,
+    /// Room for the exact penumbrae's polygons (`penumbra.rs`).
+    penumbra: penumbra::Room,
     /// The current tile ([`Visibility::tile`]; the default knows nothing).
     pub tile: Tile,
 }
@@ -300,10 +305,10 @@ impl Visibility {
         // With the patch's few possible blockers (opaque black shadows; those the light's
         // shadow links keep), the part of a sphere, rect or disk they leave visible, in closed
         // form (`penumbra.rs`).
-        let exact = || {
+        let mut exact = || {
             few.as_ref()
                 .filter(|_| !w.transparent && base.black_shadows())
-                .and_then(|few| penumbra::visible(&shadows, from, sp, few))
+                .and_then(|few| penumbra::visible(&shadows, from, sp, few, &mut scratch.penumbra))
         };
         // The direction the closed form's BSDF is evaluated in (the ball's centre: a
         // Lambertian f is the same in every direction), and the fraction of the closed form

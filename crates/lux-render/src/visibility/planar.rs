@@ -109,7 +109,7 @@ pub(super) fn tiled_hull(positions: &[DVec3], triangles: &[[u32; 3]]) -> Option<
 
 /// The convex hull of the points `ids` counter-clockwise, without points within `tol` (a
 /// cross product: length²) of collinear (Andrew's monotone chain on `f64` coordinates).
-fn convex_hull(ids: &[u32], flat: &HashMap<u32, DVec2>, tol: f64) -> Vec<u32> {
+pub(super) fn convex_hull(ids: &[u32], flat: &HashMap<u32, DVec2>, tol: f64) -> Vec<u32> {
     let mut order = ids.to_vec();
     order.sort_by(|a, b| {
         let (p, q) = (flat[a], flat[b]);

@@ -10,6 +10,7 @@
 use super::RayFrustum;
 use super::cone::{ConeSearch, INSTANCED};
 use super::planar;
+use super::solid::Solid;
 use crate::geometry::{
     Blas, Geometry, Hit, MAX_TRIANGLES, Occluder, PrimRef, Region, mesh_triangles,
 };
@@ -18,20 +19,32 @@ use lux_usd::Scene;
 use obvhs::ray::RayHit;
 
 /// A few triangles of the BVH shadow rays query ([`Shadows::blockers_in`]): all that can stop
-/// a shadow ray inside some region.
+/// a shadow ray inside some region, those of closed convex meshes (`solid.rs`) as their
+/// meshes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct FewTriangles {
     len: u8,
     ids: [u32; FewTriangles::CAP],
+    solids: u8,
+    solid_ids: [u32; FewTriangles::SOLIDS],
 }
 
 impl FewTriangles {
-    /// Most triangles held: a shadow ray testing more costs about what the BVH's traversal does.
+    /// Most triangles held (of meshes not solids): a shadow ray testing more costs about what
+    /// the BVH's traversal does.
     pub const CAP: usize = 6;
 
-    /// The triangles (indices into the shadow rays' BVH).
+    /// Most closed convex meshes held.
+    pub const SOLIDS: usize = 8;
+
+    /// The triangles of meshes not solids (indices into the shadow rays' BVH).
     pub fn ids(&self) -> &[u32] {
         &self.ids[..self.len as usize]
+    }
+
+    /// The closed convex meshes (`Scene::meshes` indices, [`Shadows::solid`]).
+    pub fn solids(&self) -> &[u32] {
+        &self.solid_ids[..self.solids as usize]
     }
 }
 
@@ -53,6 +66,9 @@ pub struct ShadowBvh {
     /// rounded as the BVH's triangles are), when it has at most
     /// [`lux_irradiance::hidden::MAX_CORNERS`] corners ([`Shadows::blocker_card`]).
     cards: Vec<Option<Card>>,
+    /// Per mesh: the mesh as a closed convex solid, when it is one (`solid.rs`; its vertices
+    /// rounded as the BVHs store them), for [`Shadows::solid`].
+    solids: Vec<Option<Solid>>,
 }
 
 impl ShadowBvh {
@@ -60,6 +76,7 @@ impl ShadowBvh {
     pub const NONE: ShadowBvh = ShadowBvh {
         shadow: None,
         cards: Vec::new(),
+        solids: Vec::new(),
     };
 
     /// The shadow BVH of `scene`'s world meshes as `g` holds them (not when the world BVH
@@ -74,7 +91,20 @@ impl ShadowBvh {
         if shadow.is_none() {
             cards.clear();
         }
-        ShadowBvh { shadow, cards }
+        let mut solids = vec![None; scene.meshes.len()];
+        for mi in world_meshes() {
+            if scene.meshes[mi].triangles.len() <= super::solid::MAX_SOLID_TRIANGLES {
+                let tris: Vec<(u32, [DVec3; 3])> = mesh_triangles(scene, mi)
+                    .map(|(prim, t)| (prim.tri, t.map(|v| v.as_vec3().as_dvec3())))
+                    .collect();
+                solids[mi] = Solid::new(&tris);
+            }
+        }
+        ShadowBvh {
+            shadow,
+            cards,
+            solids,
+        }
     }
 
     /// The shadow BVH of [`Shadows::shadow`]: the meshes `meshes` (the world BVH's, of
@@ -187,6 +217,12 @@ impl<'a> Shadows<'a> {
         Some((mesh, &card.corners[..card.len as usize]))
     }
 
+    /// The world mesh `mesh` as a closed convex solid, when it is one (`visibility/solid.rs`).
+    #[inline]
+    pub fn solid(&self, mesh: u32) -> Option<&'a Solid> {
+        self.bvh.solids.get(mesh as usize)?.as_ref()
+    }
+
     /// True when no triangle of a mesh that `casts` (a `Scene::meshes` index: what a light's
     /// shadow linking keeps) can stop a shadow ray inside `cone` ([`ShadowCone`]) — searched in
     /// the BVH shadow rays test (a planar tiling as its outline: fewer, larger triangles, which
@@ -231,7 +267,8 @@ impl<'a> Shadows<'a> {
 
     /// Every triangle of a mesh that `casts` which can stop a shadow ray inside `region`, among
     /// those shadow rays query (the outlines of flat cards where built: `visibility/planar.rs`), for
-    /// [`Shadows::occluded_among`]; `None` when more than [`FewTriangles::CAP`], or with
+    /// [`Shadows::occluded_among`], those of closed convex meshes as their meshes; `None` when
+    /// more than [`FewTriangles::CAP`] triangles or [`FewTriangles::SOLIDS`] solids, or with
     /// instances.
     pub fn blockers_in(
         &self,
@@ -245,8 +282,22 @@ impl<'a> Shadows<'a> {
         let mut few = FewTriangles {
             len: 0,
             ids: [0; FewTriangles::CAP],
+            solids: 0,
+            solid_ids: [0; FewTriangles::SOLIDS],
         };
         let over = b.region_triangles(region, casts, |id| {
+            let mesh = b.prims[id as usize].mesh;
+            if self.solid(mesh).is_some() {
+                if few.solids().contains(&mesh) {
+                    return false;
+                }
+                if few.solids as usize == FewTriangles::SOLIDS {
+                    return true;
+                }
+                few.solid_ids[few.solids as usize] = mesh;
+                few.solids += 1;
+                return false;
+            }
             if few.len as usize == FewTriangles::CAP {
                 return true;
             }
@@ -259,7 +310,7 @@ impl<'a> Shadows<'a> {
 
     /// `Geometry::occluded` among the triangles `few` alone: the same answer for a ray inside
     /// the region they were found for ([`Shadows::blockers_in`]), when it was searched for
-    /// every mesh that can block it.
+    /// every mesh that can block it. Through the BVH when they hold solids.
     #[inline]
     pub fn occluded_among(
         &self,
@@ -269,6 +320,9 @@ impl<'a> Shadows<'a> {
         tmin: f64,
         tmax: f64,
     ) -> bool {
+        if !few.solids().is_empty() {
+            return self.occluded(origin, dir, tmin, tmax);
+        }
         let Some(ray) = Geometry::ray(origin, dir, tmin, tmax) else {
             return false;
         };
