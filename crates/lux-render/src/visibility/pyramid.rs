@@ -6,8 +6,9 @@
 //! point of the rect: it stays in the convex pyramid with apex `o` over the rect, the
 //! intersection of five half-spaces — one through `o` and each edge, and the rect's own plane
 //! (the rays end on it). A box or triangle wholly outside one of them (by a margin covering the
-//! `f32` traversal), or wholly below the surface the rays leave (half the offset below `o`),
-//! cannot stop any of them. Unlike the cone of a ball around the rect
+//! `f32` traversal; for the rect's plane, wholly beyond it or on it within 10⁻⁶ of the scene's
+//! scale), or wholly below the surface the rays leave (half the offset below `o`), cannot stop
+//! any of them. Unlike the cone of a ball around the rect
 //! ([`ShadowCone`](super::ShadowCone)), the pyramid is there whenever the rect itself lies above
 //! the receiver's tangent plane, however large and near the rect is.
 
@@ -26,7 +27,8 @@ pub struct ShadowPyramid {
     /// Height along `ng` relative to the apex below which geometry is that surface: −δ/2.
     floor: f64,
     /// Unit inward normals of the four sides (through the apex) and of the rect's plane, with
-    /// `n·apex` for the sides and `n·c₀` for the rect: inside is `n·x ≥ that`.
+    /// `n·apex` for the sides and `n·c₀ + margin + 10⁻⁶·scale` for the rect: inside is
+    /// `n·x ≥ that` (and a triangle or box is outside when wholly below by the margin).
     planes: [(DVec3, f64); 5],
     /// Unit direction from the apex to the rect's centre (a traversal order).
     axis: DVec3,
@@ -97,7 +99,10 @@ impl ShadowPyramid {
         if n.dot(apex - corners[0]).partial_cmp(&margin) != Some(std::cmp::Ordering::Greater) {
             return None;
         }
-        planes[4] = (n, n.dot(corners[0]));
+        // (a triangle or box is outside it when wholly within 10⁻⁶ of the scale beyond it or on
+        // it: the rays end on the rect, so what lies in its plane — a ceiling around a light
+        // in its hole, rounded to f32 — meets none of them before their end)
+        planes[4] = (n, n.dot(corners[0]) + margin + 1e-6 * scale);
         Some(ShadowPyramid {
             apex,
             ng,
@@ -247,6 +252,23 @@ pub(crate) mod tests {
                 .any(|(o, w, t)| g.occluded(o, w, 0.0, t));
             assert_eq!(blocked, !clear, "square at {at}");
         }
+        // A ceiling around the rect in its plane, the rect filling its hole (a Cornell box's
+        // light): it meets no shadow ray before the rect, and the pyramid drops it.
+        let outer = rect(DVec3::new(0.2, 0.4, -0.1), DVec3::Y, DVec3::X, (3.0, 2.5));
+        let ring: Vec<[u32; 3]> = (0..4u32)
+            .flat_map(|i| {
+                let j = (i + 1) % 4;
+                [[i, j, 4 + j], [i, 4 + j, 4 + i]]
+            })
+            .collect();
+        let points: Vec<DVec3> = corners.iter().chain(outer.iter()).copied().collect();
+        let ceiling = TestShadows::new(&scene_with(vec![floor(), mesh("/ceiling", points, ring)]));
+        assert!(ceiling.cone_clear(&pyramid, &|_| true));
+        assert!(
+            !segments(p, &corners, 400)
+                .into_iter()
+                .any(|(o, w, t)| ceiling.occluded(o, w, 0.0, t))
+        );
         // A rect reaching below the tangent plane has no pyramid.
         let tilted = rect(
             DVec3::new(0.2, 0.4, -0.1),
