@@ -51,7 +51,7 @@ pub fn visible(
 
 /// The fraction of a disk light's unshadowed integral (centre, unit normal, radius: `disk`) that
 /// reaches the point `sp` past the blockers `few`: `1 − H / Π`, H what the blockers (triangles,
-/// cards' outlines, solids' silhouettes: [`past`]) hide of it together
+/// cards' outlines, solids' silhouettes: [`Seen::past`]) hide of it together
 /// ([`hidden::disk_polygon`] of each, their overlaps once), Π the disk's projected solid angle
 /// from `sp.p` with the shading normal; 0 within 10⁻¹² of all of it. `None` unless the disk
 /// lies wholly above the horizon and every blocker that hides some of it lies wholly on the
@@ -74,30 +74,25 @@ pub fn disk_visible(
     let dist = to.length();
     // (the disk wholly above the geometric horizon too: its rim's nearest point)
     let tilt = (sp.ng - sp.ng.dot(normal) * normal).length();
-    past(
-        g,
-        sp,
-        few,
-        room,
-        Seen {
-            pi,
-            above: sp.ng.dot(to) > radius * tilt,
-            cone: (dist > radius).then(|| {
-                let sin = radius / dist;
-                (to / dist, (1.0 - sin * sin).sqrt(), sin)
-            }),
-            hides: |tri: &[DVec3]| {
-                let before = tri.iter().all(|v| normal.dot(*v - centre) * side > 0.0);
-                Some((hidden::disk_polygon(sp.p, sp.ns, disk, tri)?, before))
-            },
-            before_ball: |c: DVec3, r: f64| normal.dot(c - centre) * side.signum() > r,
+    Seen {
+        pi,
+        above: sp.ng.dot(to) > radius * tilt,
+        cone: (dist > radius).then(|| {
+            let sin = radius / dist;
+            (to / dist, (1.0 - sin * sin).sqrt(), sin)
+        }),
+        hides: |tri: &[DVec3]| {
+            let before = tri.iter().all(|v| normal.dot(*v - centre) * side > 0.0);
+            Some((hidden::disk_polygon(sp.p, sp.ns, disk, tri)?, before))
         },
-    )
+        before_ball: |c: DVec3, r: f64| normal.dot(c - centre) * side.signum() > r,
+    }
+    .past(g, sp, few, room)
 }
 
 /// The fraction of a rect light's unshadowed integral (over its world `corners`, a
 /// parallelogram) that reaches the point `sp` past the blockers `few`: `1 − H / Π`, H what the
-/// blockers ([`past`]) hide of it together ([`hidden::polygon_polygon`] of each, their overlaps
+/// blockers ([`Seen::past`]) hide of it together ([`hidden::polygon_polygon`] of each, their overlaps
 /// once), Π the rect's projected solid angle from `sp.p` with the shading normal, both clipped
 /// to the horizon; 0 within 10⁻¹² of all of it. `None` unless Π > 0 and every blocker that
 /// hides some of it lies wholly on the point's side of the light's plane (before the light
@@ -128,28 +123,23 @@ pub fn rect_visible(
         })
         .flatten();
     let unit = normal.normalize();
-    past(
-        g,
-        sp,
-        few,
-        room,
-        Seen {
-            pi,
-            above: corners.iter().all(|c| sp.ng.dot(*c - sp.p) > 0.0),
-            cone,
-            hides: |tri: &[DVec3]| {
-                let before = tri.iter().all(|v| normal.dot(*v - corners[0]) * side > 0.0);
-                Some((hidden::polygon_polygon(sp.p, sp.ns, corners, tri), before))
-            },
-            before_ball: |c: DVec3, r: f64| unit.dot(c - corners[0]) * side.signum() > r,
+    Seen {
+        pi,
+        above: corners.iter().all(|c| sp.ng.dot(*c - sp.p) > 0.0),
+        cone,
+        hides: |tri: &[DVec3]| {
+            let before = tri.iter().all(|v| normal.dot(*v - corners[0]) * side > 0.0);
+            Some((hidden::polygon_polygon(sp.p, sp.ns, corners, tri), before))
         },
-    )
+        before_ball: |c: DVec3, r: f64| unit.dot(c - corners[0]) * side.signum() > r,
+    }
+    .past(g, sp, few, room)
 }
 
 /// The fraction of a uniform sphere light's unshadowed integral that reaches the point `sp`
 /// past the blockers `few` (every triangle or solid that can stop its shadow rays:
 /// [`Shadows::blockers_in`] of a region holding them): `1 − H / Π` with H what the blockers
-/// ([`past`]) hide of the cap together ([`hidden::cap_polygon`] of each, their overlaps once),
+/// ([`Seen::past`]) hide of the cap together ([`hidden::cap_polygon`] of each, their overlaps once),
 /// Π the cap's projected solid angle from `sp.p` with the shading normal (`pi`), the sphere of
 /// world centre `centre` and radius `radius`; 0 within 10⁻¹² of the whole cap (the rounding
 /// of the blockers' sum).
@@ -175,26 +165,21 @@ pub fn sphere_visible(
     let cos_a = (1.0 - sin_a * sin_a).sqrt();
     let near = d - radius;
     // (the cap lies above the shading normal's horizon: cap_polygon answers)
-    past(
-        g,
-        sp,
-        few,
-        room,
-        Seen {
-            pi,
-            // (above both horizons, tested above)
-            above: true,
-            cone: Some((axis, cos_a, sin_a)),
-            hides: |tri: &[DVec3]| {
-                let before = tri.iter().all(|v| (*v - sp.p).dot(axis) < near);
-                Some((hidden::cap_polygon(sp.p, sp.ns, axis, cos_a, tri)?, before))
-            },
-            before_ball: |c: DVec3, r: f64| (c - sp.p).dot(axis) + r < near,
+    Seen {
+        pi,
+        // (above both horizons, tested above)
+        above: true,
+        cone: Some((axis, cos_a, sin_a)),
+        hides: |tri: &[DVec3]| {
+            let before = tri.iter().all(|v| (*v - sp.p).dot(axis) < near);
+            Some((hidden::cap_polygon(sp.p, sp.ns, axis, cos_a, tri)?, before))
         },
-    )
+        before_ball: |c: DVec3, r: f64| (c - sp.p).dot(axis) + r < near,
+    }
+    .past(g, sp, few, room)
 }
 
-/// Most blockers that hide something at one point ([`past`]): more, and the light is sampled.
+/// Most blockers that hide something at one point ([`Seen::past`]): more, and the light is sampled.
 const MOST: usize = 8;
 
 /// A worker's room for the exact penumbrae's polygons ([`visible`]), kept from point to point
@@ -214,7 +199,7 @@ pub struct Room {
 }
 
 impl Room {
-    /// Sized for [`past`] (once).
+    /// Sized for [`Seen::past`] (once).
     fn ready(&mut self) {
         if self.polys.is_empty() {
             self.polys = vec![Poly::EMPTY; MOST + 1];
@@ -321,7 +306,7 @@ fn balls_against(
         .then_some(true)
 }
 
-/// A light as [`past`] weighs blockers against it, seen from the point.
+/// A light as [`Seen::past`] weighs blockers against it, seen from the point.
 struct Seen<H, B> {
     /// Its projected solid angle Π.
     pi: f64,
@@ -336,152 +321,155 @@ struct Seen<H, B> {
     before_ball: B,
 }
 
-/// `1 − H / Π`, H what the blockers `few` hide together of the light seen from the point `sp`
-/// (`seen`: what each hides, its cone), 0 within 10⁻¹² of all of Π (rounding: a quad's two
-/// triangles covering the light leave it black, as a hard shadow's samples do). `None` when a
-/// blocker that hides something is not wholly before the light, or where there is no closed
-/// form (`hides`, a silhouette, too many overlaps: [`overlap::union_hidden`]).
-///
-/// Each blocker is a convex polygon seen from the point, clipped to the square pyramid about
-/// the light's cone (which holds the light, so nothing it leaves out hides any):
-/// - a closed convex mesh (`solid.rs`) is its silhouette, when the point lies outside it —
-///   nothing when its bounding ball's cone misses the light's, all of the light when its
-///   inner ball's cone holds the light's (and lies before it), nothing for the point's own
-///   solid, which lies behind the plane of the point's face;
-/// - a flat card's triangles ([`Shadows::blocker_card`]) count as the whole outline, once: its
-///   other triangles are not among `few` only where they stop no shadow ray of the patch, so
-///   they hide nothing from the point. An outline not wholly before the light falls back to
-///   its triangles;
-/// - any other triangle is itself.
-///
-/// Where their projections overlap, what they hide together is their union's
-/// ([`overlap::union_hidden`]).
-fn past(
-    g: &Shadows,
-    sp: &SurfacePoint,
-    few: &FewTriangles,
-    room: &mut Room,
-    seen: Seen<impl Fn(&[DVec3]) -> Option<(f64, bool)>, impl Fn(DVec3, f64) -> bool>,
-) -> Option<f64> {
-    const N: usize = hidden::MAX_CORNERS;
-    let p = sp.p;
-    let Seen {
-        pi,
-        above,
-        cone,
-        hides,
-        before_ball,
-    } = seen;
-    let solids = few.solids();
-    // (for solids)
-    let pyramid = cone
-        .filter(|c| c.1 > 0.0 && !solids.is_empty())
-        .map(pyramid);
-    let hidden_by = |poly: &Poly| hidden_by(poly, p, &hides);
-    room.ready();
-    let Room {
-        polys,
-        h: hs,
-        bufs,
-        rim,
-        spare,
-    } = room;
-    // The blockers that hide something, as polygons seen from p: `polys[..k]` (the slot `k`
-    // the next one's).
-    let mut k = 0;
-    // A solid's silhouette (world points) into slot k, clipped to the pyramid: what it hides,
-    // and whether it lies before the light (nothing when it hides nothing).
-    let mut take = |corners: &mut [DVec3], k: usize| -> Option<(f64, bool)> {
-        let slot = &mut polys[k];
-        seen_from(corners, p, pyramid.as_ref(), slot, spare)?;
-        slot.tidy();
-        if slot.is_empty() {
-            return Some((0.0, true));
-        }
-        hidden_by(slot)
-    };
-    for &mesh in solids {
-        let solid = g.solid(mesh)?;
-        if mesh as usize == sp.mesh {
-            // The point's own solid, seen from outside: wholly behind the plane of the
-            // point's face, which the light lies wholly above.
-            if above && solid.outward(sp.tri).is_some_and(|n| n.dot(sp.ng) > 0.0) {
+impl<H: Fn(&[DVec3]) -> Option<(f64, bool)>, B: Fn(DVec3, f64) -> bool> Seen<H, B> {
+    /// `1 − H / Π`, H what the blockers `few` hide together of the light seen from the point `sp`
+    /// (`self`: what each hides, its cone), 0 within 10⁻¹² of all of Π (rounding: a quad's two
+    /// triangles covering the light leave it black, as a hard shadow's samples do). `None` when a
+    /// blocker that hides something is not wholly before the light, or where there is no closed
+    /// form (`hides`, a silhouette, too many overlaps: [`overlap::union_hidden`]).
+    ///
+    /// Each blocker is a convex polygon seen from the point, clipped to the square pyramid about
+    /// the light's cone (which holds the light, so nothing it leaves out hides any):
+    /// - a closed convex mesh (`solid.rs`) is its silhouette, when the point lies outside it —
+    ///   nothing when its bounding ball's cone misses the light's, all of the light when its
+    ///   inner ball's cone holds the light's (and lies before it), nothing for the point's own
+    ///   solid, which lies behind the plane of the point's face;
+    /// - a flat card's triangles ([`Shadows::blocker_card`]) count as the whole outline, once: its
+    ///   other triangles are not among `few` only where they stop no shadow ray of the patch, so
+    ///   they hide nothing from the point. An outline not wholly before the light falls back to
+    ///   its triangles;
+    /// - any other triangle is itself.
+    ///
+    /// Where their projections overlap, what they hide together is their union's
+    /// ([`overlap::union_hidden`]).
+    fn past(
+        self,
+        g: &Shadows,
+        sp: &SurfacePoint,
+        few: &FewTriangles,
+        room: &mut Room,
+    ) -> Option<f64> {
+        let seen = self;
+        const N: usize = hidden::MAX_CORNERS;
+        let p = sp.p;
+        let Seen {
+            pi,
+            above,
+            cone,
+            hides,
+            before_ball,
+        } = seen;
+        let solids = few.solids();
+        // (for solids)
+        let pyramid = cone
+            .filter(|c| c.1 > 0.0 && !solids.is_empty())
+            .map(pyramid);
+        let hidden_by = |poly: &Poly| hidden_by(poly, p, &hides);
+        room.ready();
+        let Room {
+            polys,
+            h: hs,
+            bufs,
+            rim,
+            spare,
+        } = room;
+        // The blockers that hide something, as polygons seen from p: `polys[..k]` (the slot `k`
+        // the next one's).
+        let mut k = 0;
+        // A solid's silhouette (world points) into slot k, clipped to the pyramid: what it hides,
+        // and whether it lies before the light (nothing when it hides nothing).
+        let mut take = |corners: &mut [DVec3], k: usize| -> Option<(f64, bool)> {
+            let slot = &mut polys[k];
+            seen_from(corners, p, pyramid.as_ref(), slot, spare)?;
+            slot.tidy();
+            if slot.is_empty() {
+                return Some((0.0, true));
+            }
+            hidden_by(slot)
+        };
+        for &mesh in solids {
+            let solid = g.solid(mesh)?;
+            if mesh as usize == sp.mesh {
+                // The point's own solid, seen from outside: wholly behind the plane of the
+                // point's face, which the light lies wholly above.
+                if above && solid.outward(sp.tri).is_some_and(|n| n.dot(sp.ng) > 0.0) {
+                    continue;
+                }
+                return None;
+            }
+            match cone.map(|cone| balls_against(solid, p, cone, &before_ball)) {
+                Some(Some(false)) => continue,
+                Some(Some(true)) => return Some(0.0),
+                _ => {}
+            }
+            let n = solid.silhouette(p, rim)?;
+            let (h, before) = take(&mut rim[..n], k)?;
+            if h == 0.0 {
                 continue;
             }
-            return None;
-        }
-        match cone.map(|cone| balls_against(solid, p, cone, &before_ball)) {
-            Some(Some(false)) => continue,
-            Some(Some(true)) => return Some(0.0),
-            _ => {}
-        }
-        let n = solid.silhouette(p, rim)?;
-        let (h, before) = take(&mut rim[..n], k)?;
-        if h == 0.0 {
-            continue;
-        }
-        if !before || k == MOST {
-            return None;
-        }
-        hs[k] = h;
-        k += 1;
-    }
-    // A triangle or a card (world `corners`, up to N) hides what `hides` says, itself; into
-    // slot k as a polygon seen from p where it hides something.
-    let mut small = |corners: &[DVec3], k: usize| -> Option<(f64, bool)> {
-        let (h, before) = hides(corners)?;
-        if h != 0.0 && before && k < MOST {
-            let mut r = [DVec3::ZERO; N];
-            for (r, c) in r.iter_mut().zip(corners) {
-                *r = *c - p;
-            }
-            polys[k] = Poly::new(&r[..corners.len()])?;
-        }
-        Some((h, before))
-    };
-    // cards met: (mesh, whether its outline is used)
-    let mut cards = [(u32::MAX, false); FewTriangles::CAP];
-    let mut nc = 0;
-    for &id in few.ids() {
-        let card = g.blocker_card(id);
-        let met = card.and_then(|(mesh, _)| cards[..nc].iter().find(|c| c.0 == mesh));
-        // The card's outline the first time one of its triangles comes, when wholly before
-        // the light; else the triangle itself.
-        let h = match (card, met) {
-            (Some(_), Some(&(_, true))) => continue,
-            (Some((mesh, corners)), None) => {
-                let (h, before) = small(corners, k)?;
-                cards[nc] = (mesh, before);
-                nc += 1;
-                before.then_some(h)
-            }
-            _ => None,
-        };
-        let h = match h {
-            Some(h) => h,
-            None => {
-                let (h, before) = small(&g.blocker_vertices(id)?, k)?;
-                if h != 0.0 && !before {
-                    return None;
-                }
-                h
-            }
-        };
-        if h != 0.0 {
-            if k == MOST {
+            if !before || k == MOST {
                 return None;
             }
             hs[k] = h;
             k += 1;
         }
+        // A triangle or a card (world `corners`, up to N) hides what `hides` says, itself; into
+        // slot k as a polygon seen from p where it hides something.
+        let mut small = |corners: &[DVec3], k: usize| -> Option<(f64, bool)> {
+            let (h, before) = hides(corners)?;
+            if h != 0.0 && before && k < MOST {
+                let mut r = [DVec3::ZERO; N];
+                for (r, c) in r.iter_mut().zip(corners) {
+                    *r = *c - p;
+                }
+                polys[k] = Poly::new(&r[..corners.len()])?;
+            }
+            Some((h, before))
+        };
+        // cards met: (mesh, whether its outline is used)
+        let mut cards = [(u32::MAX, false); FewTriangles::CAP];
+        let mut nc = 0;
+        for &id in few.ids() {
+            let card = g.blocker_card(id);
+            let met = card.and_then(|(mesh, _)| cards[..nc].iter().find(|c| c.0 == mesh));
+            // The card's outline the first time one of its triangles comes, when wholly before
+            // the light; else the triangle itself.
+            let h = match (card, met) {
+                (Some(_), Some(&(_, true))) => continue,
+                (Some((mesh, corners)), None) => {
+                    let (h, before) = small(corners, k)?;
+                    cards[nc] = (mesh, before);
+                    nc += 1;
+                    before.then_some(h)
+                }
+                _ => None,
+            };
+            let h = match h {
+                Some(h) => h,
+                None => {
+                    let (h, before) = small(&g.blocker_vertices(id)?, k)?;
+                    if h != 0.0 && !before {
+                        return None;
+                    }
+                    h
+                }
+            };
+            if h != 0.0 {
+                if k == MOST {
+                    return None;
+                }
+                hs[k] = h;
+                k += 1;
+            }
+        }
+        let hidden_sum = overlap::union_hidden(
+            &polys[..k],
+            &hs[..k],
+            1e-12 * pi,
+            &|poly| Some(hidden_by(poly)?.0),
+            bufs,
+        )?;
+        let pass = 1.0 - hidden_sum / pi;
+        Some(if pass < 1e-12 { 0.0 } else { pass.min(1.0) })
     }
-    let hidden_sum = overlap::union_hidden(
-        &polys[..k],
-        &hs[..k],
-        1e-12 * pi,
-        &|poly| Some(hidden_by(poly)?.0),
-        bufs,
-    )?;
-    let pass = 1.0 - hidden_sum / pi;
-    Some(if pass < 1e-12 { 0.0 } else { pass.min(1.0) })
 }

@@ -219,24 +219,28 @@ mod tests {
     /// The 12 triangles of the box [lo, hi], each with its index (either winding: the solid
     /// orients them).
     fn box_tris(lo: DVec3, hi: DVec3) -> Vec<(u32, [DVec3; 3])> {
-        let c = |i: usize| {
-            DVec3::new(
-                if i & 1 == 0 { lo.x } else { hi.x },
-                if i & 2 == 0 { lo.y } else { hi.y },
-                if i & 4 == 0 { lo.z } else { hi.z },
-            )
-        };
-        let quads = [
-            [0, 1, 3, 2],
-            [4, 6, 7, 5],
-            [0, 4, 5, 1],
-            [2, 3, 7, 6],
-            [0, 2, 6, 4],
-            [1, 5, 7, 3],
-        ];
-        quads
-            .iter()
-            .flat_map(|q| [[c(q[0]), c(q[1]), c(q[2])], [c(q[0]), c(q[2]), c(q[3])]])
+        let mut tris = Vec::new();
+        // Each face: the axis it is normal to, its side, its corners around it.
+        for axis in 0..3 {
+            for side in [lo[axis], hi[axis]] {
+                let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+                let corner = |a: f64, b: f64| {
+                    let mut x = DVec3::ZERO;
+                    x[axis] = side;
+                    x[u] = a;
+                    x[v] = b;
+                    x
+                };
+                let q = [
+                    corner(lo[u], lo[v]),
+                    corner(hi[u], lo[v]),
+                    corner(hi[u], hi[v]),
+                    corner(lo[u], hi[v]),
+                ];
+                tris.extend([[q[0], q[1], q[2]], [q[0], q[2], q[3]]]);
+            }
+        }
+        tris.into_iter()
             .enumerate()
             .map(|(i, t)| (i as u32, t))
             .collect()
