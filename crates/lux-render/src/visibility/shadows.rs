@@ -17,6 +17,7 @@ use crate::geometry::{
 use glam::DVec3;
 use lux_usd::Scene;
 use obvhs::ray::RayHit;
+use rayon::prelude::*;
 
 /// A few triangles of the BVH shadow rays query ([`Shadows::blockers_in`]): all that can stop
 /// a shadow ray inside some region, those of closed convex meshes (`solid.rs`) as their
@@ -91,14 +92,22 @@ impl ShadowBvh {
         if shadow.is_none() {
             cards.clear();
         }
-        let mut solids = vec![None; scene.meshes.len()];
-        for mi in world_meshes() {
-            if scene.meshes[mi].triangles.len() <= super::solid::MAX_SOLID_TRIANGLES {
+        // (each mesh on its own: in parallel, the same answers in order)
+        let small: Vec<usize> = world_meshes()
+            .filter(|&mi| scene.meshes[mi].triangles.len() <= super::solid::MAX_SOLID_TRIANGLES)
+            .collect();
+        let found: Vec<Option<Solid>> = small
+            .par_iter()
+            .map(|&mi| {
                 let tris: Vec<(u32, [DVec3; 3])> = mesh_triangles(scene, mi)
                     .map(|(prim, t)| (prim.tri, t.map(|v| v.as_vec3().as_dvec3())))
                     .collect();
-                solids[mi] = Solid::new(&tris);
-            }
+                Solid::new(&tris)
+            })
+            .collect();
+        let mut solids = vec![None; scene.meshes.len()];
+        for (mi, solid) in small.into_iter().zip(found) {
+            solids[mi] = solid;
         }
         ShadowBvh {
             shadow,

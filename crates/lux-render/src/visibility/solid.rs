@@ -75,6 +75,16 @@ impl Solid {
         }
         let mut planes = Vec::with_capacity(faces.len());
         let mut inner = f64::INFINITY;
+        // (the vertices as three arrays: the test of every vertex against every plane below is
+        // a loop the compiler vectorises)
+        let [xs, ys, zs] = [0, 1, 2].map(|k| verts.iter().map(|v| v[k]).collect::<Vec<f64>>());
+        let beyond = |n: DVec3, limit: f64| {
+            let mut out = false;
+            for ((x, y), z) in xs.iter().zip(&ys).zip(&zs) {
+                out |= n.x * x + n.y * y + n.z * z > limit;
+            }
+            out
+        };
         for f in &mut faces {
             let [a, b, c] = f.map(|i| verts[i as usize]);
             let mut n = (b - a).cross(c - a).try_normalize()?;
@@ -83,7 +93,7 @@ impl Solid {
                 f.swap(1, 2);
             }
             let d = n.dot(a);
-            if d - n.dot(mean) < 1e-4 * diag || verts.iter().any(|v| n.dot(*v) - d > 1e-5 * diag) {
+            if d - n.dot(mean) < 1e-4 * diag || beyond(n, d + 1e-5 * diag) {
                 return None;
             }
             inner = inner.min(d - n.dot(mean));
