@@ -521,14 +521,14 @@ fn solid_box(path: &str, c: DVec3, h: f64, turn: glam::DQuat) -> Mesh {
 /// A faceted ball of radius `r` about `c`: an octahedron whose faces are split in four
 /// `levels` times, corners pushed out to the sphere (8·4^levels triangles).
 fn faceted_ball(path: &str, c: DVec3, r: f64, levels: u32) -> Mesh {
-    let mut points = vec![
-        DVec3::X,
-        DVec3::NEG_X,
-        DVec3::Y,
-        DVec3::NEG_Y,
-        DVec3::Z,
-        DVec3::NEG_Z,
-    ];
+    // (±x, ±y, ±z in that order)
+    let mut points: Vec<DVec3> = (0..6)
+        .map(|i| {
+            let mut v = DVec3::ZERO;
+            v[i / 2] = if i % 2 == 0 { 1.0 } else { -1.0 };
+            v
+        })
+        .collect();
     let mut tris: Vec<[u32; 3]> = vec![
         [0, 2, 4],
         [2, 1, 4],
