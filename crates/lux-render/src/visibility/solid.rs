@@ -29,7 +29,8 @@ pub struct Solid {
     tris: Vec<[u32; 3]>,
     /// Per triangle: outward unit normal n and `n·a` (a its first corner).
     planes: Vec<(DVec3, f64)>,
-    /// The planes again as four arrays (n.x, n.y, n.z, n·a), for [`Solid::silhouette`].
+    /// The planes again as four arrays (n.x, n.y, n.z, n·a + ε), for [`Solid::silhouette`]:
+    /// a triangle turns towards a point only beyond ε of its plane.
     soa: [Vec<f64>; 4],
     /// Per triangle and edge i (from corner i to corner i + 1): the triangle across it.
     across: Vec<[u32; 3]>,
@@ -103,6 +104,9 @@ impl Solid {
             .iter()
             .map(|v| (*v - mean).length())
             .fold(0.0, f64::max);
+        // (ε: coplanar triangles rounded to f32 differ in their planes by ~10⁻⁷ of the
+        // coordinates; within ε of a plane a point sees the triangle edge-on either way)
+        let edge_on = 1e-6 * (lo.abs().max(hi.abs()).max_element() + diag);
         let mut edges: HashMap<(u32, u32), u32> = HashMap::with_capacity(3 * faces.len());
         for (k, f) in faces.iter().enumerate() {
             for i in 0..3 {
@@ -136,7 +140,7 @@ impl Solid {
                 planes.iter().map(|(n, _)| n.x).collect(),
                 planes.iter().map(|(n, _)| n.y).collect(),
                 planes.iter().map(|(n, _)| n.z).collect(),
-                planes.iter().map(|(_, d)| *d).collect(),
+                planes.iter().map(|(_, d)| *d + edge_on).collect(),
             ],
             planes,
         })
@@ -154,11 +158,14 @@ impl Solid {
         Some(self.planes.get(k as usize)?.0)
     }
 
-    /// The silhouette of the solid seen from `p` into `out` (room for [`MAX_SILHOUETTE`]), its corners in order (counter-
-    /// clockwise seen from `p`), and their count; `None` when `p` lies before no triangle's
-    /// plane (inside the solid or on it), or the silhouette has more than
-    /// [`MAX_SILHOUETTE`] corners. (Of a convex solid seen from outside it is one loop; faces
-    /// seen edge-on, whose side rounding decides, hide nothing either way.)
+    /// The silhouette of the solid seen from `p` into `out` (room for [`MAX_SILHOUETTE`]), its
+    /// corners in order (counter-clockwise seen from `p`), and their count; `None` when `p`
+    /// lies before no triangle's plane by more than ε (10⁻⁶ of the solid's coordinates and
+    /// size: inside the solid or on it), or the silhouette has more than [`MAX_SILHOUETTE`]
+    /// corners. A triangle within ε of `p`'s plane counts as turned away: it is seen edge-on
+    /// and hides nothing, and so the coplanar triangles of a face (their planes differing by
+    /// the f32 rounding) all count alike — the faces towards `p` make one patch of the
+    /// surface, whose rim is one loop, as for a convex solid seen from outside.
     pub fn silhouette(&self, p: DVec3, out: &mut [DVec3]) -> Option<usize> {
         // Which triangles turn towards p, 64 to a word (a loop the compiler vectorises).
         let mut toward = [0u64; MAX_SOLID_TRIANGLES / 64];
@@ -393,5 +400,45 @@ mod tests {
             }
         }
         assert!(hits > 1000 && misses > 1000, "{hits} {misses}");
+    }
+
+    #[test]
+    fn a_tilted_box_seen_from_the_plane_of_its_bottom_has_one_rim() {
+        // A box turned about two axes, its corners rounded to f32 as the BVHs hold them (its
+        // bottom's two triangles then lie on planes ~1e-7 apart), seen from points of the
+        // plane of its bottom (a floor it rests on) all around it.
+        let turn = glam::DQuat::from_euler(glam::EulerRot::XYZ, 0.31, 0.0, 0.17);
+        let at = DVec3::new(12.3, 4.56, -7.89);
+        let tris: Vec<(u32, [DVec3; 3])> =
+            box_tris(DVec3::new(-0.4, 0.0, -0.3), DVec3::new(0.4, 0.5, 0.3))
+                .into_iter()
+                .map(|(i, t)| (i, t.map(|v| (at + turn * v).as_vec3().as_dvec3())))
+                .collect();
+        let solid = Solid::new(&tris).expect("a box");
+        let (up, right, ahead) = (turn * DVec3::Y, turn * DVec3::X, turn * DVec3::Z);
+        let mut out = [DVec3::ZERO; MAX_SILHOUETTE];
+        let mut checked = 0;
+        for k in 0..64 {
+            let a = k as f64 / 64.0 * std::f64::consts::TAU;
+            let p = at + (right * a.cos() + ahead * a.sin()) * (0.55 + 0.3 * (k % 5) as f64);
+            let n = solid.silhouette(p, &mut out).expect("outside, beside it");
+            let r: Vec<DVec3> = out[..n].iter().map(|v| *v - p).collect();
+            for j in 0..64 {
+                // Directions above the floor towards the box.
+                let b = j as f64 / 64.0 * std::f64::consts::TAU;
+                let d = ((at + up * 0.25 - p).normalize()
+                    + 0.5
+                        * (right * b.cos() + up * (0.5 + 0.5 * b.sin()) + ahead * (1.7 * b).sin()))
+                .normalize();
+                if d.dot(up) <= 1e-3 {
+                    continue;
+                }
+                let inside = (0..n).all(|i| r[i].cross(r[(i + 1) % n]).dot(d) <= 0.0);
+                let hit = tris.iter().any(|(_, t)| meets(p, d, t));
+                assert_eq!(inside, hit, "from {p} along {d}: {n} corners");
+                checked += 1;
+            }
+        }
+        assert!(checked > 2000, "{checked}");
     }
 }
