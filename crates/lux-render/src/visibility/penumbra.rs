@@ -349,7 +349,6 @@ impl<H: Fn(&[DVec3]) -> Option<(f64, bool)>, B: Fn(DVec3, f64) -> bool> Seen<H, 
         few: &FewTriangles,
         room: &mut Room,
     ) -> Option<f64> {
-        let seen = self;
         const N: usize = hidden::MAX_CORNERS;
         let p = sp.p;
         let Seen {
@@ -358,7 +357,7 @@ impl<H: Fn(&[DVec3]) -> Option<(f64, bool)>, B: Fn(DVec3, f64) -> bool> Seen<H, 
             cone,
             hides,
             before_ball,
-        } = seen;
+        } = self;
         let solids = few.solids();
         // (for solids)
         let pyramid = cone
