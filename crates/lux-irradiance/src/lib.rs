@@ -9,6 +9,8 @@
 //! - [`hidden`]: what an opaque triangle or planar convex polygon between the receiver and the
 //!   light hides of a sphere's cap, a convex polygon or a disk, and whether two blockers'
 //!   projections overlap — the exact shadowed irradiance `L·(Π − Σ H)` behind a few blockers.
+//! - [`overlap`]: what blockers whose projections overlap hide together — their union, by
+//!   inclusion–exclusion over the convex intersections of their spherical polygons.
 //!
 //! Geometry is `f64` (`glam::DVec3`), points in world space; nothing here samples or traces
 //! rays (lux-sample samples the same lights).
@@ -16,6 +18,7 @@
 #![warn(missing_docs)]
 
 pub mod hidden;
+pub mod overlap;
 pub mod projected;
 
 /// True for NaN, zero and negative values: the "no usable positive quantity" test that turns

@@ -31,7 +31,6 @@
 
 pub(crate) mod cone;
 pub(crate) mod frustum;
-pub(crate) mod overlap;
 pub(crate) mod patches;
 pub(crate) mod penumbra;
 pub(crate) mod planar;

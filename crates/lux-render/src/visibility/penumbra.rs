@@ -6,7 +6,7 @@
 //! visibility/patches.rs), that part has a closed form: the light's Π less what the blockers
 //! hide of it together (`lux_irradiance::hidden`: of a sphere's cap, a rect's parallelogram,
 //! a disk, per convex polygon; their union by inclusion–exclusion where they overlap,
-//! `overlap.rs`), provided the blockers lie in front of the light (every ray through them meets
+//! `lux_irradiance::overlap`), provided the blockers lie in front of the light (every ray through them meets
 //! them before the light). A blocker is a triangle, a flat card's outline (`planar.rs`) or a
 //! closed convex mesh's silhouette (`solid.rs`: a box, a faceted ball, however many
 //! triangles). Then the penumbra is exact: no light sample, no shadow ray, no noise. (A
@@ -14,13 +14,13 @@
 //! was the fraction of blocked samples; a rect's and a disk's samples add their samplers' own
 //! noise.)
 
-use super::overlap::{self, Poly};
 use super::solid::{MAX_SILHOUETTE, Solid};
 use super::{FewTriangles, Shadows};
 use crate::light::LightFrom;
 use crate::material::SurfacePoint;
 use glam::DVec3;
 use lux_irradiance::hidden;
+use lux_irradiance::overlap::{self, Poly};
 
 /// The exact penumbra of the light `from` at the Lambertian point `sp` past the blockers `few`
 /// (every triangle or solid that can stop its shadow rays: [`Shadows::blockers_in`] of a region

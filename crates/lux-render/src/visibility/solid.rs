@@ -27,10 +27,9 @@ pub const MAX_SILHOUETTE: usize = 96;
 pub struct Solid {
     verts: Vec<DVec3>,
     tris: Vec<[u32; 3]>,
-    /// Per triangle: outward unit normal n and `n·a` (a its first corner).
-    planes: Vec<(DVec3, f64)>,
-    /// The planes again as four arrays (n.x, n.y, n.z, n·a + ε), for [`Solid::silhouette`]:
-    /// a triangle turns towards a point only beyond ε of its plane.
+    /// Per triangle its plane, as four arrays (for [`Solid::silhouette`]'s vectorised test):
+    /// the outward unit normal n's x, y, z and `n·a + ε`, a its first corner — a triangle
+    /// turns towards a point only beyond ε of its plane.
     soa: [Vec<f64>; 4],
     /// Per triangle and edge i (from corner i to corner i + 1): the triangle across it.
     across: Vec<[u32; 3]>,
@@ -142,7 +141,6 @@ impl Solid {
                 planes.iter().map(|(n, _)| n.z).collect(),
                 planes.iter().map(|(_, d)| *d + edge_on).collect(),
             ],
-            planes,
         })
     }
 
@@ -154,8 +152,9 @@ impl Solid {
 
     /// The outward unit normal of the mesh triangle `tri` (`PrimRef::tri`).
     pub fn outward(&self, tri: usize) -> Option<DVec3> {
-        let k = *self.of_mesh.get(tri)?;
-        Some(self.planes.get(k as usize)?.0)
+        let k = *self.of_mesh.get(tri)? as usize;
+        let [x, y, z, _] = &self.soa;
+        Some(DVec3::new(*x.get(k)?, y[k], z[k]))
     }
 
     /// The silhouette of the solid seen from `p` into `out` (room for [`MAX_SILHOUETTE`]), its

@@ -1,7 +1,8 @@
 //! What several blockers hide of a light together, where their projections overlap.
 //!
-//! Seen from a point `p`, each blocker of an exact penumbra (`penumbra.rs`: a triangle, a
-//! card's outline, a solid's silhouette) is a convex spherical polygon, and what they hide
+//! Seen from a point `p`, each blocker of an exact penumbra (a triangle, a card's outline, a
+//! convex solid's silhouette: lux-render's `visibility/penumbra.rs`) is a convex spherical
+//! polygon, and what they hide
 //! together is the part of the light in their union. Its measure (`H`: the projected solid
 //! angle of the light's directions in a set) is additive, so by inclusion–exclusion
 //!
@@ -23,7 +24,7 @@ pub const POLY: usize = 64;
 
 /// Most intersections evaluated for one point ([`union_hidden`]); past that the caller
 /// samples the light.
-const MOST_TERMS: usize = 48;
+pub const MOST_TERMS: usize = 48;
 
 /// Most levels of intersections ([`union_hidden`]: pairs, triples, …): where more blockers
 /// overlap at once the light is sampled.
