@@ -102,7 +102,7 @@ fn jpeg_decodes_srgb() {
     // A flat JPEG decodes to within a code of its value; compare in linear with the codes'
     // neighbours as bounds.
     let (lo, hi) = (eotf(127.0 / 255.0) as f32, eotf(129.0 / 255.0) as f32);
-    for texel in t.texels() {
+    for texel in t.texels().iter() {
         for &c in &texel[..3] {
             assert!((lo..=hi).contains(&c), "{c}");
         }
@@ -205,7 +205,7 @@ fn exr_round_trip_is_bit_exact() {
 
     let tex = Texture::load(&path).unwrap();
     assert_eq!((tex.width(), tex.height()), (width, height));
-    for (a, b) in pixels.iter().zip(tex.texels()) {
+    for (a, b) in pixels.iter().zip(tex.texels().iter()) {
         assert_eq!(a.map(f32::to_bits), b.map(f32::to_bits));
     }
 
@@ -302,7 +302,10 @@ fn exr_non_finite_becomes_zero_on_load() {
     assert!(r.sample_data.value_by_flat_index(0).to_f32().is_nan());
     // …the texture replaces them by 0 and counts them.
     let tex = Texture::load(&path).unwrap();
-    assert_eq!(tex.texels(), &[[0.0, 1.0, 0.0, 1.0], [2.0, 0.0, 3.0, 0.0]]);
+    assert_eq!(
+        &*tex.texels(),
+        &[[0.0, 1.0, 0.0, 1.0], [2.0, 0.0, 3.0, 0.0]]
+    );
     assert_eq!(tex.non_finite_count(), 4);
     fs::remove_dir_all(&dir).unwrap();
 }
@@ -329,15 +332,91 @@ fn exr_half_and_u32_channels_and_missing_alpha() {
         let v = i as f32;
         assert_eq!(*texel, [v * 0.5, -v, 1000.0 + v, 1.0], "texel {i}");
     }
+    // Kept as half floats: 8 bytes a texel, not 16.
+    assert!(t.is_half());
+    assert_eq!(t.texel_bytes(), 6 * 8);
 
     // u32 channels convert to their numeric value.
     let uint = dir.join("uint.exr");
     exr::prelude::write_rgba_file(&uint, 2, 1, |x, _| (x as u32, 7u32, 1000u32, 1u32)).unwrap();
     let t = Texture::load(&uint).unwrap();
     assert_eq!(
-        t.texels(),
+        &*t.texels(),
         &[[0.0, 7.0, 1000.0, 1.0], [1.0, 7.0, 1000.0, 1.0]]
     );
+    assert!(!t.is_half());
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A half-float texture answers every lookup as the `f32` texture of the same (widened)
+/// texels, bit for bit; its NaN and ±∞ texels become 0 and are counted as in `f32`; a file
+/// with a half and a full-float colour channel is read in `f32`.
+#[test]
+fn half_float_textures_look_up_as_their_f32_texels() {
+    use exr::prelude::f16;
+    let dir = scratch("exr_half_lookups");
+    let (w, h) = (7, 5);
+    let value = |x: usize, y: usize, c: usize| -> f16 {
+        match (x + 3 * y + c) % 11 {
+            3 if c == 0 => f16::NAN,
+            5 if c == 1 => f16::INFINITY,
+            k => f16::from_f32((k as f32 - 4.0) * 0.37 + y as f32 * 1e-3),
+        }
+    };
+    let path = dir.join("half.exr");
+    exr::prelude::write_rgba_file(&path, w, h, |x, y| {
+        (
+            value(x, y, 0),
+            value(x, y, 1),
+            value(x, y, 2),
+            value(x, y, 3),
+        )
+    })
+    .unwrap();
+    let half = Texture::load(&path).unwrap();
+    assert!(half.is_half());
+    let widened: Vec<[f32; 4]> = (0..w * h)
+        .map(|i| [0, 1, 2, 3].map(|c| value(i % w, i / w, c).to_f32()))
+        .collect();
+    let full = Texture::from_texels(w, h, widened).unwrap();
+    assert!(!full.is_half());
+    assert_eq!(half.non_finite_count(), full.non_finite_count());
+    assert!(half.non_finite_count() > 0);
+    assert_eq!(&*half.texels(), &*full.texels());
+    assert_eq!(half.average(), full.average());
+    for i in 0..400 {
+        let (u, v) = (i as f64 * 0.0731 - 3.3, (i % 37) as f64 * 0.031 - 0.1);
+        let (a, b) = (half.bilinear(u, v), full.bilinear(u, v));
+        assert_eq!(
+            a.map(f32::to_bits),
+            b.map(f32::to_bits),
+            "bilinear at ({u}, {v})"
+        );
+        assert_eq!(half.nearest(u, v), full.nearest(u, v));
+    }
+    for (x, y) in [(0, 0), (6, 4), (9, 9), (3, 2)] {
+        assert_eq!(half.texel(x, y), full.texel(x, y));
+    }
+
+    // R in half, G and B in f32: widened to f32, as before.
+    use exr::prelude::{AnyChannel, AnyChannels, FlatSamples, Image, WritableImage};
+    let n = 4;
+    let mixed = Image::from_channels(
+        (2, 2),
+        AnyChannels::sort(
+            vec![
+                AnyChannel::new("R", FlatSamples::F16(vec![f16::from_f32(0.5); n])),
+                AnyChannel::new("G", FlatSamples::F32(vec![0.25; n])),
+                AnyChannel::new("B", FlatSamples::F32(vec![2.0; n])),
+            ]
+            .into(),
+        ),
+    );
+    let mixed_path = dir.join("mixed.exr");
+    mixed.write().to_file(&mixed_path).unwrap();
+    let t = Texture::load(&mixed_path).unwrap();
+    assert!(!t.is_half());
+    assert_eq!(&*t.texels(), &[[0.5, 0.25, 2.0, 1.0]; 4]);
     fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -407,7 +486,7 @@ fn luxtest_dome_exr() {
     let tex = Texture::load(&path).unwrap();
     assert_eq!((tex.width(), tex.height()), (2048, 1024));
     assert_eq!(tex.non_finite_count(), 0);
-    for t in tex.texels() {
+    for t in tex.texels().iter() {
         assert!(t.iter().all(|c| c.is_finite() && *c >= 0.0), "{t:?}");
     }
 
@@ -606,7 +685,7 @@ fn from_texels_validates() {
     assert!(matches!(err, ImageError::InvalidDimensions { .. }));
 
     let t = Texture::from_texels(1, 1, vec![[f32::NAN, 2.0, f32::NEG_INFINITY, 1.0]]).unwrap();
-    assert_eq!(t.texels(), &[[0.0, 2.0, 0.0, 1.0]]);
+    assert_eq!(&*t.texels(), &[[0.0, 2.0, 0.0, 1.0]]);
     assert_eq!(t.non_finite_count(), 2);
     assert_eq!(t.texel(5, 5), [0.0, 2.0, 0.0, 1.0]);
 }

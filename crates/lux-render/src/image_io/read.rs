@@ -5,7 +5,8 @@ use std::io::{Cursor, Read, Seek, SeekFrom};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::Path;
 
-use exr::prelude::{ReadChannels, ReadLayers, RgbaChannels, Vec2};
+use exr::block::samples::FromNativeSample;
+use exr::prelude::{ReadChannels, ReadLayers, RgbaChannels, Vec2, f16};
 use image::{DynamicImage, ImageFormat, ImageReader, Limits};
 
 use super::{ImageError, MAX_DIMENSION, MAX_PIXELS, check_dimensions, srgb_to_linear_f64};
@@ -48,21 +49,43 @@ impl<'a> Source<'a> {
     }
 }
 
-/// Loads `path` by extension; returns `(width, height, texels)`. Non-finite values are left to
+/// Decoded texels with their `width` and `height`: `f32`, or the `f16` of an OpenEXR file
+/// whose R, G, B (and A) channels are half floats, as stored. Non-finite values are left to
 /// the caller.
-pub(crate) fn load_rgba(path: &Path) -> Result<(usize, usize, Vec<[f32; 4]>), ImageError> {
-    load_rgba_from(Source::file(path))
+pub(crate) enum Decoded {
+    F32(usize, usize, Vec<[f32; 4]>),
+    F16(usize, usize, Vec<[f16; 4]>),
 }
 
-/// [`load_rgba`] from any [`Source`].
-pub(crate) fn load_rgba_from(src: Source<'_>) -> Result<(usize, usize, Vec<[f32; 4]>), ImageError> {
+/// Loads the image of `src` by extension.
+pub(crate) fn load_texels(src: Source<'_>) -> Result<Decoded, ImageError> {
+    let path = src.path;
+    if is_exr(path) {
+        return guarded(path, EXPECTED_EXR, || load_exr(src));
+    }
+    load_rgba_from(src).map(|(w, h, t)| Decoded::F32(w, h, t))
+}
+
+fn is_exr(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
+}
+
+/// Loads `src` by extension as `f32` texels: `(width, height, texels)`.
+fn load_rgba_from(src: Source<'_>) -> Result<(usize, usize, Vec<[f32; 4]>), ImageError> {
     let path = src.path;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     let (format, expected) = match ext.as_deref() {
-        Some("exr") => return guarded(path, EXPECTED_EXR, || load_exr(src)),
+        Some("exr") => {
+            return guarded(path, EXPECTED_EXR, || load_exr(src)).map(|d| match d {
+                Decoded::F32(w, h, t) => (w, h, t),
+                Decoded::F16(w, h, t) => (w, h, t.iter().map(|x| x.map(f16::to_f32)).collect()),
+            });
+        }
         Some("png") => (ImageFormat::Png, "a PNG image"),
         Some("jpg" | "jpeg") => (ImageFormat::Jpeg, "a JPEG image"),
         Some("hdr") => (ImageFormat::Hdr, "a Radiance HDR (RGBE) image"),
@@ -113,9 +136,9 @@ fn io_read_error(path: &Path, source: std::io::Error) -> ImageError {
 // ---------------------------------------------------------------------------------------------
 
 /// Pixel storage filled by the `exr` reader's callbacks.
-struct ExrPixels {
+struct ExrPixels<T> {
     width: usize,
-    texels: Vec<[f32; 4]>,
+    texels: Vec<[T; 4]>,
     /// How many pixels the file actually delivered (to detect missing blocks).
     written: usize,
 }
@@ -138,7 +161,7 @@ pub(crate) fn exr_error(path: &Path, error: exr::error::Error) -> ImageError {
     }
 }
 
-fn load_exr(src: Source<'_>) -> Result<(usize, usize, Vec<[f32; 4]>), ImageError> {
+fn load_exr(src: Source<'_>) -> Result<Decoded, ImageError> {
     let path = src.path;
     let mut file = src.open().map_err(|e| io_read_error(path, e))?;
 
@@ -157,7 +180,32 @@ fn load_exr(src: Source<'_>) -> Result<(usize, usize, Vec<[f32; 4]>), ImageError
     }
     file.seek(SeekFrom::Start(0))
         .map_err(|e| io_read_error(path, e))?;
+    // The layer the reader takes, the first with R, G and B: kept in `f16` when those (and A)
+    // are half floats, else widened to `f32` as every other format.
+    let half = meta.headers.iter().find_map(|h| {
+        let ch = |n: &str| h.channels.list.iter().find(|c| c.name.eq(n));
+        let rgb = [ch("R")?, ch("G")?, ch("B")?];
+        let f16 = exr::meta::attribute::SampleType::F16;
+        Some(
+            rgb.iter()
+                .chain(ch("A").as_ref())
+                .all(|c| c.sample_type == f16),
+        )
+    });
+    if half == Some(true) {
+        let (w, h, t) = read_exr::<f16>(path, file)?;
+        return Ok(Decoded::F16(w, h, t));
+    }
+    let (w, h, t) = read_exr::<f32>(path, file)?;
+    Ok(Decoded::F32(w, h, t))
+}
 
+/// Reads the first layer of `file` with R, G and B channels (A optional, 1 without) at its
+/// largest resolution level, as samples of type `T`.
+fn read_exr<T: FromNativeSample + Send + Sync>(
+    path: &Path,
+    file: Box<dyn ReadSeek + '_>,
+) -> Result<(usize, usize, Vec<[T; 4]>), ImageError> {
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
@@ -168,15 +216,17 @@ fn load_exr(src: Source<'_>) -> Result<(usize, usize, Vec<[f32; 4]>), ImageError
                 let ok = w <= MAX_DIMENSION && h <= MAX_DIMENSION && w * h <= MAX_PIXELS;
                 ExrPixels {
                     width: w,
+                    // Zeros (pages the allocator hands over already zeroed): the reader sets
+                    // every pixel, alpha 1 where the file has none, or the file is refused.
                     texels: if ok {
-                        vec![[0.0, 0.0, 0.0, 1.0]; w * h]
+                        vec![[T::default(); 4]; w * h]
                     } else {
                         Vec::new()
                     },
                     written: 0,
                 }
             },
-            |pixels: &mut ExrPixels, pos: Vec2<usize>, (r, g, b, a): (f32, f32, f32, f32)| {
+            |pixels: &mut ExrPixels<T>, pos: Vec2<usize>, (r, g, b, a): (T, T, T, T)| {
                 let index = pos.y() * pixels.width + pos.x();
                 if pos.x() < pixels.width
                     && let Some(texel) = pixels.texels.get_mut(index)

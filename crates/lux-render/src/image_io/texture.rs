@@ -1,8 +1,26 @@
 //! [`Texture`]: a linear RGBA texture with allocation-free lookups.
 
+use std::borrow::Cow;
 use std::path::Path;
 
+use exr::prelude::f16;
+
 use super::{ImageError, error::IN_MEMORY};
+
+/// How a [`Texture`] holds its texels: `f32`, or the `f16` of a half-float OpenEXR file as
+/// stored (half the memory; widened exactly to `f32` when read).
+#[derive(Clone, Debug, PartialEq)]
+enum Texels {
+    F32(Vec<[f32; 4]>),
+    F16(Vec<[f16; 4]>),
+}
+
+/// Zero for a NaN or ±∞ component, counted in `bad`.
+#[inline(always)]
+fn finite<T: Copy + Default>(c: T, is_finite: bool, bad: &mut usize) -> T {
+    *bad += !is_finite as usize;
+    if is_finite { c } else { T::default() }
+}
 
 /// A texture loaded for lookups: linear RGBA `f32`, row 0 = **top**.
 ///
@@ -21,7 +39,7 @@ pub struct Texture {
     width_f: f64,
     /// `height` as `f64` (precomputed for the lookups).
     height_f: f64,
-    texels: Vec<[f32; 4]>,
+    texels: Texels,
     non_finite: usize,
 }
 
@@ -41,16 +59,32 @@ impl Texture {
     /// file header before pixel storage is allocated. NaN and ±∞ texels become 0 (see
     /// [`non_finite_count`](Self::non_finite_count)).
     pub fn load(path: &Path) -> Result<Texture, ImageError> {
-        let (width, height, texels) = super::read::load_rgba(path)?;
-        Self::build(path, width, height, texels)
+        Self::decoded(
+            path,
+            super::read::load_texels(super::read::Source::file(path))?,
+        )
     }
 
     /// Decodes an image held in memory (e.g. an entry of a `.usdz` package); `name` gives the
     /// format by its extension, as for [`Texture::load`], and names the image in errors.
     pub fn from_bytes(name: &Path, bytes: &[u8]) -> Result<Texture, ImageError> {
-        let (width, height, texels) =
-            super::read::load_rgba_from(super::read::Source::memory(name, bytes))?;
-        Self::build(name, width, height, texels)
+        let source = super::read::Source::memory(name, bytes);
+        Self::decoded(name, super::read::load_texels(source)?)
+    }
+
+    /// A texture from what a decoder gave: `f32` texels, or a half-float file's `f16` ones.
+    fn decoded(path: &Path, d: super::read::Decoded) -> Result<Texture, ImageError> {
+        match d {
+            super::read::Decoded::F32(w, h, texels) => Self::build(path, w, h, texels),
+            super::read::Decoded::F16(w, h, mut texels) => {
+                super::check_buffer(path, w, h, texels.len())?;
+                let mut bad = 0;
+                for c in texels.iter_mut().flat_map(|t| t.iter_mut()) {
+                    *c = finite(*c, c.is_finite(), &mut bad);
+                }
+                Ok(Self::with(w, h, Texels::F16(texels), bad))
+            }
+        }
     }
 
     /// Builds a texture from `width × height` linear texels (row-major, row 0 = top).
@@ -75,19 +109,49 @@ impl Texture {
         super::check_buffer(path, width, height, texels.len())?;
         let mut non_finite = 0;
         for c in texels.iter_mut().flat_map(|t| t.iter_mut()) {
-            if !c.is_finite() {
-                *c = 0.0;
-                non_finite += 1;
-            }
+            *c = finite(*c, c.is_finite(), &mut non_finite);
         }
-        Ok(Texture {
+        Ok(Self::with(width, height, Texels::F32(texels), non_finite))
+    }
+
+    fn with(width: usize, height: usize, texels: Texels, non_finite: usize) -> Texture {
+        Texture {
             width,
             height,
             width_f: width as f64,
             height_f: height as f64,
             texels,
             non_finite,
-        })
+        }
+    }
+
+    /// Texel `i` (row-major), widened to `f32`.
+    #[inline(always)]
+    fn at(&self, i: usize) -> [f32; 4] {
+        match &self.texels {
+            Texels::F32(t) => t[i],
+            Texels::F16(t) => t[i].map(f16::to_f32),
+        }
+    }
+
+    /// How many texels there are (`width · height`).
+    #[inline]
+    fn len(&self) -> usize {
+        self.width * self.height
+    }
+
+    /// Whether the texels are held as the `f16` of a half-float file (half the memory of
+    /// `f32`; lookups give the same values).
+    pub fn is_half(&self) -> bool {
+        matches!(self.texels, Texels::F16(_))
+    }
+
+    /// Bytes the texels take.
+    pub fn texel_bytes(&self) -> usize {
+        match &self.texels {
+            Texels::F32(t) => std::mem::size_of_val(t.as_slice()),
+            Texels::F16(t) => std::mem::size_of_val(t.as_slice()),
+        }
     }
 
     /// Width in texels.
@@ -102,10 +166,24 @@ impl Texture {
         self.height
     }
 
-    /// All texels, row-major, row 0 = top: texel `(x, y)` is `texels()[y * width + x]`.
+    /// All texels as `f32`, row-major, row 0 = top: texel `(x, y)` is
+    /// `texels()[y * width + x]` (borrowed, or widened from `f16` into a copy).
     #[inline]
-    pub fn texels(&self) -> &[[f32; 4]] {
-        &self.texels
+    pub fn texels(&self) -> Cow<'_, [[f32; 4]]> {
+        match &self.texels {
+            Texels::F32(t) => Cow::Borrowed(t),
+            Texels::F16(t) => Cow::Owned(t.iter().map(|x| x.map(f16::to_f32)).collect()),
+        }
+    }
+
+    /// The texels as `f32`, row-major, row 0 = top (for a conversion in place, then
+    /// [`Texture::from_texels`]).
+    #[inline]
+    pub fn into_texels(self) -> Vec<[f32; 4]> {
+        match self.texels {
+            Texels::F32(t) => t,
+            Texels::F16(t) => t.iter().map(|x| x.map(f16::to_f32)).collect(),
+        }
     }
 
     /// The texel at column `x`, row `y` (row 0 = top), with both indices clamped to the
@@ -114,7 +192,7 @@ impl Texture {
     pub fn texel(&self, x: usize, y: usize) -> [f32; 4] {
         let x = x.min(self.width - 1);
         let y = y.min(self.height - 1);
-        self.texels[y * self.width + x]
+        self.at(y * self.width + x)
     }
 
     /// How many texel *components* were NaN or ±∞ in the source and were replaced by 0.
@@ -135,7 +213,7 @@ impl Texture {
         // `as usize` saturates: negative → 0, NaN → 0, +∞ → usize::MAX.
         let x = ((fu * self.width_f) as usize).min(self.width - 1);
         let y = ((v * self.height_f) as usize).min(self.height - 1);
-        self.texels[y * self.width + x]
+        self.at(y * self.width + x)
     }
 
     /// Bilinear lookup between the four nearest texel centres.
@@ -175,8 +253,8 @@ impl Texture {
 
         let r0 = j0 * w;
         let r1 = j1 * w;
-        let (t00, t10) = (self.texels[r0 + i0], self.texels[r0 + i1]);
-        let (t01, t11) = (self.texels[r1 + i0], self.texels[r1 + i1]);
+        let (t00, t10) = (self.at(r0 + i0), self.at(r0 + i1));
+        let (t01, t11) = (self.at(r1 + i0), self.at(r1 + i1));
         let (sx, sy) = (1.0 - tx, 1.0 - ty);
         let mut out = [0.0f32; 4];
         for c in 0..4 {
@@ -192,9 +270,10 @@ impl Texture {
     pub fn average(&self) -> [f64; 4] {
         let mut sum = [0.0f64; 4];
         // Sum rows separately to keep the accumulated rounding error small.
-        for row in self.texels.chunks(self.width) {
+        for y in 0..self.height {
             let mut row_sum = [0.0f64; 4];
-            for t in row {
+            for x in 0..self.width {
+                let t = self.at(y * self.width + x);
                 for c in 0..4 {
                     row_sum[c] += f64::from(t[c]);
                 }
@@ -203,7 +282,7 @@ impl Texture {
                 sum[c] += row_sum[c];
             }
         }
-        let n = self.texels.len() as f64;
+        let n = self.len() as f64;
         sum.map(|s| s / n)
     }
 }
