@@ -424,9 +424,17 @@ impl Materials {
             strict,
             primvars: Vec::new(),
         };
+        // The graphs of UsdPreviewSurfaces built in code, once per material; then every
+        // texture file the materials read, decoded in parallel before they are prepared in order.
+        let built: Vec<Option<Built>> = scene
+            .materials
+            .iter()
+            .map(|m| built_graph(m, surfaces))
+            .collect();
+        ld.prefetch(scene, &built, surfaces);
         let mut materials = Vec::with_capacity(scene.materials.len());
-        for m in &scene.materials {
-            materials.push(ld.material_shader(m, unit, surfaces)?);
+        for (m, b) in scene.materials.iter().zip(&built) {
+            materials.push(ld.material_shader(m, b.as_ref(), unit, surfaces)?);
         }
         let mut warnings = ld.warnings;
         let mut mesh_reflectance = Vec::with_capacity(scene.meshes.len());
@@ -938,6 +946,7 @@ impl InputLoader {
     fn material_shader(
         &mut self,
         m: &lux_usd::Material,
+        built: Option<&Built>,
         unit: lux_spectral::WavelengthUnit,
         surfaces: SurfaceModel,
     ) -> Result<Shader, RenderError> {
@@ -977,21 +986,8 @@ impl InputLoader {
         };
         let primvars = self.primvars.clone();
         // A graph whose surface shader MaterialX does not define (a `PxrSurface`) has no
-        // surface: such a material stays the default grey, as lux-usd warned. A
-        // UsdPreviewSurface built in code (no network read from a stage) shades as the graph
-        // of the network its fields describe (`Material::preview_network`).
-        let built = match (&m.graph, m.preview && surfaces == SurfaceModel::Preview) {
-            (None, true) => {
-                let net = m.preview_network();
-                let g = lux_usd::shading::flatten(&net);
-                Some((net, g))
-            }
-            _ => None,
-        };
-        let (network, graph) = match &built {
-            Some((net, g)) => (Some(net), Some(g)),
-            None => (m.network.as_deref(), m.graph.as_deref()),
-        };
+        // surface: such a material stays the default grey, as lux-usd warned.
+        let (network, graph) = shading_graph(m, built);
         if surfaces == SurfaceModel::Preview
             && let Some(g) = graph.filter(|g| g.surface.is_some())
         {
@@ -1008,6 +1004,34 @@ impl InputLoader {
     }
 }
 
+/// The network and graph of a UsdPreviewSurface built in code ([`built_graph`]).
+type Built = (lux_usd::shading::Network, lux_usd::shading::ShadingGraph);
+
+/// A UsdPreviewSurface built in code (no network read from a stage) shades as the graph of
+/// the network its fields describe (`Material::preview_network`); `None` for any other
+/// material, or when `surfaces` is not [`SurfaceModel::Preview`].
+fn built_graph(m: &lux_usd::Material, surfaces: SurfaceModel) -> Option<Built> {
+    (m.graph.is_none() && m.preview && surfaces == SurfaceModel::Preview).then(|| {
+        let net = m.preview_network();
+        let g = lux_usd::shading::flatten(&net);
+        (net, g)
+    })
+}
+
+/// The network and graph that shade `m`: those `built` from its fields, else its own.
+fn shading_graph<'a>(
+    m: &'a lux_usd::Material,
+    built: Option<&'a Built>,
+) -> (
+    Option<&'a lux_usd::shading::Network>,
+    Option<&'a lux_usd::shading::ShadingGraph>,
+) {
+    match built {
+        Some((net, g)) => (Some(net), Some(g)),
+        None => (m.network.as_deref(), m.graph.as_deref()),
+    }
+}
+
 /// Prepares material inputs, reading each texture file once.
 struct InputLoader {
     cache: HashMap<PathBuf, Arc<Texture>>,
@@ -1020,6 +1044,44 @@ struct InputLoader {
 }
 
 impl InputLoader {
+    /// Decodes, in parallel, the texture files that preparing the materials of `scene` in
+    /// order would read one after another: the `UsdUVTexture` files of their USD inputs and
+    /// the `image` files of their graphs. The results are those the lazy reads would give
+    /// (files that fail are left to them, so their warnings are unchanged); a file of a graph
+    /// branch that compiling folds away may be decoded without being used.
+    fn prefetch(&mut self, scene: &Scene, built: &[Option<Built>], surfaces: SurfaceModel) {
+        let mut files: Vec<PathBuf> = Vec::new();
+        let mut seen = std::collections::HashSet::new();
+        let mut graphs = Vec::new();
+        for (m, b) in scene.materials.iter().zip(built) {
+            let inputs = [m.diffuse.texture(), m.opacity.texture()];
+            let emissive = m.emissive_texture.as_deref();
+            for t in inputs.into_iter().chain([emissive]).flatten() {
+                if let Some(p) = t.file.as_ref().and_then(|f| f.resolved.as_ref())
+                    && !self.cache.contains_key(p)
+                    && seen.insert(p)
+                {
+                    files.push(p.clone());
+                }
+            }
+            if surfaces == SurfaceModel::Preview
+                && let (_, Some(g)) = shading_graph(m, b.as_ref())
+            {
+                graphs.push(g);
+            }
+        }
+        use rayon::prelude::*;
+        let loaded: Vec<_> = files
+            .into_par_iter()
+            .filter_map(|p| {
+                let t = crate::assets::load_texture(&p).ok()?;
+                Some((p, Arc::new(t)))
+            })
+            .collect();
+        self.cache.extend(loaded);
+        self.graph_textures.prefetch(&graphs);
+    }
+
     /// The texture `t` feeding input `name` of material `path` (its fallback, or `default`,
     /// when the file cannot be read: [`texture_shader`]).
     fn shader(

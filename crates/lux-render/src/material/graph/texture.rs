@@ -58,27 +58,63 @@ impl TextureCache {
                 file.asset.authored
             ));
         };
-        let space = match ColorSpace::of(&file.colorspace, path) {
-            Some(s) => s,
-            None => {
-                notes.push(format!(
-                    "colour space {:?} of {} is unknown; read as {}",
-                    file.colorspace,
-                    path.display(),
-                    if is_float_format(path) {
-                        "lin_rec709"
-                    } else {
-                        "srgb_texture"
-                    }
-                ));
-                ColorSpace::of("", path).unwrap_or(ColorSpace::Linear)
-            }
-        };
+        let space = space_of(file, path).unwrap_or_else(|| {
+            notes.push(format!(
+                "colour space {:?} of {} is unknown; read as {}",
+                file.colorspace,
+                path.display(),
+                if is_float_format(path) {
+                    "lin_rec709"
+                } else {
+                    "srgb_texture"
+                }
+            ));
+            ColorSpace::of("", path).unwrap_or(ColorSpace::Linear)
+        });
         self.loaded
             .entry((path.clone(), space))
             .or_insert_with(|| load(path, space))
             .clone()
     }
+
+    /// Loads, in parallel, the files of the `image` and `tiledimage` nodes of `graphs` (those
+    /// authored as a constant `file`) that the cache does not hold: what [`TextureCache::get`]
+    /// would load for them one by one, failures included.
+    pub fn prefetch(&mut self, graphs: &[&lux_usd::shading::ShadingGraph]) {
+        use lux_usd::shading::{Source, Value};
+        use rayon::prelude::*;
+        let mut keys: Vec<(PathBuf, ColorSpace)> = Vec::new();
+        let mut seen = std::collections::HashSet::new();
+        let nodes = graphs.iter().flat_map(|g| &g.nodes);
+        for n in nodes.filter(|n| matches!(n.category.as_str(), "image" | "tiledimage")) {
+            let Some(Source::Value(Value::File(file))) = n.input("file").map(|i| &i.source) else {
+                continue;
+            };
+            let Some(path) = &file.asset.resolved else {
+                continue;
+            };
+            let space = space_of(file, path)
+                .or_else(|| ColorSpace::of("", path))
+                .unwrap_or(ColorSpace::Linear);
+            let key = (path.clone(), space);
+            if !self.loaded.contains_key(&key) && seen.insert(key.clone()) {
+                keys.push(key);
+            }
+        }
+        let loaded: Vec<_> = keys
+            .into_par_iter()
+            .map(|(path, space)| {
+                let t = load(&path, space);
+                ((path, space), t)
+            })
+            .collect();
+        self.loaded.extend(loaded);
+    }
+}
+
+/// The colour space of the texels of `file` (at `path`), `None` when its name is unknown.
+fn space_of(file: &FileValue, path: &Path) -> Option<ColorSpace> {
+    ColorSpace::of(&file.colorspace, path)
 }
 
 /// Loads `path` and converts its texels from `space` to linear Rec.709. lux's loaders decode
@@ -94,20 +130,20 @@ fn load(path: &Path, space: ColorSpace) -> Result<Arc<Texture>, String> {
     if as_loaded {
         return Ok(Arc::new(tex));
     }
-    let texels = tex
-        .texels()
-        .iter()
-        .map(|t| {
-            let encoded = if float {
-                [t[0], t[1], t[2]].map(f64::from)
-            } else {
-                [t[0], t[1], t[2]].map(|x| f64::from(linear_to_srgb(x)))
-            };
-            let c = decode_texel(space, encoded);
-            [c[0] as f32, c[1] as f32, c[2] as f32, t[3]]
-        })
-        .collect();
-    Texture::from_texels(tex.width(), tex.height(), texels)
+    let (width, height) = (tex.width(), tex.height());
+    let mut texels = tex.into_texels();
+    // In place, in parallel (each texel on its own: the same values in any order).
+    use rayon::prelude::*;
+    texels.par_iter_mut().for_each(|t| {
+        let encoded = if float {
+            [t[0], t[1], t[2]].map(f64::from)
+        } else {
+            [t[0], t[1], t[2]].map(|x| f64::from(linear_to_srgb(x)))
+        };
+        let c = decode_texel(space, encoded);
+        *t = [c[0] as f32, c[1] as f32, c[2] as f32, t[3]];
+    });
+    Texture::from_texels(width, height, texels)
         .map(Arc::new)
         .map_err(|e| e.to_string())
 }
@@ -199,6 +235,75 @@ impl ImageOp {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An `image` node reading `file` (resolved to `path` when given) in `space`.
+    fn image_node(authored: &str, path: Option<&Path>, space: &str) -> lux_usd::shading::GraphNode {
+        use lux_usd::shading::{GraphInput, GraphNode, Source, Value, ValueType};
+        let file = FileValue {
+            asset: lux_usd::AssetRef {
+                authored: authored.to_owned(),
+                resolved: path.map(Path::to_path_buf),
+            },
+            colorspace: space.to_owned(),
+        };
+        GraphNode {
+            name: format!("/M/{authored}"),
+            category: "image".to_owned(),
+            nodedef: "ND_image_color3".to_owned(),
+            outputs: vec![("out".to_owned(), ValueType::Color3)],
+            inputs: vec![GraphInput {
+                name: "file".to_owned(),
+                ty: ValueType::Filename,
+                source: Source::Value(Value::File(file)),
+            }],
+        }
+    }
+
+    /// Prefetching holds what [`TextureCache::get`] would load lazily, once per file and
+    /// colour space: the same texels (converted where the space asks), the same failure.
+    #[test]
+    fn prefetched_textures_are_those_get_loads() {
+        let dir = std::env::temp_dir().join(format!("lux_prefetch_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let png = dir.join("a.png");
+        let px = image::RgbaImage::from_fn(3, 2, |x, y| {
+            image::Rgba([40 * x as u8, 90, 7 * y as u8, 255])
+        });
+        px.save(&png).unwrap();
+        let missing = dir.join("gone.png");
+        let nodes = vec![
+            image_node("a.png", Some(&png), ""),
+            image_node("a.png", Some(&png), "lin_rec709"),
+            image_node("a.png", Some(&png), ""),
+            image_node("gone.png", Some(&missing), ""),
+            image_node("none.png", None, ""),
+        ];
+        let g = lux_usd::shading::ShadingGraph {
+            nodes: nodes.clone(),
+            ..Default::default()
+        };
+        let mut pre = TextureCache::new();
+        pre.prefetch(&[&g]);
+        assert_eq!(pre.loaded.len(), 3, "two spaces of a.png and the failure");
+        let mut lazy = TextureCache::new();
+        for n in &nodes {
+            let Some(lux_usd::shading::Source::Value(lux_usd::shading::Value::File(f))) =
+                n.input("file").map(|i| &i.source)
+            else {
+                unreachable!()
+            };
+            let (mut n1, mut n2) = (Vec::new(), Vec::new());
+            let (a, b) = (pre.get(f, &mut n1), lazy.get(f, &mut n2));
+            assert_eq!(n1, n2);
+            match (a, b) {
+                (Ok(a), Ok(b)) => assert_eq!(*a, *b),
+                (Err(a), Err(b)) => assert_eq!(a, b),
+                (a, b) => panic!("{a:?} against {b:?}"),
+            }
+        }
+        assert_eq!(pre.loaded.len(), lazy.loaded.len());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     #[test]
     fn address_modes() {
