@@ -15,11 +15,16 @@ enum Texels {
     F16(Vec<[f16; 4]>),
 }
 
-/// Zero for a NaN or ±∞ component, counted in `bad`.
-#[inline(always)]
-fn finite<T: Copy + Default>(c: T, is_finite: bool, bad: &mut usize) -> T {
-    *bad += !is_finite as usize;
-    if is_finite { c } else { T::default() }
+/// Replaces the components of `c` that are not `finite` (NaN, ±∞) by zero; how many there
+/// were. A counting pass first (vectorised; most files have none), the replacement only then.
+fn sanitise<T: Copy + Default>(c: &mut [T], finite: impl Fn(T) -> bool) -> usize {
+    let bad = c.iter().filter(|&&x| !finite(x)).count();
+    if bad > 0 {
+        for x in c.iter_mut().filter(|x| !finite(**x)) {
+            *x = T::default();
+        }
+    }
+    bad
 }
 
 /// A texture loaded for lookups: linear RGBA `f32`, row 0 = **top**.
@@ -78,10 +83,9 @@ impl Texture {
             super::read::Decoded::F32(w, h, texels) => Self::build(path, w, h, texels),
             super::read::Decoded::F16(w, h, mut texels) => {
                 super::check_buffer(path, w, h, texels.len())?;
-                let mut bad = 0;
-                for c in texels.iter_mut().flat_map(|t| t.iter_mut()) {
-                    *c = finite(*c, c.is_finite(), &mut bad);
-                }
+                // NaN and ±∞ are the half floats whose exponent bits are all set.
+                let finite = |c: f16| c.to_bits() & 0x7C00 != 0x7C00;
+                let bad = sanitise(texels.as_flattened_mut(), finite);
                 Ok(Self::with(w, h, Texels::F16(texels), bad))
             }
         }
@@ -107,10 +111,7 @@ impl Texture {
         mut texels: Vec<[f32; 4]>,
     ) -> Result<Texture, ImageError> {
         super::check_buffer(path, width, height, texels.len())?;
-        let mut non_finite = 0;
-        for c in texels.iter_mut().flat_map(|t| t.iter_mut()) {
-            *c = finite(*c, c.is_finite(), &mut non_finite);
-        }
+        let non_finite = sanitise(texels.as_flattened_mut(), f32::is_finite);
         Ok(Self::with(width, height, Texels::F32(texels), non_finite))
     }
 
