@@ -57,6 +57,49 @@ fn png_8bit_variants_decode_srgb() {
     assert_eq!(t.texels()[0], [lin(188), lin(11), lin(1), 128.0 / 255.0]);
     // 188 is the code of linear 0.5: decoding lands within the half-step around it.
     assert!((lin(188) - 0.5).abs() < 0.003);
+    // Held as their codes: 4 bytes a texel.
+    assert!(t.is_8bit() && !t.is_half());
+    assert_eq!(t.texel_bytes(), 4);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// An 8-bit texture (held as its codes) answers every lookup as the `f32` texture of its
+/// decoded texels, bit for bit: every code of every channel, grey with alpha too.
+#[test]
+fn eight_bit_textures_look_up_as_their_f32_texels() {
+    let dir = scratch("png_8bit_lookups");
+    let (w, h) = (16u32, 16u32);
+    let px = image::RgbaImage::from_fn(w, h, |x, y| {
+        let i = (y * w + x) as u8;
+        image::Rgba([i, i.wrapping_mul(7), 255 - i, i.wrapping_mul(13)])
+    });
+    let path = dir.join("codes.png");
+    px.save(&path).unwrap();
+    let grey = dir.join("grey_alpha.png");
+    image::GrayAlphaImage::from_fn(5, 3, |x, y| {
+        image::LumaA([(40 * x + y) as u8, (50 * y) as u8])
+    })
+    .save(&grey)
+    .unwrap();
+    for path in [path, grey] {
+        let t = Texture::load(&path).unwrap();
+        assert!(t.is_8bit(), "{}", path.display());
+        let (w, h) = (t.width(), t.height());
+        let full = Texture::from_texels(w, h, t.texels().into_owned()).unwrap();
+        assert!(!full.is_8bit());
+        assert_eq!(t.texel_bytes() * 4, full.texel_bytes());
+        assert_eq!(t.average(), full.average());
+        for i in 0..500 {
+            let (u, v) = (i as f64 * 0.0173 - 2.1, (i % 41) as f64 * 0.027 - 0.05);
+            let (a, b) = (t.bilinear(u, v), full.bilinear(u, v));
+            assert_eq!(
+                a.map(f32::to_bits),
+                b.map(f32::to_bits),
+                "bilinear at ({u}, {v})"
+            );
+            assert_eq!(t.nearest(u, v), full.nearest(u, v));
+        }
+    }
     fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -15,8 +15,9 @@
 //!   (`gAMA`, `iCCP`, …) are ignored. Alpha is never colour-encoded; a missing alpha is 1.
 //!   Grey and grey + alpha images expand to RGB(A).
 //! * **Storage.** Texels are held as `f32` RGBA, except an OpenEXR file whose R, G, B (and A)
-//!   channels are half floats, held as its `f16` (8 bytes a texel instead of 16; every lookup
-//!   widens exactly, so the values are the same). Materials decode all their texture files in
+//!   channels are half floats, held as its `f16` (8 bytes a texel instead of 16), and an 8-bit
+//!   image, held as its codes (4 bytes; colour decoded through the sRGB table, alpha `a/255`):
+//!   every lookup reads back the same `f32` values. Materials decode all their texture files in
 //!   parallel before they are prepared (`material::Materials`).
 //! * **Sanitising.** Loaded textures never contain NaN or ±∞: such texels (possible in EXR) are
 //!   replaced by 0 and counted ([`Texture::non_finite_count`]). Negative values are kept.

@@ -55,37 +55,20 @@ impl<'a> Source<'a> {
 pub(crate) enum Decoded {
     F32(usize, usize, Vec<[f32; 4]>),
     F16(usize, usize, Vec<[f16; 4]>),
+    /// 8-bit sRGB codes (grey expanded to RGB, alpha 255 where there is none): colour decodes
+    /// through [`srgb8_table`], alpha is `a / 255`.
+    Srgb8(usize, usize, Vec<[u8; 4]>),
 }
 
 /// Loads the image of `src` by extension.
 pub(crate) fn load_texels(src: Source<'_>) -> Result<Decoded, ImageError> {
-    let path = src.path;
-    if is_exr(path) {
-        return guarded(path, EXPECTED_EXR, || load_exr(src));
-    }
-    load_rgba_from(src).map(|(w, h, t)| Decoded::F32(w, h, t))
-}
-
-fn is_exr(path: &Path) -> bool {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
-}
-
-/// Loads `src` by extension as `f32` texels: `(width, height, texels)`.
-fn load_rgba_from(src: Source<'_>) -> Result<(usize, usize, Vec<[f32; 4]>), ImageError> {
     let path = src.path;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     let (format, expected) = match ext.as_deref() {
-        Some("exr") => {
-            return guarded(path, EXPECTED_EXR, || load_exr(src)).map(|d| match d {
-                Decoded::F32(w, h, t) => (w, h, t),
-                Decoded::F16(w, h, t) => (w, h, t.iter().map(|x| x.map(f16::to_f32)).collect()),
-            });
-        }
+        Some("exr") => return guarded(path, EXPECTED_EXR, || load_exr(src)),
         Some("png") => (ImageFormat::Png, "a PNG image"),
         Some("jpg" | "jpeg") => (ImageFormat::Jpeg, "a JPEG image"),
         Some("hdr") => (ImageFormat::Hdr, "a Radiance HDR (RGBE) image"),
@@ -326,7 +309,7 @@ fn load_with_image(
     src: Source<'_>,
     format: ImageFormat,
     expected: &'static str,
-) -> Result<(usize, usize, Vec<[f32; 4]>), ImageError> {
+) -> Result<Decoded, ImageError> {
     let path = src.path;
     // Header first: reject absurd sizes (with our own error) before the decoder allocates the
     // pixel buffer. PNG's IHDR is read directly, since the decoder refuses (with a less
@@ -346,12 +329,38 @@ fn load_with_image(
         .map_err(|e| image_error(path, expected, e))?;
     let (width, height) = (image.width() as usize, image.height() as usize);
     check_dimensions(path, width as u64, height as u64)?;
+    if format != ImageFormat::Hdr
+        && let Some(codes) = srgb8_codes(&image)
+    {
+        return Ok(Decoded::Srgb8(width, height, codes));
+    }
     let texels = dynamic_to_linear(image, format != ImageFormat::Hdr);
-    Ok((width, height, texels))
+    Ok(Decoded::F32(width, height, texels))
+}
+
+/// The codes of an 8-bit image as RGBA (grey expanded, alpha 255 where there is none), which
+/// decode to exactly the texels [`dynamic_to_linear`] gives it; `None` for other images.
+fn srgb8_codes(image: &DynamicImage) -> Option<Vec<[u8; 4]>> {
+    Some(match image {
+        DynamicImage::ImageLuma8(img) => img
+            .pixels()
+            .map(|p| [p.0[0], p.0[0], p.0[0], 255])
+            .collect(),
+        DynamicImage::ImageLumaA8(img) => img
+            .pixels()
+            .map(|p| [p.0[0], p.0[0], p.0[0], p.0[1]])
+            .collect(),
+        DynamicImage::ImageRgb8(img) => img
+            .pixels()
+            .map(|p| [p.0[0], p.0[1], p.0[2], 255])
+            .collect(),
+        DynamicImage::ImageRgba8(img) => img.pixels().map(|p| p.0).collect(),
+        _ => return None,
+    })
 }
 
 /// The linear value of every 8-bit sRGB code.
-fn srgb8_table() -> [f32; 256] {
+pub(crate) fn srgb8_table() -> [f32; 256] {
     std::array::from_fn(|i| srgb_to_linear_f64(i as f64 / 255.0) as f32)
 }
 

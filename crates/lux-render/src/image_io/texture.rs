@@ -7,12 +7,32 @@ use exr::prelude::f16;
 
 use super::{ImageError, error::IN_MEMORY};
 
-/// How a [`Texture`] holds its texels: `f32`, or the `f16` of a half-float OpenEXR file as
-/// stored (half the memory; widened exactly to `f32` when read).
+/// How a [`Texture`] holds its texels: `f32`, the `f16` of a half-float OpenEXR file as
+/// stored (half the memory), or the codes of an 8-bit image (a quarter), each read back as the
+/// same `f32` values: `f16` widened exactly, 8-bit codes through their decoding tables.
 #[derive(Clone, Debug, PartialEq)]
 enum Texels {
     F32(Vec<[f32; 4]>),
     F16(Vec<[f16; 4]>),
+    Srgb8(Vec<[u8; 4]>),
+}
+
+/// The linear value of each 8-bit sRGB code, and each 8-bit alpha `a / 255`.
+static SRGB8: std::sync::LazyLock<([f32; 256], [f32; 256])> = std::sync::LazyLock::new(|| {
+    let alpha = std::array::from_fn(|a| f32::from(a as u8) / 255.0);
+    (super::read::srgb8_table(), alpha)
+});
+
+/// An 8-bit texel's linear value.
+#[inline(always)]
+fn srgb8(p: [u8; 4]) -> [f32; 4] {
+    let (c, a) = &*SRGB8;
+    [
+        c[usize::from(p[0])],
+        c[usize::from(p[1])],
+        c[usize::from(p[2])],
+        a[usize::from(p[3])],
+    ]
 }
 
 /// Replaces the components of `c` that are not `finite` (NaN, ±∞) by zero; how many there
@@ -88,6 +108,10 @@ impl Texture {
                 let bad = sanitise(texels.as_flattened_mut(), finite);
                 Ok(Self::with(w, h, Texels::F16(texels), bad))
             }
+            super::read::Decoded::Srgb8(w, h, codes) => {
+                super::check_buffer(path, w, h, codes.len())?;
+                Ok(Self::with(w, h, Texels::Srgb8(codes), 0))
+            }
         }
     }
 
@@ -132,6 +156,7 @@ impl Texture {
         match &self.texels {
             Texels::F32(t) => t[i],
             Texels::F16(t) => t[i].map(f16::to_f32),
+            Texels::Srgb8(t) => srgb8(t[i]),
         }
     }
 
@@ -147,11 +172,18 @@ impl Texture {
         matches!(self.texels, Texels::F16(_))
     }
 
+    /// Whether the texels are held as the codes of an 8-bit image (a quarter of the memory of
+    /// `f32`; lookups give the same values).
+    pub fn is_8bit(&self) -> bool {
+        matches!(self.texels, Texels::Srgb8(_))
+    }
+
     /// Bytes the texels take.
     pub fn texel_bytes(&self) -> usize {
         match &self.texels {
             Texels::F32(t) => std::mem::size_of_val(t.as_slice()),
             Texels::F16(t) => std::mem::size_of_val(t.as_slice()),
+            Texels::Srgb8(t) => std::mem::size_of_val(t.as_slice()),
         }
     }
 
@@ -174,6 +206,7 @@ impl Texture {
         match &self.texels {
             Texels::F32(t) => Cow::Borrowed(t),
             Texels::F16(t) => Cow::Owned(t.iter().map(|x| x.map(f16::to_f32)).collect()),
+            Texels::Srgb8(t) => Cow::Owned(t.iter().map(|&p| srgb8(p)).collect()),
         }
     }
 
@@ -184,6 +217,7 @@ impl Texture {
         match self.texels {
             Texels::F32(t) => t,
             Texels::F16(t) => t.iter().map(|x| x.map(f16::to_f32)).collect(),
+            Texels::Srgb8(t) => t.iter().map(|&p| srgb8(p)).collect(),
         }
     }
 
