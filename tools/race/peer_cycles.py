@@ -2,7 +2,7 @@
 """Blender Cycles as a peer in the equal-error race on a luxtest frame (what a lighting TD would pick instead).
 
 Usage (the bpy venv that setup.sh --cycles makes):
-  peer_cycles.py SCENE FRAME --gt GT.exr [--scene-dir DIR] [--spp 4,16,64,256] [--targets a,b] [--threads 2]
+  peer_cycles.py SCENE|STAGE.usda FRAME --gt GT.exr [--scene-dir DIR] [--spp 4,16,64,256] [--targets a,b] [--threads 2]
                  [--out DIR] [--json OUT] [--fixes all] [--bounces 0] [--check-spp 1024] [--units-tol --bias-tol --block-tol]
 race.py runs it with --cycles PYTHON and prints lux/cycles ratios beside the Mitsuba ones.
 The stage is imported with Blender's own USD importer (bpy.ops.wm.usd_import) and rendered by Cycles on the
@@ -129,18 +129,85 @@ def _light_occluder(L, light_obj):
     return ob
 
 
+# UsdPreviewSurface's diffuseColor when its UsdUVTexture names a file that does not resolve: the Mitsuba peer and
+# lux shade with the input's default (peer_mitsuba._uv_texture), where Blender's importer leaves an empty Image
+# Texture (black) or, with no importer fix at all, Cycles' missing-image magenta.
+UNRESOLVED_GREY = (0.18, 0.18, 0.18, 1.0)
+
+
+def _clear_custom_normals(me):
+    """Drop a mesh's imported (authored) normals: the Mitsuba peer shades every mesh with its face normal, and an
+    authored normal that disagrees with the winding would light or darken a face where the ground truth does not."""
+    if me.has_custom_normals:
+        for name in ("custom_normal", "custom_normals"):
+            if name in me.attributes:
+                me.attributes.remove(me.attributes[name])
+        if me.has_custom_normals:
+            raise SystemExit(f"{me.name}: cannot clear its imported normals")
+
+
+def _imported_base(mat):
+    """What Blender's importer made of a material's diffuseColor: the Principled BSDF's Base Color value and the
+    Image Texture node linked to it (a UsdUVTexture becomes an Image Texture fed by a UV Map node), or None."""
+    base, tex = (1.0, 1.0, 1.0, 1.0), None
+    for n in (mat.node_tree.nodes if mat and mat.node_tree else []):
+        if n.type == "BSDF_PRINCIPLED":
+            base = tuple(n.inputs["Base Color"].default_value)
+            tex = next((l.from_node for l in n.inputs["Base Color"].links if l.from_node.type == "TEX_IMAGE"), None)
+    return base, tex
+
+
+def _image_file(tex):
+    """The file of an imported Image Texture node if it exists on disk, else None (no image, or unresolved)."""
+    import bpy
+    im = tex.image if tex is not None else None
+    f = bpy.path.abspath(im.filepath) if im is not None and im.source == "FILE" else ""
+    return os.path.realpath(f) if f and os.path.isfile(f) else None
+
+
+def _raw_texture(nt, tex, scale=(1.0, 1.0, 1.0), bias=(0.0, 0.0, 0.0)):
+    """The importer's Image Texture `tex` (its image and UV map) rebuilt in node tree `nt`, read as the Mitsuba peer
+    reads a UsdUVTexture's EXR: its stored values (Blender's importer tags these images sRGB, which would decode the
+    floats as sRGB-encoded, and Blender might tag a '.ACEScg.exr' ACEScg: Non-Color keeps the values as stored),
+    alpha ignored, bilinear, repeating, times scale plus bias (linear, so applying them after the lookup is the
+    same as Mitsuba's applying them to the pixels). Returns the colour output socket."""
+    im = tex.image
+    im.colorspace_settings.name = "Non-Color"
+    im.alpha_mode = "CHANNEL_PACKED"  # RGB as stored, never (un)premultiplied by the alpha channel
+    node = nt.nodes.new("ShaderNodeTexImage"); node.image = im
+    node.interpolation = "Linear"; node.extension = "REPEAT"; node.projection = "FLAT"
+    uv_src = next((l.from_node for l in tex.inputs["Vector"].links if l.from_node.type == "UVMAP"), None)
+    if uv_src is not None:  # the primvar the UsdPrimvarReader_float2 reads (else the mesh's default UV map)
+        uv = nt.nodes.new("ShaderNodeUVMap"); uv.uv_map = uv_src.uv_map
+        nt.links.new(uv.outputs["UV"], node.inputs["Vector"])
+    out = node.outputs["Color"]
+    if tuple(scale) != (1.0, 1.0, 1.0) or tuple(bias) != (0.0, 0.0, 0.0):
+        ma = nt.nodes.new("ShaderNodeVectorMath"); ma.operation = "MULTIPLY_ADD"
+        nt.links.new(out, ma.inputs[0]); ma.inputs[1].default_value = scale; ma.inputs[2].default_value = bias
+        out = ma.outputs["Vector"]
+    return out
+
+
 def setup(path, frame, w, h, threads, assist=True, hide_lights=True, bounces=0, fixes=FIXES, pixel_shift=None):
     """Import `path` with Blender's USD importer and set Cycles up like the other peers. With assist, the
-    importer's output is corrected against the stage as usd-core reads it (`fixes`, all by default):
+    importer's output is corrected against the stage as usd-core reads it (`fixes`, all by default; the stage is
+    then imported in its own units, and never with subdivision modifiers):
       lights   every light gets the UsdLux radiance the ground truth uses (energy = pi * radiance, Blender's
                unnormalised convention), sphere lights become spheres of their radius with no cone and no
                soft falloff, rect/disk lights keep their size with a 180-degree spread;
       cylinder a CylinderLight (a radius-0 point light after import) becomes an emissive mesh tube;
-      flat     meshes are shaded with their face normals (the importer smooth-shades a mesh without authored
-               normals; the Mitsuba peer, like hdEmbree, shades with the geometric normal);
+      flat     meshes are drawn as their cages (no subdivision modifier) and shaded with their face normals (the
+               importer smooth-shades a mesh without authored normals and keeps authored ones as custom normals;
+               the Mitsuba peer, like hdEmbree, shades with the geometric normal);
       sided    a mesh that is not doubleSided is black from behind (Cycles' surfaces are two-sided);
       colours  receivers take the stage's diffuseColor / displayColor, as the Mitsuba peer does;
-      lambert  receivers are Lambertian (Blender makes UsdPreviewSurface a Principled BSDF);
+      lambert  receivers are Lambertian (Blender makes UsdPreviewSurface a Principled BSDF): a diffuse BSDF of a
+               constant colour or, where the Principled Base Color is linked to an Image Texture (the importer's
+               UsdUVTexture), of that texture through its UV map, read as the stored values (Non-Color; the
+               importer tags these EXRs sRGB) as the Mitsuba peer reads the file, times the texture's scale plus
+               bias (colours); an Image Texture whose file does not resolve gives UsdPreviewSurface's 0.18 grey.
+               With colours the ground truth's reading decides: a texture only where it reads one (the same file),
+               else its constant colour;
       occluders each light's shape becomes a black camera-invisible occluder for the other
                lights, as Mitsuba's light shapes are in the ground truth (UsdLux lights, lux's and Cycles' are not);
       pixel    the camera is shifted by `pixel_shift` pixels (x, y) if given (see CYCLES.md: none is needed).
@@ -148,7 +215,11 @@ def setup(path, frame, w, h, threads, assist=True, hide_lights=True, bounces=0, 
     import bpy, mathutils
     fixes = set(fixes) if assist else set()
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    bpy.ops.wm.usd_import(filepath=path)
+    # Subdivision surfaces are drawn as their cages (the Mitsuba peer's and lux's hdembree contract): no subdivision
+    # modifier. With assist the stage keeps its own units, as the ground truth reads it: the importer would scale
+    # a stage of metersPerUnit != 1 (the StandardShaderBall's 0.01) to metres, and the lights' positions and sizes
+    # are corrected in stage units below.
+    bpy.ops.wm.usd_import(filepath=path, import_subdivision=False, apply_unit_conversion_scale=not assist)
     sc = bpy.context.scene
     sc.frame_set(frame)
     cams = [o for o in sc.objects if o.type == "CAMERA"]
@@ -223,27 +294,43 @@ def setup(path, frame, w, h, threads, assist=True, hide_lights=True, bounces=0, 
     if "flat" in fixes:
         for o in sc.objects:
             if o.type == "MESH":
+                for mod in [mod for mod in o.modifiers if mod.type == "SUBSURF"]:
+                    o.modifiers.remove(mod)  # the cage, whatever the importer's options
+                _clear_custom_normals(o.data)
                 o.data.shade_flat() if hasattr(o.data, "shade_flat") else o.data.polygons.foreach_set(
                     "use_smooth", [False] * len(o.data.polygons))
     if "lambert" in fixes:
         # The race's receivers are Lambertian (hdEmbree's, lux's and the Mitsuba peer's contract). Blender turns
         # UsdPreviewSurface into a Principled BSDF with a specular lobe: each becomes a diffuse BSDF of the stage's
-        # colour (colours) or of the imported base colour (else white).
+        # colour (colours) or of the imported base colour (else white); a diffuseColor read from a UsdUVTexture
+        # keeps its texture (the importer's Image Texture and UV map, read as stored values as the Mitsuba peer
+        # reads the EXR), one whose file does not resolve is UsdPreviewSurface's 0.18 grey.
         meshes = {m["path"].rsplit("/", 1)[-1]: m for m in desc["meshes"]} if desc else {}
         for o in sc.objects:
             if o.type != "MESH" or o.name.endswith(("_tube", "_occluder")):
                 continue
-            base = (1.0, 1.0, 1.0, 1.0)
-            m = o.active_material
-            for n in (m.node_tree.nodes if m and m.node_tree else []):
-                if n.type == "BSDF_PRINCIPLED":
-                    base = tuple(n.inputs["Base Color"].default_value)
+            base, tex = _imported_base(o.active_material)
+            tfile = _image_file(tex)
+            if tex is not None and tfile is None:
+                base, tex = UNRESOLVED_GREY, None  # an unresolvable texture file: UsdPreviewSurface's default
+            scale, bias = (1.0, 1.0, 1.0), (0.0, 0.0, 0.0)
             um = meshes.get(o.name.split(".")[0]) if desc else None
             if "colours" in fixes and um is not None:
-                base = tuple(um["color"]) + (1.0,)
+                # the stage as usd-core reads it decides: a texture where the ground truth has one, else its colour
+                ut = um.get("texture")
+                if ut and (tex is None or tfile != os.path.realpath(ut["file"])):
+                    raise SystemExit(f"{um['path']}: the ground truth reads diffuseColor from {ut['file']}, Blender's "
+                                     f"importer from {tfile or 'no image file'}")
+                tex = tex if ut else None
+                if ut:
+                    scale, bias = ut["scale"], ut["bias"]
+                else:
+                    base = tuple(um["color"]) + (1.0,)
             lam = bpy.data.materials.new("lambert"); lam.use_nodes = True
             nodes = lam.node_tree.nodes; nodes.clear()
             bsdf = nodes.new("ShaderNodeBsdfDiffuse"); bsdf.inputs["Color"].default_value = base
+            if tex is not None:  # a UsdUVTexture diffuseColor: the texture, as the Mitsuba peer reads it
+                lam.node_tree.links.new(_raw_texture(lam.node_tree, tex, scale, bias), bsdf.inputs["Color"])
             outn = nodes.new("ShaderNodeOutputMaterial")
             if "sided" in fixes and um is not None and not um["double_sided"]:
                 # one-sided: black from behind (Mitsuba's 'diffuse', hdEmbree's and lux's one-sided receivers)
@@ -349,7 +436,9 @@ def main():
     os.makedirs(a.out, exist_ok=True)
     gt = read_rgb(a.gt); sig_gt = json.load(open(a.gt + ".json"))["sigma"]
     h, w = gt.shape[:2]
-    sc = setup(os.path.join(a.scene_dir, f"{a.scene}.usda"), a.frame, w, h, a.threads, assist=a.fixes != "none",
+    # a luxtest name (SCENE_DIR/NAME.usda) or a stage's path, as race.py takes it
+    stage = a.scene if os.path.isfile(a.scene) else os.path.join(a.scene_dir, f"{a.scene}.usda")
+    sc = setup(os.path.abspath(stage), a.frame, w, h, a.threads, assist=a.fixes != "none",
                fixes=fixes, bounces=a.bounces)
     render(sc, 4, 1, os.path.join(a.out, "warm.exr"))
     # The picture check: two halves of --check-spp give Cycles' own noise, the GT's comes from its sidecar; both
