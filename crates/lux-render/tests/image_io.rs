@@ -63,6 +63,22 @@ fn png_8bit_variants_decode_srgb() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
+/// `a` and `b` answer the same bits to `average` and to bilinear and nearest lookups at 500
+/// coordinates in and around the unit square (wrapping and clamping included).
+fn same_lookups(a: &Texture, b: &Texture) {
+    assert_eq!(a.average(), b.average());
+    for i in 0..500 {
+        let (u, v) = (i as f64 * 0.0173 - 2.1, (i % 41) as f64 * 0.027 - 0.05);
+        let (x, y) = (a.bilinear(u, v), b.bilinear(u, v));
+        assert_eq!(
+            x.map(f32::to_bits),
+            y.map(f32::to_bits),
+            "bilinear at ({u}, {v})"
+        );
+        assert_eq!(a.nearest(u, v), b.nearest(u, v), "nearest at ({u}, {v})");
+    }
+}
+
 /// An 8-bit texture (held as its codes) answers every lookup as the `f32` texture of its
 /// decoded texels, bit for bit: every code of every channel, grey with alpha too.
 #[test]
@@ -88,17 +104,7 @@ fn eight_bit_textures_look_up_as_their_f32_texels() {
         let full = Texture::from_texels(w, h, t.texels().into_owned()).unwrap();
         assert!(!full.is_8bit());
         assert_eq!(t.texel_bytes() * 4, full.texel_bytes());
-        assert_eq!(t.average(), full.average());
-        for i in 0..500 {
-            let (u, v) = (i as f64 * 0.0173 - 2.1, (i % 41) as f64 * 0.027 - 0.05);
-            let (a, b) = (t.bilinear(u, v), full.bilinear(u, v));
-            assert_eq!(
-                a.map(f32::to_bits),
-                b.map(f32::to_bits),
-                "bilinear at ({u}, {v})"
-            );
-            assert_eq!(t.nearest(u, v), full.nearest(u, v));
-        }
+        same_lookups(&t, &full);
     }
     fs::remove_dir_all(&dir).unwrap();
 }
@@ -426,17 +432,7 @@ fn half_float_textures_look_up_as_their_f32_texels() {
     assert_eq!(half.non_finite_count(), full.non_finite_count());
     assert!(half.non_finite_count() > 0);
     assert_eq!(&*half.texels(), &*full.texels());
-    assert_eq!(half.average(), full.average());
-    for i in 0..400 {
-        let (u, v) = (i as f64 * 0.0731 - 3.3, (i % 37) as f64 * 0.031 - 0.1);
-        let (a, b) = (half.bilinear(u, v), full.bilinear(u, v));
-        assert_eq!(
-            a.map(f32::to_bits),
-            b.map(f32::to_bits),
-            "bilinear at ({u}, {v})"
-        );
-        assert_eq!(half.nearest(u, v), full.nearest(u, v));
-    }
+    same_lookups(&half, &full);
     for (x, y) in [(0, 0), (6, 4), (9, 9), (3, 2)] {
         assert_eq!(half.texel(x, y), full.texel(x, y));
     }
