@@ -47,7 +47,9 @@ fn sanitise<T: Copy + Default>(c: &mut [T], finite: impl Fn(T) -> bool) -> usize
     bad
 }
 
-/// A texture loaded for lookups: linear RGBA `f32`, row 0 = **top**.
+/// A texture loaded for lookups: linear RGBA read as `f32`, row 0 = **top**; held as `f32`,
+/// as a half-float file's `f16` or as an 8-bit image's codes ([`Texture::is_half`],
+/// [`Texture::is_8bit`], [`Texture::texel_bytes`]), with the same values either way.
 ///
 /// Invariants: `1 ≤ width, height ≤ MAX_DIMENSION`, `width · height ≤ MAX_PIXELS`,
 /// `texels.len() == width · height`, and every texel component is finite (NaN and ±∞ are
@@ -73,7 +75,8 @@ impl Texture {
     ///
     /// * `.exr` — OpenEXR via the `exr` crate: the first layer with `R`, `G`, `B` channels
     ///   (`A` optional, default 1) at its largest resolution level, any sample type
-    ///   (f16 / f32 / u32, converted to `f32`); the layer's data window is the texture. Linear.
+    ///   (f16 kept as stored when every colour channel is f16; f32; u32 converted to `f32`);
+    ///   the layer's data window is the texture. Linear.
     /// * `.png` — 8- or 16-bit, grey / grey+alpha / RGB / RGBA; sRGB-decoded to linear.
     /// * `.jpg`, `.jpeg` — sRGB-decoded to linear.
     /// * `.hdr` — Radiance RGBE, linear.
@@ -97,7 +100,8 @@ impl Texture {
         Self::decoded(name, super::read::load_texels(source)?)
     }
 
-    /// A texture from what a decoder gave: `f32` texels, or a half-float file's `f16` ones.
+    /// A texture from what a decoder gave: `f32` texels, a half-float file's `f16` ones, or an
+    /// 8-bit image's codes (always finite).
     fn decoded(path: &Path, d: super::read::Decoded) -> Result<Texture, ImageError> {
         match d {
             super::read::Decoded::F32(w, h, texels) => Self::build(path, w, h, texels),
