@@ -9,8 +9,9 @@ The stage is imported with Blender's own USD importer (bpy.ops.wm.usd_import) an
 CPU, direct light only (max_bounces 0), box pixel filter of width 1, no adaptive sampling, no denoiser, no
 clamping: the same estimator contract as lux and Mitsuba in race.py. What the importer gets wrong against the
 ground truth's reading of the stage (usd-core through usd_desc.py, in the lux-peer venv: $LUX_PEER_PY) is
-corrected after import (setup(): light units and shapes, cylinder lights as emissive tubes, flat shading,
-one-sided receivers, colours, Lambertian BSDFs; CYCLES.md has the measurements). A 1024-spp check (two halves:
+corrected after import (setup(): stage units, light units and shapes, cylinder lights as emissive tubes, cages
+with flat shading, one-sided receivers, colours, Lambertian BSDFs of a constant colour or of the UsdUVTexture read
+as stored; CYCLES.md has the measurements). A 1024-spp check (two halves:
 Cycles' own noise) must then draw the ground truth's picture: image means equal (the units are converted, not
 fitted), per-pixel error beyond both images' noise and 16 x 16-block error small (check_verdict), else Cycles
 sits the frame out and says why. Its image is still scaled to the ground truth's mean (a factor within 2 % of 1).
@@ -130,8 +131,9 @@ def _light_occluder(L, light_obj):
 
 
 # UsdPreviewSurface's diffuseColor when its UsdUVTexture names a file that does not resolve: the Mitsuba peer and
-# lux shade with the input's default (peer_mitsuba._uv_texture), where Blender's importer leaves an empty Image
-# Texture (black) or, with no importer fix at all, Cycles' missing-image magenta.
+# lux shade with the input's default (peer_mitsuba._uv_texture), where Blender's importer leaves an Image Texture
+# without an image, which Cycles draws magenta. (A UsdUVTexture with no file at all is its fallback in the ground
+# truth; Blender's node cannot tell the two apart, the stage's reading with `colours` can.)
 UNRESOLVED_GREY = (0.18, 0.18, 0.18, 1.0)
 
 
