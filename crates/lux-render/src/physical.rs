@@ -127,8 +127,7 @@ pub fn base_radiance(
                     None => 1.0,
                     Some(t) => {
                         let lum: Vec<f32> = t
-                            .texels()
-                            .iter()
+                            .texels_iter()
                             .map(|p| {
                                 lux_math::luminance(DVec3::new(
                                     p[0] as f64,

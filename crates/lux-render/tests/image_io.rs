@@ -63,10 +63,12 @@ fn png_8bit_variants_decode_srgb() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
-/// `a` and `b` answer the same bits to `average` and to bilinear and nearest lookups at 500
+/// `a` and `b` answer the same bits to `average`, `texels_iter` and to bilinear and nearest lookups at 500
 /// coordinates in and around the unit square (wrapping and clamping included).
 fn same_lookups(a: &Texture, b: &Texture) {
     assert_eq!(a.average(), b.average());
+    assert!(a.texels_iter().eq(b.texels_iter()));
+    assert_eq!(a.texels_iter().collect::<Vec<_>>(), *a.texels());
     for i in 0..500 {
         let (u, v) = (i as f64 * 0.0173 - 2.1, (i % 41) as f64 * 0.027 - 0.05);
         let (x, y) = (a.bilinear(u, v), b.bilinear(u, v));

@@ -214,6 +214,12 @@ impl Texture {
         }
     }
 
+    /// Every texel as `f32`, row-major, row 0 = top, one at a time: [`Texture::texels`]
+    /// without a widened copy of a compact texture.
+    pub fn texels_iter(&self) -> impl ExactSizeIterator<Item = [f32; 4]> + '_ {
+        (0..self.len()).map(|i| self.at(i))
+    }
+
     /// The texels as `f32`, row-major, row 0 = top (for a conversion in place, then
     /// [`Texture::from_texels`]).
     #[inline]

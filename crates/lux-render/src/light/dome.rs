@@ -41,8 +41,7 @@ impl DomeLight {
                 let (w, h) = (t.tex.width(), t.tex.height());
                 let lum: Vec<f32> = t
                     .tex
-                    .texels()
-                    .iter()
+                    .texels_iter()
                     .map(|p| {
                         lux_math::luminance(DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64))
                             .max(0.0) as f32
