@@ -1054,9 +1054,18 @@ impl InputLoader {
         let mut seen = std::collections::HashSet::new();
         let mut graphs = Vec::new();
         for (m, b) in scene.materials.iter().zip(built) {
-            let inputs = [m.diffuse.texture(), m.opacity.texture()];
+            // The graph that shades the material (UsdPreviewSurface model, a graph with a
+            // surface), whose shader also reads a UsdPreviewSurface's `opacity`.
+            let graph = match shading_graph(m, b.as_ref()) {
+                (_, Some(g)) if surfaces == SurfaceModel::Preview && g.surface.is_some() => Some(g),
+                _ => None,
+            };
+            let opacity = graph.and(m.preview.then(|| m.opacity.texture()).flatten());
             let emissive = m.emissive_texture.as_deref();
-            for t in inputs.into_iter().chain([emissive]).flatten() {
+            for t in [m.diffuse.texture(), opacity, emissive]
+                .into_iter()
+                .flatten()
+            {
                 if let Some(p) = t.file.as_ref().and_then(|f| f.resolved.as_ref())
                     && !self.cache.contains_key(p)
                     && seen.insert(p)
@@ -1064,11 +1073,7 @@ impl InputLoader {
                     files.push(p.clone());
                 }
             }
-            if surfaces == SurfaceModel::Preview
-                && let (_, Some(g)) = shading_graph(m, b.as_ref())
-            {
-                graphs.push(g);
-            }
+            graphs.extend(graph);
         }
         use rayon::prelude::*;
         let loaded: Vec<_> = files
@@ -1309,5 +1314,76 @@ def Mesh "T" (prepend apiSchemas = ["MaterialBindingAPI"]) {{
 
     fn f32_close(a: DVec3, b: DVec3) {
         assert!((a - b).abs().max_element() < 1e-6, "{a} ≠ {b}");
+    }
+
+    /// What preparing a UsdPreviewSurface reads is decoded ahead: its `diffuseColor` texture
+    /// with either surface model, its `opacity` texture only where its graph shades it (the
+    /// UsdPreviewSurface model); an unresolved file is left to the lazy read.
+    #[test]
+    fn prefetch_decodes_the_textures_the_materials_read() {
+        let dir = std::env::temp_dir().join(format!("lux_prefetch_m_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let (white, grey) = (dir.join("white.png"), dir.join("grey.png"));
+        for (path, code) in [(&white, 255), (&grey, 90)] {
+            image::GrayImage::from_pixel(2, 2, image::Luma([code]))
+                .save(path)
+                .unwrap();
+        }
+        let tex = |file: Option<&std::path::Path>| {
+            Box::new(TextureInput {
+                shader: "/M/Tex".to_owned(),
+                file: file.map(|f| lux_usd::AssetRef {
+                    authored: f.display().to_string(),
+                    resolved: Some(f.to_path_buf()),
+                }),
+                st_primvar: "st".to_owned(),
+                st_fallback: DVec2::ZERO,
+                transform: None,
+                scale: DVec4::ONE,
+                bias: DVec4::ZERO,
+                fallback: DVec4::new(0.0, 0.0, 0.0, 1.0),
+                fallback_authored: false,
+                wrap_s: lux_usd::Wrap::Repeat,
+                wrap_t: lux_usd::Wrap::Repeat,
+                source_color_space: lux_usd::SourceColorSpace::Auto,
+                output: "rgb".to_owned(),
+            })
+        };
+        let mut s = Scene::empty("code.usda");
+        s.materials.push(Material {
+            preview: true,
+            diffuse: Input::Texture(tex(Some(&white))),
+            opacity: Input::Texture(tex(Some(&grey))),
+            ..Material::new("/M")
+        });
+        s.materials.push(Material {
+            diffuse: Input::Texture(tex(Some(&dir.join("gone.png")))),
+            ..Material::new("/N")
+        });
+        for (surfaces, want) in [
+            (SurfaceModel::Lambert, vec![&white]),
+            (SurfaceModel::Preview, vec![&white, &grey]),
+        ] {
+            let mut ld = InputLoader {
+                cache: HashMap::new(),
+                graph_textures: graph::TextureCache::new(),
+                warnings: Vec::new(),
+                strict: false,
+                primvars: Vec::new(),
+            };
+            let built: Vec<_> = s
+                .materials
+                .iter()
+                .map(|m| built_graph(m, surfaces))
+                .collect();
+            ld.prefetch(&s, &built, surfaces);
+            let mut got: Vec<_> = ld.cache.keys().collect();
+            got.sort();
+            let mut want = want.clone();
+            want.sort();
+            assert_eq!(got, want, "{surfaces:?}");
+            assert!(ld.warnings.is_empty());
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
