@@ -93,20 +93,31 @@ fn eight_bit_textures_look_up_as_their_f32_texels() {
     });
     let path = dir.join("codes.png");
     px.save(&path).unwrap();
+    let grey_only = dir.join("grey.png");
+    image::GrayImage::from_fn(256, 1, |x, _| image::Luma([x as u8]))
+        .save(&grey_only)
+        .unwrap();
     let grey = dir.join("grey_alpha.png");
     image::GrayAlphaImage::from_fn(5, 3, |x, y| {
         image::LumaA([(40 * x + y) as u8, (50 * y) as u8])
     })
     .save(&grey)
     .unwrap();
-    for path in [path, grey] {
+    // (bytes a texel: 4 for colour or grey with alpha, 1 for grey alone, against f32's 16)
+    for (path, bytes) in [(path, 4), (grey, 4), (grey_only, 1)] {
         let t = Texture::load(&path).unwrap();
         assert!(t.is_8bit(), "{}", path.display());
         let (w, h) = (t.width(), t.height());
         let full = Texture::from_texels(w, h, t.texels().into_owned()).unwrap();
         assert!(!full.is_8bit());
-        assert_eq!(t.texel_bytes() * 4, full.texel_bytes());
+        assert_eq!(t.texel_bytes() * 16, full.texel_bytes() * bytes);
         same_lookups(&t, &full);
+    }
+    // Every grey code reads back as the sRGB decoding of its code, alpha 1.
+    let t = Texture::load(&dir.join("grey.png")).unwrap();
+    for (x, texel) in t.texels_iter().enumerate() {
+        let l = eotf(x as f64 / 255.0) as f32;
+        assert_eq!(texel, [l, l, l, 1.0], "code {x}");
     }
     fs::remove_dir_all(&dir).unwrap();
 }

@@ -16,7 +16,8 @@
 //!   Grey and grey + alpha images expand to RGB(A).
 //! * **Storage.** Texels are held as `f32` RGBA, except an OpenEXR file whose R, G, B (and A)
 //!   channels are half floats, held as its `f16` (8 bytes a texel instead of 16), and an 8-bit
-//!   image, held as its codes (4 bytes; colour decoded through the sRGB table, alpha `a/255`):
+//!   image, held as its codes (4 bytes, 1 for grey without alpha; colour decoded through the
+//!   sRGB table, alpha `a/255`):
 //!   every lookup reads back the same `f32` values. Materials decode all their texture files in
 //!   parallel before they are prepared (`material::Materials`).
 //! * **Sanitising.** Loaded textures never contain NaN or ±∞: such texels (possible in EXR) are

@@ -58,6 +58,8 @@ pub(crate) enum Decoded {
     /// 8-bit sRGB codes (grey expanded to RGB, alpha 255 where there is none): colour decodes
     /// through [`srgb8_table`], alpha is `a / 255`.
     Srgb8(usize, usize, Vec<[u8; 4]>),
+    /// 8-bit grey sRGB codes, no alpha: the texel `[l, l, l, 1]` of each code's value `l`.
+    Grey8(usize, usize, Vec<u8>),
 }
 
 /// Loads the image of `src` by extension.
@@ -329,10 +331,13 @@ fn load_with_image(
         .map_err(|e| image_error(path, expected, e))?;
     let (width, height) = (image.width() as usize, image.height() as usize);
     check_dimensions(path, width as u64, height as u64)?;
-    if format != ImageFormat::Hdr
-        && let Some(codes) = srgb8_codes(&image)
-    {
-        return Ok(Decoded::Srgb8(width, height, codes));
+    if format != ImageFormat::Hdr {
+        if let DynamicImage::ImageLuma8(img) = image {
+            return Ok(Decoded::Grey8(width, height, img.into_raw()));
+        }
+        if let Some(codes) = srgb8_codes(&image) {
+            return Ok(Decoded::Srgb8(width, height, codes));
+        }
     }
     let texels = dynamic_to_linear(image, format != ImageFormat::Hdr);
     Ok(Decoded::F32(width, height, texels))

@@ -8,13 +8,16 @@ use exr::prelude::f16;
 use super::{ImageError, error::IN_MEMORY};
 
 /// How a [`Texture`] holds its texels: `f32`, the `f16` of a half-float OpenEXR file as
-/// stored (half the memory), or the codes of an 8-bit image (a quarter), each read back as the
-/// same `f32` values: `f16` widened exactly, 8-bit codes through their decoding tables.
+/// stored (half the memory), or the codes of an 8-bit image (a quarter; a sixteenth for grey
+/// without alpha), each read back as the same `f32` values: `f16` widened exactly, 8-bit codes
+/// through their decoding tables.
 #[derive(Clone, Debug, PartialEq)]
 enum Texels {
     F32(Vec<[f32; 4]>),
     F16(Vec<[f16; 4]>),
     Srgb8(Vec<[u8; 4]>),
+    /// Grey without alpha, one code a texel.
+    Grey8(Vec<u8>),
 }
 
 /// The linear value of each 8-bit sRGB code, and each 8-bit alpha `a / 255`.
@@ -116,6 +119,10 @@ impl Texture {
                 super::check_buffer(path, w, h, codes.len())?;
                 Ok(Self::with(w, h, Texels::Srgb8(codes), 0))
             }
+            super::read::Decoded::Grey8(w, h, codes) => {
+                super::check_buffer(path, w, h, codes.len())?;
+                Ok(Self::with(w, h, Texels::Grey8(codes), 0))
+            }
         }
     }
 
@@ -161,6 +168,7 @@ impl Texture {
             Texels::F32(t) => t[i],
             Texels::F16(t) => t[i].map(f16::to_f32),
             Texels::Srgb8(t) => srgb8(t[i]),
+            Texels::Grey8(t) => srgb8([t[i], t[i], t[i], 255]),
         }
     }
 
@@ -177,9 +185,9 @@ impl Texture {
     }
 
     /// Whether the texels are held as the codes of an 8-bit image (a quarter of the memory of
-    /// `f32`; lookups give the same values).
+    /// `f32`, a sixteenth for grey without alpha; lookups give the same values).
     pub fn is_8bit(&self) -> bool {
-        matches!(self.texels, Texels::Srgb8(_))
+        matches!(self.texels, Texels::Srgb8(_) | Texels::Grey8(_))
     }
 
     /// Bytes the texels take.
@@ -188,6 +196,7 @@ impl Texture {
             Texels::F32(t) => std::mem::size_of_val(t.as_slice()),
             Texels::F16(t) => std::mem::size_of_val(t.as_slice()),
             Texels::Srgb8(t) => std::mem::size_of_val(t.as_slice()),
+            Texels::Grey8(t) => t.len(),
         }
     }
 
@@ -210,7 +219,7 @@ impl Texture {
         match &self.texels {
             Texels::F32(t) => Cow::Borrowed(t),
             Texels::F16(t) => Cow::Owned(t.iter().map(|x| x.map(f16::to_f32)).collect()),
-            Texels::Srgb8(t) => Cow::Owned(t.iter().map(|&p| srgb8(p)).collect()),
+            Texels::Srgb8(_) | Texels::Grey8(_) => Cow::Owned(self.texels_iter().collect()),
         }
     }
 
@@ -227,7 +236,7 @@ impl Texture {
         match self.texels {
             Texels::F32(t) => t,
             Texels::F16(t) => t.iter().map(|x| x.map(f16::to_f32)).collect(),
-            Texels::Srgb8(t) => t.iter().map(|&p| srgb8(p)).collect(),
+            Texels::Srgb8(_) | Texels::Grey8(_) => self.texels_iter().collect(),
         }
     }
 
