@@ -86,7 +86,10 @@ impl Shaping {
         if !(cone > 0.0) {
             return 0.0;
         }
-        let hi = hi.min(self.cone.reach()).max(lo);
+        // `factor` tests the cone on the cosine, which takes directions up to ~1.5·10⁻⁸ rad
+        // past the cut as inside: the band reaches that far too (what the IES profile gives
+        // there can be anything under a large angle scale).
+        let hi = hi.min(self.cone.reach() + BOUND_SLACK).max(lo);
         // A full cone (1) and tint channels ≤ 1 are exactly representable and never exceeded
         // (lerp(f, t, 1) ≤ 1, cone ≤ 1); otherwise leave room for rounding: of the
         // interpolation and the products, and of a soft edge's value, which `factor` computes
