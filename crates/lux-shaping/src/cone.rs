@@ -110,6 +110,22 @@ impl Cone {
         }
     }
 
+    /// [`Cone::at_theta`] with the soft ramp computed as a direction's factor computes it
+    /// (`1 − smoothStepFraction((θ − start)·1/(cut − start))`, [`ConeHit::factor`]), for the
+    /// bounds: near the cut `1 − smoothStep` cancels, and the quotient of `at_theta` and this
+    /// product, an ulp apart, differ there by far more than the bounds' relative slack.
+    pub(crate) fn at_theta_as_factor(&self, theta: f64) -> f64 {
+        match *self {
+            Cone::Soft {
+                start,
+                cut,
+                inv_width,
+                ..
+            } if theta <= cut => ConeHit::Ramp { start, inv_width }.factor(|| theta),
+            _ => self.at_theta(theta),
+        }
+    }
+
     /// The factor at polar angle θ (used by the integrals and bounds).
     pub(crate) fn at_theta(&self, theta: f64) -> f64 {
         match *self {

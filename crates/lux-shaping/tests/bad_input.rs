@@ -268,3 +268,23 @@ fn documented_results_of_special_values() {
     assert_eq!(s.factor(DVec3::X)[0], f64::MAX);
     assert_eq!(s.max_factor(), f64::MAX);
 }
+
+/// A soft cone of a subnormal angle whose softness reaches far past the axis (`hdEmbree`
+/// profile: softness unclamped): on the axis `1 − smoothStep` cancels to ~2·10⁻⁵, and the
+/// bound, computed as the factor computes it, still holds (found by the proptest above).
+#[test]
+fn a_tiny_soft_cone_stays_under_its_bound_on_the_axis() {
+    let p = ShapingParams {
+        cone_angle_deg: f64::MIN_POSITIVE,
+        cone_softness: 360.2421417267986,
+        ..ShapingParams::NO_SHAPING
+    };
+    let o = ShapingOptions {
+        profile: Profile::HdEmbree,
+        ..Default::default()
+    };
+    let s = Shaping::new(&p, None, o).unwrap();
+    let (f, m) = (s.factor(DVec3::NEG_Z), s.max_factor());
+    assert!(f[0] > 0.0 && f[0] < 1e-4, "{f:?}");
+    assert!(f.max_element() <= m, "{f:?} above {m}");
+}
