@@ -1,7 +1,7 @@
 //! `inputs:shaping:cone:angle` and `inputs:shaping:cone:softness`, prepared.
 
 use core::f64::consts::{FRAC_PI_2, PI};
-use lux_math::{Profile, lerp, smooth_step, smooth_step_fraction};
+use lux_math::{Profile, lerp, smooth_step_fraction};
 
 /// The prepared cone. θ is the angle off the light's −Z axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -110,23 +110,11 @@ impl Cone {
         }
     }
 
-    /// [`Cone::at_theta`] with the soft ramp computed as a direction's factor computes it
-    /// (`1 − smoothStepFraction((θ − start)·1/(cut − start))`, [`ConeHit::factor`]), for the
-    /// bounds: near the cut `1 − smoothStep` cancels, and the quotient of `at_theta` and this
-    /// product, an ulp apart, differ there by far more than the bounds' relative slack.
-    pub(crate) fn at_theta_as_factor(&self, theta: f64) -> f64 {
-        match *self {
-            Cone::Soft {
-                start,
-                cut,
-                inv_width,
-                ..
-            } if theta <= cut => ConeHit::Ramp { start, inv_width }.factor(|| theta),
-            _ => self.at_theta(theta),
-        }
-    }
-
-    /// The factor at polar angle θ (used by the integrals and bounds).
+    /// The factor at polar angle θ (used by the integrals and bounds): the soft ramp
+    /// `1 − smoothStep(θ, start, cut)` computed as a direction's factor computes it, with the
+    /// prepared `1/(cut − start)` ([`ConeHit::factor`]) — near the cut `1 − smoothStep`
+    /// cancels, and a quotient an ulp away from that product would put a bound below the
+    /// factor by more than the bounds' relative slack.
     pub(crate) fn at_theta(&self, theta: f64) -> f64 {
         match *self {
             Cone::Open => 1.0,
@@ -138,11 +126,16 @@ impl Cone {
                     0.0
                 }
             }
-            Cone::Soft { start, cut, .. } => {
+            Cone::Soft {
+                start,
+                cut,
+                inv_width,
+                ..
+            } => {
                 if theta > cut {
                     0.0
                 } else {
-                    1.0 - smooth_step(theta, start, cut)
+                    ConeHit::Ramp { start, inv_width }.factor(|| theta)
                 }
             }
         }

@@ -339,18 +339,16 @@ fn load_with_image(
             return Ok(Decoded::Srgb8(width, height, codes));
         }
     }
+    // (an 8-bit image of a float format, which no decoder gives, is normalised as linear
+    // by `into_rgba32f`)
     let texels = dynamic_to_linear(image, format != ImageFormat::Hdr);
     Ok(Decoded::F32(width, height, texels))
 }
 
-/// The codes of an 8-bit image as RGBA (grey expanded, alpha 255 where there is none), which
-/// decode to exactly the texels [`dynamic_to_linear`] gives it; `None` for other images.
+/// The codes of an 8-bit colour or grey + alpha image as RGBA (grey expanded, alpha 255 where
+/// there is none); `None` for other images (grey alone is kept as [`Decoded::Grey8`]).
 fn srgb8_codes(image: &DynamicImage) -> Option<Vec<[u8; 4]>> {
     Some(match image {
-        DynamicImage::ImageLuma8(img) => img
-            .pixels()
-            .map(|p| [p.0[0], p.0[0], p.0[0], 255])
-            .collect(),
         DynamicImage::ImageLumaA8(img) => img
             .pixels()
             .map(|p| [p.0[0], p.0[0], p.0[0], p.0[1]])
@@ -376,49 +374,13 @@ fn srgb16_table() -> Vec<f32> {
         .collect()
 }
 
-/// Converts a decoded image to linear RGBA, expanding grey to RGB and adding alpha = 1.
-/// Integer colour channels are sRGB-decoded; float images (HDR) are taken as linear. When
-/// `srgb` is false, integer channels are only normalised.
+/// Converts a decoded image other than the 8-bit ones of an sRGB format (kept as their codes,
+/// [`srgb8_codes`]) to linear RGBA, expanding grey to RGB and adding alpha = 1. 16-bit colour
+/// channels are sRGB-decoded; float images (HDR) are taken as linear. When `srgb` is false,
+/// integer channels are only normalised.
 fn dynamic_to_linear(image: DynamicImage, srgb: bool) -> Vec<[f32; 4]> {
-    let a8 = |a: u8| f32::from(a) / 255.0;
     let a16 = |a: u16| f32::from(a) / 65535.0;
     match image {
-        DynamicImage::ImageLuma8(_)
-        | DynamicImage::ImageLumaA8(_)
-        | DynamicImage::ImageRgb8(_)
-        | DynamicImage::ImageRgba8(_) => {
-            let lut: [f32; 256] = if srgb {
-                srgb8_table()
-            } else {
-                std::array::from_fn(|i| i as f32 / 255.0)
-            };
-            let c = |v: u8| lut[usize::from(v)];
-            match image {
-                DynamicImage::ImageLuma8(img) => img
-                    .pixels()
-                    .map(|p| {
-                        let l = c(p.0[0]);
-                        [l, l, l, 1.0]
-                    })
-                    .collect(),
-                DynamicImage::ImageLumaA8(img) => img
-                    .pixels()
-                    .map(|p| {
-                        let l = c(p.0[0]);
-                        [l, l, l, a8(p.0[1])]
-                    })
-                    .collect(),
-                DynamicImage::ImageRgb8(img) => img
-                    .pixels()
-                    .map(|p| [c(p.0[0]), c(p.0[1]), c(p.0[2]), 1.0])
-                    .collect(),
-                other => other
-                    .into_rgba8()
-                    .pixels()
-                    .map(|p| [c(p.0[0]), c(p.0[1]), c(p.0[2]), a8(p.0[3])])
-                    .collect(),
-            }
-        }
         DynamicImage::ImageLuma16(_)
         | DynamicImage::ImageLumaA16(_)
         | DynamicImage::ImageRgb16(_)

@@ -218,8 +218,7 @@ impl Texture {
     pub fn texels(&self) -> Cow<'_, [[f32; 4]]> {
         match &self.texels {
             Texels::F32(t) => Cow::Borrowed(t),
-            Texels::F16(t) => Cow::Owned(t.iter().map(|x| x.map(f16::to_f32)).collect()),
-            Texels::Srgb8(_) | Texels::Grey8(_) => Cow::Owned(self.texels_iter().collect()),
+            _ => Cow::Owned(self.texels_iter().collect()),
         }
     }
 
@@ -235,8 +234,7 @@ impl Texture {
     pub fn into_texels(self) -> Vec<[f32; 4]> {
         match self.texels {
             Texels::F32(t) => t,
-            Texels::F16(t) => t.iter().map(|x| x.map(f16::to_f32)).collect(),
-            Texels::Srgb8(_) | Texels::Grey8(_) => self.texels_iter().collect(),
+            _ => self.texels_iter().collect(),
         }
     }
 

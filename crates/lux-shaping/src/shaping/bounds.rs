@@ -82,7 +82,7 @@ impl Shaping {
 
     /// Upper bound (f64) of every channel of the factor over polar angles `[lo, hi]`.
     pub(super) fn bound(&self, lo: f64, hi: f64) -> f64 {
-        let cone = self.cone.at_theta_as_factor(lo);
+        let cone = self.cone.at_theta(lo);
         if !(cone > 0.0) {
             return 0.0;
         }

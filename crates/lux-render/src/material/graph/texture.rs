@@ -58,7 +58,7 @@ impl TextureCache {
                 file.asset.authored
             ));
         };
-        let space = space_of(file, path).unwrap_or_else(|| {
+        let space = space_of(file, path).unwrap_or_else(|fallback| {
             notes.push(format!(
                 "colour space {:?} of {} is unknown; read as {}",
                 file.colorspace,
@@ -69,7 +69,7 @@ impl TextureCache {
                     "srgb_texture"
                 }
             ));
-            ColorSpace::of("", path).unwrap_or(ColorSpace::Linear)
+            fallback
         });
         self.loaded
             .entry((path.clone(), space))
@@ -93,10 +93,7 @@ impl TextureCache {
             let Some(path) = &file.asset.resolved else {
                 continue;
             };
-            let space = space_of(file, path)
-                .or_else(|| ColorSpace::of("", path))
-                .unwrap_or(ColorSpace::Linear);
-            let key = (path.clone(), space);
+            let key = (path.clone(), space_of(file, path).unwrap_or_else(|s| s));
             if !self.loaded.contains_key(&key) && seen.insert(key.clone()) {
                 keys.push(key);
             }
@@ -112,9 +109,11 @@ impl TextureCache {
     }
 }
 
-/// The colour space of the texels of `file` (at `path`), `None` when its name is unknown.
-fn space_of(file: &FileValue, path: &Path) -> Option<ColorSpace> {
+/// The colour space of the texels of `file` (at `path`); when its name is unknown, `Err` with
+/// the file type's default, which is read instead.
+fn space_of(file: &FileValue, path: &Path) -> Result<ColorSpace, ColorSpace> {
     ColorSpace::of(&file.colorspace, path)
+        .ok_or_else(|| ColorSpace::of("", path).unwrap_or(ColorSpace::Linear))
 }
 
 /// Loads `path` and converts its texels from `space` to linear Rec.709. lux's loaders decode
