@@ -13,7 +13,7 @@ use glam::{DMat4, DVec3};
 use lux::math::{LightShape, Profile};
 use lux::render::image_io::ImageRgba;
 use lux::render::render::{RenderOptions, RenderStats, Renderer};
-use lux::render::settings::AdaptiveSampling;
+use lux::render::settings::{AdaptiveSampling, NoiseMeasure};
 use lux::usd::{Light, Scene};
 
 /// Image side in pixels; the camera's 4 scene units span it (1/8 unit a pixel).
@@ -138,52 +138,60 @@ fn the_edge_column_is_unbiased_and_sharper() {
     );
 }
 
+/// Bands of rows and a single thread give the whole frame's bits: by the perceived measure
+/// (3 × 3 neighbours) on the luxtest sphere, and by the linear one (7 × 7 neighbours and the
+/// frame pilot) on the path-traced Cornell box.
 #[test]
 fn bands_and_threads_give_the_bits_of_the_whole_frame() {
-    let scene = load_sphere();
-    let o = {
+    let sphere = {
         let mut o = options(Profile::HdEmbree, 2, [48, 48]);
         o.adaptive = Some(AdaptiveSampling::DEFAULT);
-        o
+        (load_sphere(), o)
     };
-    let whole = Renderer::new(&scene, o.clone()).unwrap();
-    let (full, st) = whole.render(&|_| {});
-    assert!(
-        st.adaptive_samples > 0,
-        "the sphere frame takes extra samples"
-    );
-    let bits = |p: &[f32; 4]| p.map(f32::to_bits);
-    for rows in [[0, 7], [7, 19], [19, 48], [23, 24]] {
-        let mut r = Renderer::new(&scene, o.clone()).unwrap();
-        r.restrict_rows(rows);
-        let (band, _) = r.render(&|_| {});
-        for y in 0..48u32 {
-            for x in 0..48u32 {
-                let i = (y * 48 + x) as usize;
-                let want = if (rows[0]..rows[1]).contains(&y) {
-                    bits(&full.pixels[i])
-                } else {
-                    [0; 4]
-                };
-                assert_eq!(
-                    bits(&band.pixels[i]),
-                    want,
-                    "rows {rows:?}, pixel ({x}, {y})"
-                );
+    let cornell = {
+        let mut o = options(Profile::Spec, 2, [48, 48]);
+        assert_eq!(o.adaptive(), AdaptiveSampling::PATH);
+        o.max_depth = 3;
+        (load_cornell(), o)
+    };
+    for (scene, o) in [sphere, cornell] {
+        let whole = Renderer::new(&scene, o.clone()).unwrap();
+        let (full, st) = whole.render(&|_| {});
+        assert!(st.adaptive_samples > 0, "the frame takes extra samples");
+        let bits = |p: &[f32; 4]| p.map(f32::to_bits);
+        for rows in [[0, 7], [7, 19], [19, 48], [23, 24]] {
+            let mut r = Renderer::new(&scene, o.clone()).unwrap();
+            r.restrict_rows(rows);
+            let (band, _) = r.render(&|_| {});
+            for y in 0..48u32 {
+                for x in 0..48u32 {
+                    let i = (y * 48 + x) as usize;
+                    let want = if (rows[0]..rows[1]).contains(&y) {
+                        bits(&full.pixels[i])
+                    } else {
+                        [0; 4]
+                    };
+                    assert_eq!(
+                        bits(&band.pixels[i]),
+                        want,
+                        "{:?}: rows {rows:?}, pixel ({x}, {y})",
+                        o.integrator
+                    );
+                }
             }
         }
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap()
+            .install(|| whole.render(&|_| {}).0);
+        assert!(
+            one.pixels
+                .iter()
+                .zip(&full.pixels)
+                .all(|(a, b)| bits(a) == bits(b))
+        );
     }
-    let one = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap()
-        .install(|| whole.render(&|_| {}).0);
-    assert!(
-        one.pixels
-            .iter()
-            .zip(&full.pixels)
-            .all(|(a, b)| bits(a) == bits(b))
-    );
 }
 
 #[test]
@@ -200,6 +208,12 @@ fn progress_counts_every_pixel_once_per_pass() {
     }
 }
 
+fn load_cornell() -> Scene {
+    let p = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/cornell/cornell.usda");
+    lux::usd::load_stage(p, 1.0).unwrap()
+}
+
 fn load_sphere() -> Scene {
     let p = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/luxtest/usd/sphere.usda");
@@ -207,7 +221,7 @@ fn load_sphere() -> Scene {
 }
 
 #[test]
-fn on_by_default_for_direct_lighting_with_lux_sampling_only() {
+fn on_by_default_with_lux_sampling_only() {
     use lux::render::settings::{IntegratorKind, SamplingMode};
     let mut o = options(Profile::HdEmbree, 4, [N, N]);
     assert_eq!(o.integrator, IntegratorKind::Direct);
@@ -216,9 +230,13 @@ fn on_by_default_for_direct_lighting_with_lux_sampling_only() {
     assert_eq!(o.adaptive(), AdaptiveSampling::OFF);
     let mut p = options(Profile::Spec, 4, [N, N]);
     assert_eq!(p.integrator, IntegratorKind::Path);
-    assert_eq!(p.adaptive(), AdaptiveSampling::OFF);
+    assert_eq!(p.adaptive(), AdaptiveSampling::PATH);
+    assert_eq!(p.adaptive().measure, NoiseMeasure::Linear);
     p.adaptive = Some(AdaptiveSampling::DEFAULT);
     assert_eq!(p.adaptive(), AdaptiveSampling::DEFAULT);
+    p.adaptive = None;
+    p.integrator = IntegratorKind::Light;
+    assert_eq!(p.adaptive(), AdaptiveSampling::OFF);
     // An invalid threshold or factor is an error naming it.
     let scene = edge_scene();
     for (bad, what) in [
@@ -226,6 +244,7 @@ fn on_by_default_for_direct_lighting_with_lux_sampling_only() {
             AdaptiveSampling {
                 threshold: 0.0,
                 max_factor: 4,
+                ..AdaptiveSampling::DEFAULT
             },
             "adaptive threshold 0",
         ),
@@ -233,6 +252,7 @@ fn on_by_default_for_direct_lighting_with_lux_sampling_only() {
             AdaptiveSampling {
                 threshold: f64::NAN,
                 max_factor: 4,
+                ..AdaptiveSampling::DEFAULT
             },
             "adaptive threshold NaN",
         ),
@@ -240,6 +260,7 @@ fn on_by_default_for_direct_lighting_with_lux_sampling_only() {
             AdaptiveSampling {
                 threshold: 0.1,
                 max_factor: 0,
+                ..AdaptiveSampling::DEFAULT
             },
             "adaptive max factor 0",
         ),

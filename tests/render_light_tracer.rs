@@ -20,7 +20,8 @@ fn cornell() -> lux::usd::Scene {
 }
 
 /// Per seed, the mean RGB of each block (`splits` paths continued from each camera sample's
-/// first vertex, for the path tracer; surfaces drawn as `surfaces`, `None`: the profile's).
+/// first vertex, for the path tracer; surfaces drawn as `surfaces`, `None`: the profile's),
+/// without adaptive sampling.
 fn block_means(
     s: &lux::usd::Scene,
     kind: IntegratorKind,
@@ -28,6 +29,19 @@ fn block_means(
     spp: u32,
     splits: u32,
     surfaces: Option<SurfaceModel>,
+) -> Vec<Vec<[f64; 3]>> {
+    block_means_with(s, kind, depth, spp, splits, surfaces, AdaptiveSampling::OFF)
+}
+
+/// [`block_means`] with `adaptive` sampling.
+fn block_means_with(
+    s: &lux::usd::Scene,
+    kind: IntegratorKind,
+    depth: u32,
+    spp: u32,
+    splits: u32,
+    surfaces: Option<SurfaceModel>,
+    adaptive: AdaptiveSampling,
 ) -> Vec<Vec<[f64; 3]>> {
     (0..SEEDS)
         .map(|seed| {
@@ -44,7 +58,7 @@ fn block_means(
             o.spp = spp;
             o.seed = 1000 + seed;
             o.resolution = Some([SIZE, SIZE]);
-            o.adaptive = Some(AdaptiveSampling::OFF);
+            o.adaptive = Some(adaptive);
             let r = Renderer::new(s, o).unwrap();
             let warnings: Vec<&String> = r.warnings().collect();
             assert!(warnings.is_empty(), "{warnings:?}");
@@ -121,6 +135,19 @@ fn lambertian_path_tracing_matches_light_tracing() {
     let path = block_means(&s, IntegratorKind::Path, 8, 128, PATH_SPLITS, lambert);
     let light = block_means(&s, IntegratorKind::Light, 8, 256, 1, lambert);
     agree(&path, &light, "depth 8, Lambertian");
+}
+
+/// The path tracer's adaptive sampling by the linear measure (its default): pixel counts
+/// read from the neighbours' samples and the frame pilot's, extra samples continuing each
+/// pixel's points. Still the light tracer's picture, block by block.
+#[test]
+fn adaptive_path_tracing_matches_light_tracing() {
+    let s = cornell();
+    let lambert = Some(SurfaceModel::Lambert);
+    let a = AdaptiveSampling::PATH;
+    let path = block_means_with(&s, IntegratorKind::Path, 8, 32, PATH_SPLITS, lambert, a);
+    let light = block_means(&s, IntegratorKind::Light, 8, 256, 1, lambert);
+    agree(&path, &light, "depth 8, Lambertian, adaptive");
 }
 
 #[test]

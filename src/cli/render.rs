@@ -15,7 +15,7 @@ use lux_render::light::LightSelection;
 use lux_render::render::{RenderOptions, RenderStats, Renderer};
 use lux_render::settings::{
     AdaptiveSampling, IntegratorKind, MAX_ADAPTIVE_FACTOR, MAX_DEPTH, MAX_LIGHT_SAMPLES,
-    MAX_PATH_SPLITS, MAX_SPP, SamplingMode, VisibilityMode,
+    MAX_PATH_SPLITS, MAX_SPP, NoiseMeasure, SamplingMode, VisibilityMode,
 };
 use lux_usd::{LoadOptions, Time, load_stage_with};
 use std::path::{Path, PathBuf};
@@ -75,6 +75,16 @@ pub enum SurfacesArg {
     Preview,
     /// Lambertian diffuseColor only, opaque (what the reference renderer shades).
     Lambert,
+}
+
+/// `--adaptive-measure`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum MeasureArg {
+    /// σ/√μ of the neighbourhood: noise as the eye sees it, edges antialiased (the direct
+    /// integrator's default).
+    Perceived,
+    /// σ/μ̄ of the frame: samples where the image's squared error is (the path tracer's default).
+    Linear,
 }
 
 /// `--light-selection`.
@@ -160,19 +170,22 @@ pub struct RenderArgs {
     /// takes this many times more.
     #[arg(long, default_value_t = 1)]
     pub penumbra_samples: u32,
-    /// Adaptive sampling's noise threshold t (default 0.01): after --spp samples, a pixel takes
-    /// spp·σ/(t·√μ) in all, σ the luminance noise of one sample and μ the mean luminance of its
-    /// neighbours (counted from its neighbours' samples only, so pixels stay unbiased). On by
-    /// default with the direct integrator and lux sampling; giving this or --adaptive-max turns
-    /// it on for path tracing too.
+    /// Adaptive sampling's noise threshold t: after --spp samples, a pixel takes spp·s/t in
+    /// all, s the luminance noise of one sample by --adaptive-measure (counted from its
+    /// neighbours' samples only, so pixels stay unbiased). On by default with lux sampling:
+    /// perceived, t = 0.01 for the direct integrator; linear, t = 0.1 for the path tracer
     #[arg(long, allow_negative_numbers = true)]
     pub adaptive_threshold: Option<f64>,
+    /// Adaptive sampling's noise measure: perceived σ/√μ (μ the neighbourhood's mean luminance)
+    /// or linear σ/μ̄ (μ̄ the frame's, from a sparse pilot); default by integrator
+    #[arg(long, value_enum)]
+    pub adaptive_measure: Option<MeasureArg>,
     /// Most samples a pixel takes with adaptive sampling, as a multiple of --spp (1 to 1024,
     /// default 16)
     #[arg(long)]
     pub adaptive_max: Option<u32>,
     /// Every pixel takes exactly --spp samples (no adaptive sampling)
-    #[arg(long, conflicts_with_all = ["adaptive_threshold", "adaptive_max"])]
+    #[arg(long, conflicts_with_all = ["adaptive_threshold", "adaptive_max", "adaptive_measure"])]
     pub no_adaptive: bool,
     /// Subdivision surfaces' refinement level, 0 to 10: 2^N segments along every cage edge, 0
     /// the cage's polygons (default: by size on screen in the spec profile, refined edges about
@@ -436,17 +449,6 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     }
     options.penumbra_samples = args.penumbra_samples;
     options.subdiv_level = args.subdiv_level;
-    options.adaptive = if args.no_adaptive {
-        Some(AdaptiveSampling::OFF)
-    } else if args.adaptive_threshold.is_some() || args.adaptive_max.is_some() {
-        let d = AdaptiveSampling::DEFAULT;
-        Some(AdaptiveSampling {
-            threshold: args.adaptive_threshold.unwrap_or(d.threshold),
-            max_factor: args.adaptive_max.unwrap_or(d.max_factor),
-        })
-    } else {
-        None
-    };
     options.sampling = match args.sampling {
         SamplingArg::Lux => SamplingMode::Lux,
         SamplingArg::Reference => SamplingMode::Reference,
@@ -456,6 +458,35 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         SelectionArg::All => LightSelection::All,
         SelectionArg::Power => LightSelection::Power,
         SelectionArg::Bvh => LightSelection::Bvh,
+    };
+    options.adaptive = if args.no_adaptive {
+        Some(AdaptiveSampling::OFF)
+    } else if args.adaptive_threshold.is_some()
+        || args.adaptive_max.is_some()
+        || args.adaptive_measure.is_some()
+    {
+        // Unset values from the integrator's default (the direct one's when it has none).
+        let d = Some(options.adaptive())
+            .filter(|a| a.is_on())
+            .unwrap_or(AdaptiveSampling::DEFAULT);
+        let measure = match args.adaptive_measure {
+            Some(MeasureArg::Perceived) => NoiseMeasure::Perceived,
+            Some(MeasureArg::Linear) => NoiseMeasure::Linear,
+            None => d.measure,
+        };
+        // A measure asked without a threshold takes that measure's default one.
+        let t = match measure {
+            _ if measure == d.measure => d.threshold,
+            NoiseMeasure::Perceived => AdaptiveSampling::DEFAULT.threshold,
+            NoiseMeasure::Linear => AdaptiveSampling::PATH.threshold,
+        };
+        Some(AdaptiveSampling {
+            threshold: args.adaptive_threshold.unwrap_or(t),
+            max_factor: args.adaptive_max.unwrap_or(d.max_factor),
+            measure,
+        })
+    } else {
+        None
     };
     // (the reference estimator is direct lighting only)
     let transport = match (options.integrator, options.sampling) {

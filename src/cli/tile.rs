@@ -71,7 +71,12 @@ pub fn settings_string(options: &RenderOptions, camera_light: bool) -> String {
         .map_or("default".to_owned(), |[w, h]| format!("{w}x{h}"));
     let lower = |d: &dyn std::fmt::Debug| format!("{d:?}").to_ascii_lowercase();
     let adaptive = match options.adaptive() {
-        a if a.is_on() => format!("{}x{}", a.threshold, a.max_factor),
+        a if a.is_on() => format!(
+            "{}x{}:{}",
+            a.threshold,
+            a.max_factor,
+            format!("{:?}", a.measure).to_ascii_lowercase()
+        ),
         _ => "off".to_owned(),
     };
     format!(

@@ -169,6 +169,8 @@ fn unit(x: u32) -> f64 {
 #[derive(Clone, Copy, Debug)]
 pub struct SampleStream {
     key: u64,
+    /// Points of the pixel's sequence before this set's ([`SampleStream::after`]).
+    base: u32,
     sample: u32,
     spp: u32,
     /// Light samples per light this camera sample takes (a factor on the integrator's).
@@ -184,10 +186,23 @@ impl SampleStream {
         let spp = spp.max(1);
         SampleStream {
             key,
+            base: 0,
             sample,
             spp,
             light_factor: 1,
         }
+    }
+
+    /// This sample in the set of the pixel's points that follows its first `base`: the
+    /// stream's `spp` points are points `base..base + spp` of each dimension's sequence (under
+    /// the same scrambles), so that a pixel's first `base` samples and these together take
+    /// the first `base + spp` points of every dimension — a (0, 2)-sequence's prefix, as well
+    /// spread as one set of that many. Adaptive sampling's extra samples continue a pixel's
+    /// first ones so. Each point stays uniform, so a count chosen apart from these points
+    /// keeps the pixel unbiased.
+    #[inline]
+    pub fn after(&self, base: u32) -> SampleStream {
+        SampleStream { base, ..*self }
     }
 
     /// This sample in a second, independently scrambled set of the pixel's points (same
@@ -216,6 +231,7 @@ impl SampleStream {
     #[inline]
     pub fn split(&self, j: u32, k: u32) -> SampleStream {
         SampleStream {
+            base: self.base * k,
             sample: self.sample * k + j,
             spp: self.spp * k,
             ..*self
@@ -228,8 +244,8 @@ impl SampleStream {
     #[inline(always)]
     pub fn split_get2(&self, dim: Dim, k: u32) -> impl Iterator<Item = [f64; 2]> + use<> {
         let (p, s0, s1) = Self::hashes(self.key, dim.id());
-        let (first, spp) = (self.sample * k, self.spp * k);
-        (0..k).map(move |j| point2_of(first + j, spp, p, s0, s1))
+        let (base, first, spp) = (self.base * k, self.sample * k, self.spp * k);
+        (0..k).map(move |j| point2_of(base, first + j, spp, p, s0, s1))
     }
 
     /// The permutation seed and the two scrambling seeds of dimension (pair) `dim` under `key`.
@@ -244,7 +260,7 @@ impl SampleStream {
     /// coordinates uniform in \[0, 1), stratified across the pixel's samples.
     #[inline(always)]
     pub fn u2(&self, dim: u32) -> [f64; 2] {
-        point2(self.key, self.sample, self.spp, dim)
+        point2(self.key, self.base, self.sample, self.spp, dim)
     }
 
     /// The 2D point of the named dimension `dim`.
@@ -262,30 +278,31 @@ impl SampleStream {
     /// A 1D number of dimension `dim`, uniform in \[0, 1), stratified across the samples.
     #[inline(always)]
     pub fn u(&self, dim: u32) -> f64 {
-        point1(self.key, self.sample, self.spp, dim)
+        point1(self.key, self.base, self.sample, self.spp, dim)
     }
 }
 
-/// Point `sample` of `spp` of the 2D dimension `dim` under `key`.
+/// Point `base + π(sample)` (π a permutation of `[0, spp)`) of the 2D dimension `dim` under
+/// `key`.
 #[inline(always)]
-fn point2(key: u64, sample: u32, spp: u32, dim: u32) -> [f64; 2] {
+fn point2(key: u64, base: u32, sample: u32, spp: u32, dim: u32) -> [f64; 2] {
     let (p, s0, s1) = SampleStream::hashes(key, dim);
-    point2_of(sample, spp, p, s0, s1)
+    point2_of(base, sample, spp, p, s0, s1)
 }
 
-/// Point `sample` of `spp` of the 2D dimension whose permutation and scrambling seeds are
+/// Point `base + π(sample)` of the 2D dimension whose permutation and scrambling seeds are
 /// `p`, `s0` and `s1`.
 #[inline(always)]
-fn point2_of(sample: u32, spp: u32, p: u32, s0: u32, s1: u32) -> [f64; 2] {
-    let i = permute(sample, spp, p);
+fn point2_of(base: u32, sample: u32, spp: u32, p: u32, s0: u32, s1: u32) -> [f64; 2] {
+    let i = base + permute(sample, spp, p);
     [unit(owen_rev(i, s0)), unit(owen_rev(sobol1_rev(i), s1))]
 }
 
-/// Point `sample` of `spp` of the 1D dimension `dim` under `key`.
+/// Point `base + π(sample)` of the 1D dimension `dim` under `key`.
 #[inline(always)]
-fn point1(key: u64, sample: u32, spp: u32, dim: u32) -> f64 {
+fn point1(key: u64, base: u32, sample: u32, spp: u32, dim: u32) -> f64 {
     let (p, s0, _) = SampleStream::hashes(key, dim ^ 0x8000_0000);
-    let i = permute(sample, spp, p);
+    let i = base + permute(sample, spp, p);
     unit(owen_rev(i, s0))
 }
 
@@ -497,12 +514,12 @@ mod tests {
                     let samples = spp.min(300);
                     for s in (0..samples).chain([spp - 1]) {
                         assert_eq!(
-                            point2(key, s, spp, dim).map(f64::to_bits),
+                            point2(key, 0, s, spp, dim).map(f64::to_bits),
                             reference::point2(key, s, spp, dim).map(f64::to_bits),
                             "spp {spp} pixel {pixel} dim {dim} sample {s}"
                         );
                         assert_eq!(
-                            point1(key, s, spp, dim).to_bits(),
+                            point1(key, 0, s, spp, dim).to_bits(),
                             reference::point1(key, s, spp, dim).to_bits(),
                             "spp {spp} pixel {pixel} dim {dim} sample {s}"
                         );
@@ -531,6 +548,68 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A pixel's first `base` points and the `n` of [`SampleStream::after`]`(base)` are,
+    /// as sets, the first `base + n` points of every dimension (2D and 1D, split into
+    /// sub-samples too): a continuation is as well spread as one set of that many.
+    #[test]
+    fn continued_sets_are_the_longer_prefix() {
+        for (base, n, k) in [
+            (4u32, 12u32, 1u32),
+            (5, 11, 1),
+            (1, 30, 1),
+            (3, 5, 2),
+            (8, 8, 4),
+        ] {
+            let sorted = |v: Vec<[u64; 2]>| {
+                let (mut a, mut b): (Vec<u64>, Vec<u64>) = v.iter().map(|&[a, b]| (a, b)).unzip();
+                a.sort_unstable();
+                b.sort_unstable();
+                (a, b)
+            };
+            for dim in [
+                Dim::Camera,
+                Dim::Bsdf { bounce: 2 },
+                Dim::Light {
+                    bounce: 0,
+                    index: 3,
+                },
+            ] {
+                // (the 2D and the 1D points apart: each dimension is permuted on its own)
+                let key = |st: SampleStream| {
+                    let [a, b] = st.get2(dim);
+                    [
+                        a.to_bits() ^ b.to_bits().rotate_left(17),
+                        st.get1(dim).to_bits(),
+                    ]
+                };
+                let whole: Vec<[u64; 2]> = (0..base + n)
+                    .flat_map(|s| {
+                        let st = SampleStream::new(9, 77, s, base + n);
+                        (0..k).map(move |j| st.split(j, k))
+                    })
+                    .map(key)
+                    .collect();
+                let parts: Vec<[u64; 2]> = (0..base)
+                    .map(|s| SampleStream::new(9, 77, s, base))
+                    .chain((0..n).map(|e| SampleStream::new(9, 77, e, n).after(base)))
+                    .flat_map(|st| (0..k).map(move |j| st.split(j, k)))
+                    .map(key)
+                    .collect();
+                assert_eq!(
+                    sorted(parts),
+                    sorted(whole),
+                    "{base} + {n}, split {k}, {dim:?}"
+                );
+            }
+        }
+        // split_get2 agrees with split(..).get2 on a continuation.
+        let st = SampleStream::new(3, 5, 2, 7).after(9);
+        let d = Dim::Bsdf { bounce: 1 };
+        let a: Vec<[f64; 2]> = st.split_get2(d, 3).collect();
+        let b: Vec<[f64; 2]> = (0..3).map(|j| st.split(j, 3).get2(d)).collect();
+        assert_eq!(a, b);
     }
 
     /// The spp = 2ᵏ points of a pixel's pair form a (0, k, 2)-net: every elementary interval

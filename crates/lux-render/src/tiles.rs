@@ -6,15 +6,18 @@
 //! Before a tile's samples the visibility is asked what its camera rays can meet
 //! ([`Visibility::tile`]); each worker's visibility scratch (its patch answers) goes from tile
 //! to tile. With adaptive sampling ([`AdaptiveSampling`]) a render is two passes: every pixel's
-//! `spp` samples (and, for a band of rows, those of the row beyond each side), then each
-//! pixel's extra samples, counted from its neighbours' first-pass luminances; the penumbra
-//! pilot ([`PenumbraPilot`]) sets a pixel's light samples before its first.
+//! `spp` samples (and, for a band of rows, those of the rows its neighbours reach beyond
+//! each side), then each
+//! pixel's extra samples, counted from its neighbours' first-pass luminances (and, by the
+//! linear noise measure, the frame's mean luminance from a sparse pilot over the whole frame,
+//! [`FramePilot`]); the penumbra pilot ([`PenumbraPilot`]) sets a pixel's light samples before
+//! its first.
 //!
 //! Determinism: every random number is a function of (seed, pixel, sample, dimension)
 //! ([`crate::sampler`]), pixels are independent and splats sum in fixed point, so the image is
 //! bit-identical for any thread count and tile order.
 
-use crate::adaptive::{AdaptiveSampling, Luma, PenumbraPilot};
+use crate::adaptive::{AdaptiveSampling, FramePilot, Luma, NoiseMeasure, PenumbraPilot};
 use crate::camera::Camera;
 use crate::film::{Film, Splat, Splats};
 use crate::image_io::ImageRgba;
@@ -43,7 +46,8 @@ pub struct Frame {
     /// of rows); the rest stays 0 with alpha 0.
     pub window: [u32; 4],
     /// The rows `[y0, y1)` of the whole frame's window (crop ∩ data window): a band's adaptive
-    /// pass reads its neighbours' first samples up to one row beyond it, within these.
+    /// pass reads its neighbours' first samples up to `reach` rows beyond it
+    /// ([`AdaptiveSampling::reach`]), and the linear measure's frame pilot all of them.
     pub frame_rows: [u32; 2],
     /// Samples per pixel (with adaptive sampling, the least a pixel takes).
     pub spp: u32,
@@ -90,6 +94,18 @@ struct Sums {
     rgba: DVec4,
     y: f64,
     y2: f64,
+}
+
+/// A run of a pixel's camera samples: `n` of them, taking `factor` × the integrator's light
+/// samples per light, drawn from the pixel's stratified set of `n` points — rescrambled under
+/// `salt` when there is one (penumbra samples, the frame pilot's), the `n` points after the
+/// pixel's first `base` ([`SampleStream::after`]: adaptive extra samples).
+#[derive(Clone, Copy, Debug)]
+struct Run {
+    n: u32,
+    factor: u32,
+    salt: Option<u64>,
+    base: u32,
 }
 
 /// The render's counters, summed over the workers.
@@ -340,13 +356,14 @@ impl Frame {
         let scene = tiles.scene;
         let [x0, y0, x1, y1] = self.window;
         let rw = (x1 - x0) as usize;
-        // First pass: the window's rows and one row beyond each side (within the frame's
+        // First pass: the window's rows and `reach` rows beyond each side (within the frame's
         // window), so a band reads the neighbours the whole frame reads. The window's pixels
         // take their first-pass means, which the second pass updates where it adds samples;
         // every row's luminances go to `luma`, the penumbra factors (when the pilot can run)
         // to `factors`.
-        let hy0 = y0.saturating_sub(1).max(self.frame_rows[0]).min(y0);
-        let hy1 = (y1 + 1).min(self.frame_rows[1]).max(y1);
+        let reach = adaptive.reach() as u32;
+        let hy0 = y0.saturating_sub(reach).max(self.frame_rows[0]).min(y0);
+        let hy1 = (y1 + reach).min(self.frame_rows[1]).max(y1);
         let rows = (hy1 - hy0) as usize;
         let mut luma: Vec<Luma> = vec![[0.0; 2]; rw * rows];
         let mut factors: Vec<u32> = if self.pilot.runs(self.spp) {
@@ -383,21 +400,31 @@ impl Frame {
                 }
             },
         );
+        let frame_mean = match adaptive.measure {
+            NoiseMeasure::Linear => self.frame_mean(tiles),
+            NoiseMeasure::Perceived => 0.0,
+        };
         // Second pass: each pixel's extra samples, counted from its neighbours' pooled
         // luminance statistics; a pixel that takes some becomes the mean of all its samples.
         tiles.run(
             self.window,
             &|x, y, c, extra| {
                 let (i, j) = ((x - x0) as usize, (y - hy0) as usize);
-                let n = adaptive.samples_at(self.spp, &luma, [rw, rows], [i, j]);
+                let n = adaptive.samples_at(self.spp, &luma, [rw, rows], [i, j], frame_mean);
                 if n <= self.spp {
                     return None;
                 }
                 let ne = n - self.spp;
                 *extra += ne as u64;
                 let factor = factors.get(j * rw + i).copied().unwrap_or(1);
-                let salt = AdaptiveSampling::SALT;
-                let sums = self.samples(scene, [x, y], [ne, factor], salt, c, &mut |_| {});
+                // (they continue the pixel's first points, under the first samples' scramble)
+                let run = Run {
+                    n: ne,
+                    factor,
+                    salt: (factor > 1).then_some(PenumbraPilot::SALT),
+                    base: self.spp,
+                };
+                let sums = self.samples(scene, [x, y], run, c, &mut |_| {});
                 Some((n, sums.rgba))
             },
             &|[a, b, c, d]| progress((c - a) as u64 * (d - b) as u64),
@@ -415,6 +442,53 @@ impl Frame {
                 }
             },
         );
+    }
+
+    /// The frame's mean luminance `μ̄` by the frame pilot ([`FramePilot`]): one sample in every
+    /// pilot pixel of the whole frame's window (`[x0, x1)` × [`Frame::frame_rows`]), summed in
+    /// row-major order whatever the tiles. Its rays count in the render's; its samples are not
+    /// the image's.
+    fn frame_mean<I: Integrator>(&self, tiles: &Tiles<'_, '_, I>) -> f64 {
+        let [x0, _, x1, _] = self.window;
+        let [fy0, fy1] = self.frame_rows;
+        let (w, h) = ((x1 - x0) as usize, (fy1 - fy0) as usize);
+        if w == 0 || h == 0 {
+            return 0.0;
+        }
+        let xs = FramePilot::along([x0, x1]);
+        let ys = FramePilot::along([fy0, fy1]);
+        let mut at: Vec<f64> = vec![0.0; w * h];
+        let salt = Some(FramePilot::SALT);
+        tiles.run(
+            [x0, fy0, x1, fy1],
+            &|x, y, c, _| {
+                if !(FramePilot::on([x0, x1], x) && FramePilot::on([fy0, fy1], y)) {
+                    return 0.0;
+                }
+                let run = Run {
+                    n: 1,
+                    factor: 1,
+                    salt,
+                    base: 0,
+                };
+                self.samples(tiles.scene, [x, y], run, c, &mut |_| {}).y
+            },
+            &|_| {},
+            &mut at,
+            &|at, [tx0, ty0, tx1, _], px: &[f64]| {
+                let tw = (tx1 - tx0) as usize;
+                for (row, chunk) in px.chunks(tw).enumerate() {
+                    let o = (ty0 - fy0) as usize + row;
+                    at[o * w + (tx0 - x0) as usize..][..tw].copy_from_slice(chunk);
+                }
+            },
+        );
+        let n = xs.clone().count() * ys.clone().count();
+        let sum: f64 = ys
+            .flat_map(|y| xs.clone().map(move |x| [x, y]))
+            .map(|[x, y]| at[(y - fy0) as usize * w + (x - x0) as usize])
+            .sum();
+        sum / n.max(1) as f64
     }
 
     /// Passes over the window a render makes: 2 with adaptive sampling that can add samples
@@ -467,8 +541,14 @@ impl Frame {
         each: &mut impl FnMut(DVec3),
     ) -> (u32, Sums) {
         let factor = self.penumbra_factor(scene, x, y, c);
-        let salt = PenumbraPilot::SALT;
-        let s = self.samples(scene, [x, y], [self.spp, factor], salt, c, each);
+        let salt = (factor > 1).then_some(PenumbraPilot::SALT);
+        let run = Run {
+            n: self.spp,
+            factor,
+            salt,
+            base: 0,
+        };
+        let s = self.samples(scene, [x, y], run, c, each);
         (factor, s)
     }
 
@@ -499,16 +579,18 @@ impl Frame {
         self.pilot.factor(c.counters.blocked - blocked0)
     }
 
-    /// Sums over `n` camera samples of pixel `[x, y]` taking `factor` × the integrator's light
-    /// samples per light: the pixel's stratified set of `n` points, rescrambled under `salt`
-    /// when `factor > 1` or for adaptive extra samples (`salt` = [`AdaptiveSampling::SALT`]).
+    /// Sums over the camera samples `run` of pixel `[x, y]`.
     #[inline]
     fn samples<I: Integrator>(
         &self,
         scene: &Scene<'_, I>,
         [x, y]: [u32; 2],
-        [n, factor]: [u32; 2],
-        salt: u64,
+        Run {
+            n,
+            factor,
+            salt,
+            base,
+        }: Run,
         c: &mut Ctx,
         each: &mut impl FnMut(DVec3),
     ) -> Sums {
@@ -526,8 +608,11 @@ impl Frame {
         let index = y as u64 * self.width as u64 + x as u64;
         for s in 0..n {
             let mut st = SampleStream::new(self.seed, index, s, n);
-            if factor > 1 || salt == AdaptiveSampling::SALT {
+            if let Some(salt) = salt {
                 st = st.pass(salt, factor);
+            }
+            if base > 0 {
+                st = st.after(base);
             }
             let j = st.get2(Dim::Camera);
             let (o, d, tmin, tmax) = scene.camera.ray(x as f64 + j[0], y as f64 + j[1]);
