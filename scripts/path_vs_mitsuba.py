@@ -184,10 +184,14 @@ def cmd_race(a):
 
     lux_rows = []
     lux_render(a.lux, a.scene, depth, 4, os.path.join(a.out, "warm.exr"), 99)  # warm caches
-    for s in [int(x) for x in a.lux_spp.split(",")]:
-        img, wall, own = lux_render(a.lux, a.scene, depth, s, os.path.join(a.out, f"lux{s}.exr"),
-                                    7 + s)
-        lux_rows.append(dict(spp=s, seconds=wall, render_s=own, rmse=pm._rmse(img, gt)))
+    # entries S or S@T (S spp at lux's --adaptive-threshold T), as race.py's --lux-spp
+    for s, t in race.lux_ladder(a.lux_spp):
+        more = ["--adaptive-threshold", str(t)] if t is not None else []
+        name = f"lux{s}" + (f"_t{t}" if t is not None else "")
+        img, wall, own, px = race.lux_render(a.lux, a.scene, 1, s, os.path.join(a.out, f"{name}.exr"),
+                                             7 + s, more, depth)
+        lux_rows.append(dict(spp=s, threshold=t, px=px, seconds=wall, render_s=own,
+                             rmse=pm._rmse(img, gt)))
     sc = pm.build_mitsuba_scene(desc, 16, 1, 1, 1, sampler=a.mi_sampler, integrator=integ)
     pm.render(sc, 4, 7)  # warm-up
     mi_rows = []
@@ -206,8 +210,9 @@ def cmd_race(a):
     print("| renderer | spp | seconds | RMSE vs GT |")
     print("|---|---|---|---|")
     for r in lux_rows:
-        print(f"| lux (process; render {r['render_s']:.2f} s) | {r['spp']} | {r['seconds']:.2f} | "
-              f"{r['rmse']:.6f} |")
+        at = f" at t = {r['threshold']}" if r["threshold"] is not None else ""
+        print(f"| lux (process; render {r['render_s']:.2f} s; {r['px']:.2f} a pixel) | {r['spp']}{at} | "
+              f"{r['seconds']:.2f} | {r['rmse']:.6f} |")
     for r in mi_rows:
         print(f"| mitsuba path {a.mi_sampler} | {r['spp']} | {r['seconds']:.2f} | {r['rmse']:.6f} |")
     lf = race.fit(lux_rows, sig_gt, targets)
@@ -251,7 +256,8 @@ def main():
     r.add_argument("--gt-spp", type=int, default=4096)
     r.add_argument("--gt-sampler", default="independent")
     r.add_argument("--mi-sampler", default="ldsampler")
-    r.add_argument("--lux-spp", default="4,16,64,256")
+    r.add_argument("--lux-spp", default="4,16,64,256",
+                   help="lux runs: S (spp) or S@T (spp at --adaptive-threshold T), comma separated")
     r.add_argument("--mi-spp", default="4,16,64,256")
     r.add_argument("--targets", default="")
     a = ap.parse_args()
