@@ -26,7 +26,7 @@
 //! a BSDF ray stops at the first occluder, which is not what their shadow says.
 
 use super::{Ctx, SamplingMode, power_heuristic, shadow_ray};
-use crate::geometry::{shadow_ray_to, shadow_tmax};
+use crate::geometry::{Hit, shadow_ray_to, shadow_tmax};
 use crate::light::{LiSample, Light, LightBase, Seen};
 use crate::material::{Bsdf, BsdfSample, SurfacePoint};
 use crate::sampler::{Dim, SampleStream};
@@ -83,6 +83,16 @@ impl At {
 #[inline]
 fn one_scale(bsdf: &Bsdf, base: &LightBase) -> bool {
     matches!(bsdf, Bsdf::Diffuse(_)) || base.diffuse == base.specular
+}
+
+/// The BSDF sample an estimate traced (for its emission) and what its ray met, which a path
+/// continues along without tracing it again.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Traced {
+    /// The sample (`Dim::Bsdf { bounce }`).
+    pub bs: BsdfSample,
+    /// The first surface on either side along it (`None`: it escaped).
+    pub hit: Option<Hit>,
 }
 
 impl<'a> Nee<'a> {
@@ -148,6 +158,19 @@ impl<'a> Nee<'a> {
         bounce: u32,
         ctx: &mut Ctx,
     ) -> DVec3 {
+        self.estimate_keeping(sp, st, bounce, ctx, &mut None)
+    }
+
+    /// [`Nee::estimate`], keeping in `traced` the BSDF sample it traced, if it traced one.
+    #[inline(always)]
+    pub(super) fn estimate_keeping(
+        &self,
+        sp: &SurfacePoint,
+        st: &SampleStream,
+        bounce: u32,
+        ctx: &mut Ctx,
+        traced: &mut Option<Traced>,
+    ) -> DVec3 {
         let w = &self.world;
         if (w.lights.lights.is_empty() && !w.textured_emission) || sp.bsdf.is_black() {
             return DVec3::ZERO;
@@ -180,7 +203,8 @@ impl<'a> Nee<'a> {
             && (sp.ng.dot(bs.wi) > 0.0 || at.transmits)
         {
             // (added to `out` term by term, in the order of the terms)
-            self.bsdf_sample(sp, &bs, &at, selector, ctx, &mut out);
+            let hit = self.bsdf_sample(sp, &bs, &at, selector, ctx, &mut out);
+            *traced = Some(Traced { bs, hit });
         }
         out
     }
@@ -364,7 +388,7 @@ impl<'a> Nee<'a> {
 
     /// The emission found along the BSDF sample `bs` (MIS against light sampling): analytic
     /// lights it crosses before the first surface, the mesh light or textured emission it
-    /// hits, the lights at infinity if it escapes, added to `out`.
+    /// hits, the lights at infinity if it escapes, added to `out`. Returns the surface hit.
     fn bsdf_sample(
         &self,
         sp: &SurfacePoint,
@@ -373,7 +397,7 @@ impl<'a> Nee<'a> {
         selector: Option<&LightSelector>,
         ctx: &mut Ctx,
         out: &mut DVec3,
-    ) {
+    ) -> Option<Hit> {
         let w = &self.world;
         let lights = &w.lights.lights;
         let wi = bs.wi;
@@ -433,7 +457,7 @@ impl<'a> Nee<'a> {
                 );
             }
         });
-        match hit {
+        match &hit {
             Some(h) => {
                 // The back of a single-sided emitter emits nothing (light samples never reach
                 // it: the sampler checks the side).
@@ -458,5 +482,6 @@ impl<'a> Nee<'a> {
                 }
             }
         }
+        hit
     }
 }

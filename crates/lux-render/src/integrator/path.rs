@@ -20,7 +20,7 @@
 //! integrator.
 
 use super::camera_vertex::{CameraVertex, camera_vertex};
-use super::nee::Nee;
+use super::nee::{Nee, Traced};
 use super::{CameraRay, Ctx, Integrator, SamplingMode, Setup, closest};
 use crate::material::SurfacePoint;
 use crate::sampler::{Dim, SampleStream};
@@ -58,9 +58,10 @@ impl<'a> PathIntegrator<'a> {
 }
 
 impl PathIntegrator<'_> {
-    /// Continues a path from `sp`, vertex `bounce`, along its BSDF sample: `beta` takes the
-    /// sample's weight (and Russian roulette's), and the surface met is returned (`None`: the
-    /// path ends).
+    /// Continues a path from `sp`, vertex `bounce`, along its BSDF sample — the one the
+    /// vertex's estimate `traced` already, when it did (the same sample, the same ray: the
+    /// same hit) — : `beta` takes the sample's weight (and Russian roulette's), and the surface
+    /// met is returned (`None`: the path ends).
     #[inline]
     fn scatter(
         &self,
@@ -69,9 +70,13 @@ impl PathIntegrator<'_> {
         bounce: u32,
         beta: &mut DVec3,
         ctx: &mut Ctx,
+        traced: Option<Traced>,
     ) -> Option<SurfacePoint> {
         let w = &self.nee.world;
-        let bs = super::sample_bsdf(&sp.bsdf, st, bounce)?;
+        let bs = match traced {
+            Some(t) => t.bs,
+            None => super::sample_bsdf(&sp.bsdf, st, bounce)?,
+        };
         let side = sp.ng.dot(bs.wi);
         if side == 0.0 || (side < 0.0 && !sp.bsdf.transmits()) {
             return None;
@@ -84,10 +89,16 @@ impl PathIntegrator<'_> {
             }
             *beta /= q;
         }
-        ctx.counters.rays += 1;
-        // Off the surface on the side the path leaves by (through it when transmitted).
-        let origin = sp.p + sp.ng * (sp.offset * side.signum());
-        let hit = closest(w, origin, bs.wi, 0.0, f64::INFINITY, true)?;
+        let hit = match traced {
+            Some(t) => t.hit?,
+            None => {
+                ctx.counters.rays += 1;
+                // Off the surface on the side the path leaves by (through it when
+                // transmitted), as the estimate's BSDF ray leaves.
+                let origin = sp.p + sp.ng * (sp.offset * side.signum());
+                closest(w, origin, bs.wi, 0.0, f64::INFINITY, true)?
+            }
+        };
         // The back of a single-sided surface blocks light (as for shadow rays) but has no
         // material there: camera rays cull it, and the path ends on it (black) — unless
         // its material transmits, whose inside a refracted path sees (a solid glass
@@ -107,15 +118,18 @@ impl PathIntegrator<'_> {
     fn continuation(&self, sp0: &SurfacePoint, st: &SampleStream, ctx: &mut Ctx) -> DVec3 {
         let mut beta = DVec3::ONE;
         let mut out = DVec3::ZERO;
-        let Some(mut sp) = self.scatter(sp0, st, 0, &mut beta, ctx) else {
+        // (the camera vertex's estimate drew its BSDF sample from the unsplit stream: not
+        // this continuation's)
+        let Some(mut sp) = self.scatter(sp0, st, 0, &mut beta, ctx, None) else {
             return out;
         };
         for bounce in 1..self.max_depth {
-            out += beta * self.nee.estimate(&sp, st, bounce, ctx);
+            let mut traced = None;
+            out += beta * self.nee.estimate_keeping(&sp, st, bounce, ctx, &mut traced);
             if bounce + 1 == self.max_depth {
                 break;
             }
-            match self.scatter(&sp, st, bounce, &mut beta, ctx) {
+            match self.scatter(&sp, st, bounce, &mut beta, ctx, traced) {
                 Some(next) => sp = next,
                 None => break,
             }
