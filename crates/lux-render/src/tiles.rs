@@ -451,18 +451,20 @@ impl Frame {
     fn frame_mean<I: Integrator>(&self, tiles: &Tiles<'_, '_, I>) -> f64 {
         let [x0, _, x1, _] = self.window;
         let [fy0, fy1] = self.frame_rows;
-        let (w, h) = ((x1 - x0) as usize, (fy1 - fy0) as usize);
-        if w == 0 || h == 0 {
+        if x0 >= x1 || fy0 >= fy1 {
             return 0.0;
         }
-        let xs = FramePilot::along([x0, x1]);
-        let ys = FramePilot::along([fy0, fy1]);
-        let mut at: Vec<f64> = vec![0.0; w * h];
+        // The pilot's pixels' luminances, in a grid of their own (row-major).
+        let (fx, fy) = (FramePilot::first([x0, x1]), FramePilot::first([fy0, fy1]));
+        let nx = FramePilot::along([x0, x1]).count();
+        let ny = FramePilot::along([fy0, fy1]).count();
+        let mut at: Vec<f64> = vec![0.0; nx * ny];
+        let on = |x, y| FramePilot::on([x0, x1], x) && FramePilot::on([fy0, fy1], y);
         let salt = Some(FramePilot::SALT);
         tiles.run(
             [x0, fy0, x1, fy1],
             &|x, y, c, _| {
-                if !(FramePilot::on([x0, x1], x) && FramePilot::on([fy0, fy1], y)) {
+                if !on(x, y) {
                     return 0.0;
                 }
                 let run = Run {
@@ -478,17 +480,18 @@ impl Frame {
             &|at, [tx0, ty0, tx1, _], px: &[f64]| {
                 let tw = (tx1 - tx0) as usize;
                 for (row, chunk) in px.chunks(tw).enumerate() {
-                    let o = (ty0 - fy0) as usize + row;
-                    at[o * w + (tx0 - x0) as usize..][..tw].copy_from_slice(chunk);
+                    let y = ty0 + row as u32;
+                    for (x, &v) in (tx0..tx1).zip(chunk) {
+                        if on(x, y) {
+                            let (i, j) =
+                                ((x - fx) / FramePilot::STRIDE, (y - fy) / FramePilot::STRIDE);
+                            at[j as usize * nx + i as usize] = v;
+                        }
+                    }
                 }
             },
         );
-        let n = xs.clone().count() * ys.clone().count();
-        let sum: f64 = ys
-            .flat_map(|y| xs.clone().map(move |x| [x, y]))
-            .map(|[x, y]| at[(y - fy0) as usize * w + (x - x0) as usize])
-            .sum();
-        sum / n.max(1) as f64
+        at.iter().sum::<f64>() / at.len().max(1) as f64
     }
 
     /// Passes over the window a render makes: 2 with adaptive sampling that can add samples
