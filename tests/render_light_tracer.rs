@@ -8,6 +8,9 @@ use lux::render::conformance::{ProfileSource, ResolvedProfile};
 use lux::render::render::{RenderOptions, Renderer};
 use lux::render::settings::{AdaptiveSampling, IntegratorKind, PATH_SPLITS, SurfaceModel};
 
+/// No adaptive sampling: every pixel takes `spp`.
+const OFF: AdaptiveSampling = AdaptiveSampling::OFF;
+
 const SIZE: u32 = 32;
 /// Blocks of BLOCK × BLOCK pixels compared.
 const BLOCK: u32 = 8;
@@ -21,20 +24,8 @@ fn cornell() -> lux::usd::Scene {
 
 /// Per seed, the mean RGB of each block (`splits` paths continued from each camera sample's
 /// first vertex, for the path tracer; surfaces drawn as `surfaces`, `None`: the profile's),
-/// without adaptive sampling.
+/// with `adaptive` sampling.
 fn block_means(
-    s: &lux::usd::Scene,
-    kind: IntegratorKind,
-    depth: u32,
-    spp: u32,
-    splits: u32,
-    surfaces: Option<SurfaceModel>,
-) -> Vec<Vec<[f64; 3]>> {
-    block_means_with(s, kind, depth, spp, splits, surfaces, AdaptiveSampling::OFF)
-}
-
-/// [`block_means`] with `adaptive` sampling.
-fn block_means_with(
     s: &lux::usd::Scene,
     kind: IntegratorKind,
     depth: u32,
@@ -120,8 +111,8 @@ fn agree(a: &[Vec<[f64; 3]>], b: &[Vec<[f64; 3]>], what: &str) {
 #[test]
 fn light_tracing_matches_path_tracing_on_the_cornell_box() {
     let s = cornell();
-    let path = block_means(&s, IntegratorKind::Path, 8, 256, PATH_SPLITS, None);
-    let light = block_means(&s, IntegratorKind::Light, 8, 256, 1, None);
+    let path = block_means(&s, IntegratorKind::Path, 8, 256, PATH_SPLITS, None, OFF);
+    let light = block_means(&s, IntegratorKind::Light, 8, 256, 1, None, OFF);
     agree(&path, &light, "depth 8");
 }
 
@@ -132,8 +123,8 @@ fn light_tracing_matches_path_tracing_on_the_cornell_box() {
 fn lambertian_path_tracing_matches_light_tracing() {
     let s = cornell();
     let lambert = Some(SurfaceModel::Lambert);
-    let path = block_means(&s, IntegratorKind::Path, 8, 128, PATH_SPLITS, lambert);
-    let light = block_means(&s, IntegratorKind::Light, 8, 256, 1, lambert);
+    let path = block_means(&s, IntegratorKind::Path, 8, 128, PATH_SPLITS, lambert, OFF);
+    let light = block_means(&s, IntegratorKind::Light, 8, 256, 1, lambert, OFF);
     agree(&path, &light, "depth 8, Lambertian");
 }
 
@@ -145,16 +136,16 @@ fn adaptive_path_tracing_matches_light_tracing() {
     let s = cornell();
     let lambert = Some(SurfaceModel::Lambert);
     let a = AdaptiveSampling::PATH;
-    let path = block_means_with(&s, IntegratorKind::Path, 8, 32, PATH_SPLITS, lambert, a);
-    let light = block_means(&s, IntegratorKind::Light, 8, 256, 1, lambert);
+    let path = block_means(&s, IntegratorKind::Path, 8, 32, PATH_SPLITS, lambert, a);
+    let light = block_means(&s, IntegratorKind::Light, 8, 256, 1, lambert, OFF);
     agree(&path, &light, "depth 8, Lambertian, adaptive");
 }
 
 #[test]
 fn light_tracing_of_one_bounce_matches_direct_lighting() {
     let s = cornell();
-    let direct = block_means(&s, IntegratorKind::Direct, 1, 256, 1, None);
-    let light = block_means(&s, IntegratorKind::Light, 1, 256, 1, None);
+    let direct = block_means(&s, IntegratorKind::Direct, 1, 256, 1, None, OFF);
+    let light = block_means(&s, IntegratorKind::Light, 1, 256, 1, None, OFF);
     agree(&direct, &light, "depth 1");
 }
 
@@ -164,8 +155,8 @@ fn light_tracing_of_one_bounce_matches_direct_lighting() {
 #[test]
 fn first_vertex_splits_match_one_continuation() {
     let s = cornell();
-    let one = block_means(&s, IntegratorKind::Path, 8, 64, 1, None);
-    let four = block_means(&s, IntegratorKind::Path, 8, 64, 4, None);
+    let one = block_means(&s, IntegratorKind::Path, 8, 64, 1, None, OFF);
+    let four = block_means(&s, IntegratorKind::Path, 8, 64, 4, None, OFF);
     agree(&one, &four, "4 splits");
     let spread = |runs: &[Vec<[f64; 3]>]| -> f64 {
         (0..runs[0].len()).map(|k| stat(runs, k, 1).1).sum::<f64>()
