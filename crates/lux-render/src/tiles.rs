@@ -6,12 +6,11 @@
 //! Before a tile's samples the visibility is asked what its camera rays can meet
 //! ([`Visibility::tile`]); each worker's visibility scratch (its patch answers) goes from tile
 //! to tile. With adaptive sampling ([`AdaptiveSampling`]) a render is two passes: every pixel's
-//! `spp` samples (and, for a band of rows, those of the rows its neighbours reach beyond
-//! each side), then each
-//! pixel's extra samples, counted from its neighbours' first-pass luminances (and, by the
-//! linear noise measure, the frame's mean luminance from a sparse pilot over the whole frame,
-//! [`FramePilot`]); the penumbra pilot ([`PenumbraPilot`]) sets a pixel's light samples before
-//! its first.
+//! `spp` samples (and, for a band of rows, those of the rows its neighbours reach beyond each
+//! side), then each pixel's extra samples, counted from its neighbours' first-pass luminances
+//! (and, by the linear noise measure, the frame's mean luminance from a sparse pilot over the
+//! whole frame, [`FramePilot`]); the penumbra pilot ([`PenumbraPilot`]) sets a pixel's light
+//! samples before its first.
 //!
 //! Determinism: every random number is a function of (seed, pixel, sample, dimension)
 //! ([`crate::sampler`]), pixels are independent and splats sum in fixed point, so the image is
