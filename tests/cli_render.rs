@@ -532,3 +532,67 @@ fn counts_are_singular_for_one() {
         assert!(!text.contains(wrong), "{wrong}: {text}");
     }
 }
+
+/// `--adaptive-measure` without `--adaptive-threshold` takes that measure's own default
+/// threshold (perceived 0.01, linear 0.1), whatever measure the integrator would default to:
+/// the same samples (the closing summary's count) and the same pixels as with the threshold
+/// written out, and another count than the integrator's default measure.
+#[test]
+fn an_adaptive_measure_alone_takes_its_own_default_threshold() {
+    let sphere = luxtest("sphere.usda");
+    let cornell = root().join("tests/data/cornell/cornell.usda");
+    let run = |scene: &Path, args: &[&str], name: &str| -> (String, Vec<u8>) {
+        let png = tmp(name);
+        let mut all = vec![
+            "render",
+            scene.to_str().unwrap(),
+            "--frame",
+            "1",
+            "--spp",
+            "2",
+            "--resolution",
+            "32x32",
+            "--max-depth",
+            "3",
+            "-o",
+            png.to_str().unwrap(),
+        ];
+        all.extend_from_slice(args);
+        let o = lux(&all, &[]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let log = stderr(&o);
+        let count = log
+            .split(" a pixel)")
+            .next()
+            .and_then(|s| s.rsplit('(').next())
+            .unwrap_or_else(|| panic!("no sample count: {log}"))
+            .to_owned();
+        (count, read_png(&png).1.into_raw())
+    };
+    for (scene, integrator, other, t) in [
+        (&sphere, "direct", "linear", "0.1"),
+        (&cornell, "path", "perceived", "0.01"),
+    ] {
+        let base = ["--integrator", integrator];
+        let alone = run(
+            scene,
+            &[&base[..], &["--adaptive-measure", other]].concat(),
+            "a.png",
+        );
+        let spelled = run(
+            scene,
+            &[
+                &base[..],
+                &["--adaptive-measure", other, "--adaptive-threshold", t],
+            ]
+            .concat(),
+            "b.png",
+        );
+        let default = run(scene, &base, "c.png");
+        assert_eq!(alone, spelled, "{integrator}, --adaptive-measure {other}");
+        assert_ne!(
+            alone.0, default.0,
+            "{integrator}: the measure changes the counts"
+        );
+    }
+}
