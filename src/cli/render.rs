@@ -465,23 +465,18 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         || args.adaptive_max.is_some()
         || args.adaptive_measure.is_some()
     {
-        // Unset values from the integrator's default (the direct one's when it has none).
-        let d = Some(options.adaptive())
-            .filter(|a| a.is_on())
-            .unwrap_or(AdaptiveSampling::DEFAULT);
+        // The asked measure, else the integrator's (the direct one's when it has none);
+        // unset values from that measure's default.
         let measure = match args.adaptive_measure {
             Some(MeasureArg::Perceived) => NoiseMeasure::Perceived,
             Some(MeasureArg::Linear) => NoiseMeasure::Linear,
-            None => d.measure,
+            None => Some(options.adaptive())
+                .filter(|a| a.is_on())
+                .map_or(NoiseMeasure::Perceived, |a| a.measure),
         };
-        // A measure asked without a threshold takes that measure's default one.
-        let t = match measure {
-            _ if measure == d.measure => d.threshold,
-            NoiseMeasure::Perceived => AdaptiveSampling::DEFAULT.threshold,
-            NoiseMeasure::Linear => AdaptiveSampling::PATH.threshold,
-        };
+        let d = AdaptiveSampling::default_for(measure);
         Some(AdaptiveSampling {
-            threshold: args.adaptive_threshold.unwrap_or(t),
+            threshold: args.adaptive_threshold.unwrap_or(d.threshold),
             max_factor: args.adaptive_max.unwrap_or(d.max_factor),
             measure,
         })

@@ -89,6 +89,15 @@ impl AdaptiveSampling {
         measure: NoiseMeasure::Linear,
     };
 
+    /// The default by `measure`: [`AdaptiveSampling::DEFAULT`] (perceived) or
+    /// [`AdaptiveSampling::PATH`] (linear).
+    pub fn default_for(measure: NoiseMeasure) -> AdaptiveSampling {
+        match measure {
+            NoiseMeasure::Perceived => AdaptiveSampling::DEFAULT,
+            NoiseMeasure::Linear => AdaptiveSampling::PATH,
+        }
+    }
+
     /// No extra samples: every pixel takes `spp` (`max_factor` 1).
     pub const OFF: AdaptiveSampling = AdaptiveSampling {
         threshold: 0.01,
@@ -147,9 +156,9 @@ impl AdaptiveSampling {
     /// Samples cell `[i, j]` of the `[w, h]` grid `first` (its pixels' first-pass [`Luma`])
     /// takes in all, each of them having taken `spp`, from the pooled statistics of its
     /// neighbours within [`AdaptiveSampling::reach`] ([`neighbours`]) by
-    /// [`AdaptiveSampling::measure`]; `frame_mean` is the
-    /// frame's mean luminance `μ̄` of the linear measure ([`FramePilot`]; unused by the
-    /// perceived one). By the linear measure a frame of mean ≤ 0 takes no extra samples.
+    /// [`AdaptiveSampling::measure`]; `frame_mean` is the frame's mean luminance `μ̄` of the
+    /// linear measure ([`FramePilot`]; unused by the perceived one). By the linear measure a
+    /// frame of mean ≤ 0 takes no extra samples.
     pub fn samples_at(
         &self,
         spp: u32,

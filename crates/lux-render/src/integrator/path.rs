@@ -58,10 +58,10 @@ impl<'a> PathIntegrator<'a> {
 }
 
 impl PathIntegrator<'_> {
-    /// Continues a path from `sp`, vertex `bounce`, along its BSDF sample — the one the
-    /// vertex's estimate `traced` already, when it did (the same sample, the same ray: the
-    /// same hit) — : `beta` takes the sample's weight (and Russian roulette's), and the surface
-    /// met is returned (`None`: the path ends).
+    /// Continues a path from `sp`, vertex `bounce`, along its BSDF sample: `beta` takes the
+    /// sample's weight (and Russian roulette's), and the surface met is returned (`None`: the
+    /// path ends). When the vertex's estimate already traced that sample (`traced`: the same
+    /// sample, the same ray), its hit is taken instead of tracing again.
     #[inline]
     fn scatter(
         &self,
