@@ -76,6 +76,7 @@ fn main() -> ExitCode {
                     penumbra_samples: 1,
                     adaptive_threshold: None,
                     adaptive_max: None,
+                    adaptive_splits: None,
                     adaptive_measure: None,
                     no_adaptive: false,
                     subdiv_level: None,

@@ -596,3 +596,53 @@ fn an_adaptive_measure_alone_takes_its_own_default_threshold() {
         );
     }
 }
+
+/// `--adaptive-splits`: the path tracer's default is 8 (the same samples and pixels as written
+/// out), 1 turns adaptive splitting off (other counts: fewer, costlier samples where it splits),
+/// and a count outside 1–64 is an error naming it, leaving no file.
+#[test]
+fn adaptive_splits_default_off_and_out_of_range() {
+    let cornell = root().join("tests/data/cornell/cornell.usda");
+    let png = tmp("splits.png");
+    let run = |extra: &[&str]| {
+        let mut all = vec![
+            "render",
+            cornell.to_str().unwrap(),
+            "--integrator",
+            "path",
+            "--spp",
+            "4",
+            "--resolution",
+            "32x32",
+            "-o",
+            png.to_str().unwrap(),
+        ];
+        all.extend_from_slice(extra);
+        let _ = std::fs::remove_file(&png);
+        lux(&all, &[])
+    };
+    let count = |o: &std::process::Output| {
+        assert!(o.status.success(), "{}", stderr(o));
+        let log = stderr(o);
+        let n = log
+            .split(" a pixel)")
+            .next()
+            .and_then(|s| s.rsplit('(').next())
+            .unwrap_or_else(|| panic!("no sample count: {log}"))
+            .to_owned();
+        (n, read_png(&png).1.into_raw())
+    };
+    let default = count(&run(&[]));
+    assert_eq!(default, count(&run(&["--adaptive-splits", "8"])));
+    assert_ne!(default.0, count(&run(&["--adaptive-splits", "1"])).0);
+    for bad in ["0", "65"] {
+        let o = run(&["--adaptive-splits", bad]);
+        assert!(!o.status.success());
+        assert!(
+            stderr(&o).contains(&format!("adaptive splits {bad}: expected 1 to 64")),
+            "{}",
+            stderr(&o)
+        );
+        assert!(!png.exists());
+    }
+}

@@ -130,15 +130,27 @@ fn lambertian_path_tracing_matches_light_tracing() {
 
 /// The path tracer's adaptive sampling by the linear measure (its default): pixel counts
 /// read from the neighbours' samples and the frame pilot's, extra samples continuing each
-/// pixel's points. Still the light tracer's picture, block by block.
+/// pixel's points, split into as many continuations as the neighbours find cheapest and
+/// weighted by their variance (adaptive splitting), or without splitting. Still the light
+/// tracer's picture, block by block.
 #[test]
 fn adaptive_path_tracing_matches_light_tracing() {
     let s = cornell();
     let lambert = Some(SurfaceModel::Lambert);
     let a = AdaptiveSampling::PATH;
+    assert!(a.max_splits > PATH_SPLITS);
     let path = block_means(&s, IntegratorKind::Path, 8, 32, PATH_SPLITS, lambert, a);
     let light = block_means(&s, IntegratorKind::Light, 8, 256, 1, lambert, OFF);
     agree(&path, &light, "depth 8, Lambertian, adaptive");
+    let plain = AdaptiveSampling { max_splits: 1, ..a };
+    let unsplit = block_means(&s, IntegratorKind::Path, 8, 32, PATH_SPLITS, lambert, plain);
+    agree(
+        &unsplit,
+        &light,
+        "depth 8, Lambertian, adaptive without splitting",
+    );
+    // (adaptive splitting acted: other samples, other means)
+    assert_ne!(path, unsplit);
 }
 
 #[test]

@@ -184,8 +184,15 @@ pub struct RenderArgs {
     /// default 16)
     #[arg(long)]
     pub adaptive_max: Option<u32>,
+    /// Adaptive splitting, 1 to 64 (1 or no more than --splits: off): the most path
+    /// continuations a pixel's extra samples split into at their first surface, by the linear
+    /// measure with --integrator path; each pixel's take --splits doubled as often as its
+    /// neighbours' first samples find cheapest for their noise (default 8 with the linear
+    /// measure, else 1)
+    #[arg(long)]
+    pub adaptive_splits: Option<u32>,
     /// Every pixel takes exactly --spp samples (no adaptive sampling)
-    #[arg(long, conflicts_with_all = ["adaptive_threshold", "adaptive_max", "adaptive_measure"])]
+    #[arg(long, conflicts_with_all = ["adaptive_threshold", "adaptive_max", "adaptive_measure", "adaptive_splits"])]
     pub no_adaptive: bool,
     /// Subdivision surfaces' refinement level, 0 to 10: 2^N segments along every cage edge, 0
     /// the cage's polygons (default: by size on screen in the spec profile, refined edges about
@@ -464,6 +471,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     } else if args.adaptive_threshold.is_some()
         || args.adaptive_max.is_some()
         || args.adaptive_measure.is_some()
+        || args.adaptive_splits.is_some()
     {
         // The asked measure, else the integrator's (the direct one's when it has none);
         // unset values from that measure's default.
@@ -479,6 +487,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
             threshold: args.adaptive_threshold.unwrap_or(d.threshold),
             max_factor: args.adaptive_max.unwrap_or(d.max_factor),
             measure,
+            max_splits: args.adaptive_splits.unwrap_or(d.max_splits),
         })
     } else {
         None

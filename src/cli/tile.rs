@@ -72,10 +72,11 @@ pub fn settings_string(options: &RenderOptions, camera_light: bool) -> String {
     let lower = |d: &dyn std::fmt::Debug| format!("{d:?}").to_ascii_lowercase();
     let adaptive = match options.adaptive() {
         a if a.is_on() => format!(
-            "{}x{}:{}",
+            "{}x{}:{}:splits{}",
             a.threshold,
             a.max_factor,
-            format!("{:?}", a.measure).to_ascii_lowercase()
+            format!("{:?}", a.measure).to_ascii_lowercase(),
+            a.max_splits
         ),
         _ => "off".to_owned(),
     };

@@ -61,6 +61,13 @@ pub struct AdaptiveSampling {
     pub max_factor: u32,
     /// The noise `t` is a threshold of.
     pub measure: NoiseMeasure,
+    /// Adaptive splitting: the most path continuations a pixel's extra samples split into at
+    /// their camera vertex (1, or no more than the first samples': off). By the linear measure,
+    /// for an integrator whose camera samples split into `k₀ ≥ 2` (`Integrator::splits`), each
+    /// pixel's extra samples split into the `k` of `k₀`, 2·`k₀` … `max_splits` that its
+    /// neighbours' first samples find the most efficient ([`best_splits`],
+    /// [`AdaptiveSampling::extra_at`]).
+    pub max_splits: u32,
 }
 
 /// Largest [`AdaptiveSampling::max_factor`].
@@ -77,6 +84,7 @@ impl AdaptiveSampling {
         threshold: 0.01,
         max_factor: 16,
         measure: NoiseMeasure::Perceived,
+        max_splits: 1,
     };
 
     /// The default of the path tracer: `t` = 0.1 by the linear measure (a pixel whose one
@@ -87,6 +95,7 @@ impl AdaptiveSampling {
         threshold: 0.1,
         max_factor: 16,
         measure: NoiseMeasure::Linear,
+        max_splits: 8,
     };
 
     /// The default by `measure`: [`AdaptiveSampling::DEFAULT`] (perceived) or
@@ -103,6 +112,7 @@ impl AdaptiveSampling {
         threshold: 0.01,
         max_factor: 1,
         measure: NoiseMeasure::Perceived,
+        max_splits: 1,
     };
 
     /// Whether a pixel can take more than `spp` samples (`max_factor` > 1).
@@ -193,7 +203,136 @@ impl AdaptiveSampling {
             }
         }
     }
+
+    /// A pixel's extra samples with adaptive splitting ([`AdaptiveSampling::max_splits`]):
+    /// cell `[i, j]` of the grid of `first` and `splits` (the cells' first-pass [`Luma`] and
+    /// [`SplitStats`]), whose first samples split into `first_splits` continuations. Without
+    /// splitting (the perceived measure, `max_splits` 1, `first_splits` 1, no statistics), or
+    /// when the first samples' split count is the best, the count of
+    /// [`AdaptiveSampling::samples_at`].
+    ///
+    /// From the neighbours' first samples (the block of [`neighbours`], the cell itself left
+    /// out): `V` the variance of one sample's luminance as [`NoiseMeasure::Linear`] pools it,
+    /// `V_c` the mean spread of one continuation's luminance (`SplitStats[0]`), so
+    /// `V = V_a + V_c/k₀` (`V_a` what the camera ray and its vertex add, `k₀ = first_splits`,
+    /// `V_a` ≥ 0), and the rays a sample traces before its continuations `C_a` and a
+    /// continuation `C_c`. A sample split into `k` has variance `V_k = V·(V_a + V_c/k)/(V_a +
+    /// V_c/k₀)` and costs `C_k = C_a + k·C_c` rays; [`best_splits`] takes the `k` of least
+    /// `V_k·C_k`. The pixel would take `n₀` samples in all with `k₀` (the count without
+    /// splitting); its `m` extra ones with `k` instead carry weight `w = V/V_k` each against a
+    /// first one (inverse-variance weights, from the neighbours only, so the pixel stays
+    /// unbiased), and `m = (V_k/V)·(n₀·√(V·C_k₀/(V_k·C_k)) − spp)`: the precision `n₀/V` the
+    /// pixel would reach, scaled by the square root of the efficiency gained — what minimises
+    /// squared error plus rays at the rate the threshold sets.
+    #[allow(clippy::too_many_arguments)]
+    pub fn extra_at(
+        &self,
+        spp: u32,
+        first: &[Luma],
+        splits: &[SplitStats],
+        first_splits: u32,
+        [w, h]: [usize; 2],
+        [i, j]: [usize; 2],
+        frame_mean: f64,
+    ) -> Extra {
+        let n0 = self.samples_at(spp, first, [w, h], [i, j], frame_mean);
+        let plain = Extra {
+            n: n0,
+            splits: 0,
+            weight: 1.0,
+        };
+        if n0 <= spp
+            || self.measure != NoiseMeasure::Linear
+            || self.max_splits < 2
+            || first_splits < 2
+            || spp < 2
+            || splits.len() != first.len()
+        {
+            return plain;
+        }
+        let nb = neighbours(first, [w, h], [i, j], self.reach());
+        let count = nb.count as f64;
+        let s = spp as f64;
+        let v = ((nb.y2 - nb.yy) / count * s / (s - 1.0)).max(0.0);
+        let mut sum = [0.0f64; 3];
+        let reach = self.reach();
+        for nj in j.saturating_sub(reach)..(j + reach + 1).min(h) {
+            for ni in i.saturating_sub(reach)..(i + reach + 1).min(w) {
+                if (ni, nj) != (i, j) {
+                    for (a, b) in sum.iter_mut().zip(splits[nj * w + ni]) {
+                        *a += b as f64;
+                    }
+                }
+            }
+        }
+        let [v_c, c_a, c_c] = sum.map(|x| x / count);
+        let k0 = first_splits as f64;
+        let v_a = (v - v_c / k0).max(0.0);
+        let k = best_splits([v_a, v_c], [c_a, c_c], first_splits, self.max_splits);
+        let kf = k as f64;
+        let model0 = v_a + v_c / k0;
+        let (cost0, cost) = (c_a + k0 * c_c, c_a + kf * c_c);
+        if k == first_splits || model0 <= 0.0 || cost0 <= 0.0 || cost <= 0.0 {
+            return plain;
+        }
+        // V_k / V, and the efficiency V·C_k₀ / (V_k·C_k) gained
+        let ratio = (v_a + v_c / kf) / model0;
+        let gain = cost0 / (ratio * cost);
+        let m = ratio * (n0 as f64 * gain.sqrt() - s);
+        let cap = self.for_noise(spp, f64::INFINITY) - spp;
+        let m = if m.is_nan() || m < 1.0 {
+            1
+        } else {
+            (m.ceil() as u32).min(cap)
+        };
+        Extra {
+            n: spp + m,
+            splits: k,
+            weight: 1.0 / ratio,
+        }
+    }
 }
+
+/// A pixel's extra samples ([`AdaptiveSampling::extra_at`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Extra {
+    /// Samples in all, its first `spp` included (no more than `spp`: none).
+    pub n: u32,
+    /// Path continuations each extra sample splits into (0: as the first ones).
+    pub splits: u32,
+    /// Weight of an extra sample against a first one in the pixel's mean (1 without splitting).
+    pub weight: f64,
+}
+
+/// The continuations `k` among `k₀`, 2·`k₀`, 4·`k₀` … ≤ `max` of least `(v_a + v_c/k) · (c_a +
+/// k·c_c)`: a camera sample's variance (`v_a` from its camera ray and vertex, `v_c` that of one
+/// continuation) times its rays (`c_a` before the continuations, `c_c` a continuation) — the
+/// squared error for a given number of rays, whose continuous minimum is at
+/// `k = √((v_c·c_a)/(v_a·c_c))`. The smaller `k` on a tie; `k₀` when nothing is finite. Counts
+/// double from `k₀`, so that a camera sample's continuations stay a net of the pixel's points;
+/// fewer than `k₀` are not tried (on the clutter scenes, where the estimate chose one for about a
+/// fifth of the pixels, time × variance rose by 4 %; BENCHMARKS.md).
+pub fn best_splits([v_a, v_c]: [f64; 2], [c_a, c_c]: [f64; 2], k0: u32, max: u32) -> u32 {
+    let k0 = k0.max(1);
+    let mut best = (f64::INFINITY, k0);
+    let mut k = k0;
+    while k <= max {
+        let kf = k as f64;
+        let e = (v_a + v_c / kf) * (c_a + kf * c_c);
+        if e < best.0 {
+            best = (e, k);
+        }
+        k *= 2;
+    }
+    best.1
+}
+
+/// A pixel's first-pass statistics of the path tracer's continuations (adaptive splitting,
+/// [`AdaptiveSampling::max_splits`]), means over its samples: the variance of one
+/// continuation's luminance (each sample's unbiased estimate from its `k₀` continuations,
+/// `Ctx::split`), the rays a sample traced before its continuations, and the rays one
+/// continuation traced.
+pub type SplitStats = [f32; 3];
 
 /// The sums over the neighbours of a cell ([`neighbours`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -351,6 +490,7 @@ mod tests {
             threshold: 0.1,
             max_factor: 16,
             measure: NoiseMeasure::Perceived,
+            max_splits: 1,
         };
         // n = spp · σ / (t √μ): 4 · 0.5 / (0.1 · √0.25) = 40.
         assert_eq!(a.samples(4, 8, 0.25, 0.25), 40);
@@ -383,6 +523,7 @@ mod tests {
             threshold: 0.1,
             max_factor: 16,
             measure: NoiseMeasure::Perceived,
+            max_splits: 1,
         };
         let first = vec![[0.25f32, 0.125f32]; 9];
         let var = (0.125 - 0.0625) * 32.0 / 31.0;
@@ -396,12 +537,91 @@ mod tests {
 
     /// The linear measure: `n = ⌈spp · σ_w / (t · μ̄)⌉` with `σ_w²` the neighbours' mean
     /// within-pixel variance, whatever their means (an edge between them adds nothing).
+    /// `best_splits` against the products written out: `(v_a + v_c/k)·(c_a + k·c_c)` with
+    /// `v_a` = 1, `v_c` = 16, `c_a` = `c_c` = 1 is 27, 25, 27 at k = 2, 4, 8 (the continuous
+    /// optimum √16 = 4).
+    #[test]
+    fn best_splits_minimise_variance_times_rays() {
+        assert_eq!(best_splits([1.0, 16.0], [1.0, 1.0], 2, 8), 4);
+        // Up to `max` only, and counts double from k₀ (v_c = 64 from 3: 89.3, 81.7, 82.3 at
+        // 3, 6, 12 → 6).
+        assert_eq!(best_splits([1.0, 16.0], [1.0, 1.0], 2, 2), 2);
+        assert_eq!(best_splits([1.0, 64.0], [1.0, 1.0], 3, 16), 6);
+        // No spread among the continuations: more cost no less variance, k₀; all of the
+        // variance theirs: as many as allowed.
+        assert_eq!(best_splits([1.0, 0.0], [1.0, 1.0], 2, 8), 2);
+        assert_eq!(best_splits([0.0, 1.0], [1.0, 1.0], 2, 8), 8);
+        // Cheap continuations take more: c_c = 1/16 moves the optimum to 16.
+        assert_eq!(best_splits([1.0, 16.0], [1.0, 1.0 / 16.0], 2, 64), 16);
+        // Nothing finite: k₀.
+        assert_eq!(best_splits([f64::NAN, 1.0], [1.0, 1.0], 2, 8), 2);
+    }
+
+    /// Adaptive splitting's count, continuations and weight against the formulas of
+    /// `extra_at` worked by hand, on a 7 × 7 grid of equal cells (centre (3, 3), 48 neighbours
+    /// of 4 samples): within-pixel variance V = 0.03 (E[Y] = 0.5, E[Y²] = 0.25 + 0.0225), one
+    /// continuation's spread V_c = 0.056, 2 rays before the continuations and 5 in each, k₀ = 2.
+    /// V_a = 0.03 − 0.028 = 0.002; V_k·C_k = 0.360, 0.352, 0.378 at k = 2, 4, 8 → k = 4. The
+    /// count without splitting n₀ = ⌈4·√0.03/(0.1·0.5)⌉ = 14; V_4/V = 0.016/0.03 = 8/15, the
+    /// efficiency gained 0.360/0.352; m = (8/15)·(14·√(0.360/0.352) − 4) = 5.42 → 6 extra
+    /// samples of weight 15/8.
+    #[test]
+    fn extra_samples_split_where_their_continuations_are_noisy() {
+        let a = AdaptiveSampling::PATH;
+        assert_eq!(a.max_splits, 8);
+        let (w, h) = (7usize, 7usize);
+        let first: Vec<Luma> = vec![[0.5, 0.25 + 0.0225]; w * h];
+        let stats: Vec<SplitStats> = vec![[0.056, 2.0, 5.0]; w * h];
+        let e = a.extra_at(4, &first, &stats, 2, [w, h], [3, 3], 0.5);
+        assert_eq!(a.samples_at(4, &first, [w, h], [3, 3], 0.5), 14);
+        let m = 8.0 / 15.0 * (14.0 * f64::sqrt(0.360 / 0.352) - 4.0);
+        assert!((m - 5.42).abs() < 0.01, "{m}");
+        assert_eq!((e.n, e.splits), (4 + 6, 4));
+        assert!((e.weight - 15.0 / 8.0).abs() < 1e-4, "{}", e.weight);
+        // (the pixel's own statistics are not read: any value there gives the same)
+        let mut own = stats.clone();
+        own[3 * w + 3] = [1e9, 0.0, 0.0];
+        assert_eq!(a.extra_at(4, &first, &own, 2, [w, h], [3, 3], 0.5), e);
+        // Without splitting — off, first samples that do not split, no statistics, the
+        // perceived measure, or continuations with no spread — the plain count, weight 1.
+        let plain = Extra {
+            n: 14,
+            splits: 0,
+            weight: 1.0,
+        };
+        let off = AdaptiveSampling { max_splits: 1, ..a };
+        assert_eq!(
+            off.extra_at(4, &first, &stats, 2, [w, h], [3, 3], 0.5),
+            plain
+        );
+        assert_eq!(a.extra_at(4, &first, &stats, 1, [w, h], [3, 3], 0.5), plain);
+        assert_eq!(a.extra_at(4, &first, &[], 2, [w, h], [3, 3], 0.5), plain);
+        let quiet = vec![[0.0, 2.0, 5.0]; w * h];
+        assert_eq!(a.extra_at(4, &first, &quiet, 2, [w, h], [3, 3], 0.5), plain);
+        let perceived = AdaptiveSampling {
+            measure: NoiseMeasure::Perceived,
+            ..a
+        };
+        assert_eq!(
+            perceived.extra_at(4, &first, &stats, 2, [w, h], [3, 3], 0.5),
+            Extra {
+                n: perceived.samples_at(4, &first, [w, h], [3, 3], 0.5),
+                ..plain
+            }
+        );
+        // A pixel that takes no extra sample splits no further.
+        let calm: Vec<Luma> = vec![[0.5, 0.25]; w * h];
+        let none = a.extra_at(4, &calm, &stats, 2, [w, h], [3, 3], 0.5);
+        assert_eq!((none.n, none.splits, none.weight), (4, 0, 1.0));
+    }
+
     #[test]
     fn linear_counts_read_the_spread_within_pixels() {
         let a = AdaptiveSampling {
             threshold: 0.1,
             max_factor: 16,
             measure: NoiseMeasure::Linear,
+            max_splits: 1,
         };
         assert_eq!(a.reach(), 3);
         // 7 × 7 cells; the left half dark (E[Y] = 0.1, E[Y²] = 0.02: variance 0.01), the right

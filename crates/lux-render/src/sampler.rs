@@ -175,6 +175,8 @@ pub struct SampleStream {
     spp: u32,
     /// Light samples per light this camera sample takes (a factor on the integrator's).
     light_factor: u32,
+    /// Path continuations this camera sample splits into (0: the integrator's own).
+    splits: u32,
 }
 
 impl SampleStream {
@@ -190,6 +192,7 @@ impl SampleStream {
             sample,
             spp,
             light_factor: 1,
+            splits: 0,
         }
     }
 
@@ -222,6 +225,20 @@ impl SampleStream {
     #[inline]
     pub fn light_factor(&self) -> u32 {
         self.light_factor
+    }
+
+    /// This sample split into `k` path continuations at the camera's vertex (0: the
+    /// integrator's own count): adaptive splitting draws a pixel's extra samples so
+    /// (`AdaptiveSampling::max_splits`).
+    #[inline]
+    pub fn with_splits(&self, k: u32) -> SampleStream {
+        SampleStream { splits: k, ..*self }
+    }
+
+    /// Path continuations this camera sample asks for (0: the integrator's own).
+    #[inline]
+    pub fn splits(&self) -> u32 {
+        self.splits
     }
 
     /// Sub-sample `j` of `k` of this sample: the stream of sample `sample·k + j` among

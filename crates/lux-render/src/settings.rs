@@ -312,6 +312,12 @@ pub fn resolve(scene: &Scene, options: &RenderOptions) -> Result<Resolved, Rende
                 a.max_factor
             )));
         }
+        if a.max_splits == 0 || a.max_splits > MAX_PATH_SPLITS {
+            return Err(RenderError::Settings(format!(
+                "adaptive splits {}: expected 1 to {MAX_PATH_SPLITS}",
+                a.max_splits
+            )));
+        }
     }
     if let Some(l) = options.subdiv_level
         && l > lux_usd::subdiv::MAX_LEVEL

@@ -10,13 +10,18 @@
 //! side), then each pixel's extra samples, counted from its neighbours' first-pass luminances
 //! (and, by the linear noise measure, the frame's mean luminance from a sparse pilot over the
 //! whole frame, [`FramePilot`]); the penumbra pilot ([`PenumbraPilot`]) sets a pixel's light
-//! samples before its first.
+//! samples before its first. With adaptive splitting the first pass also keeps each pixel's
+//! [`SplitStats`] (its path continuations' spread and rays, `Ctx::split`), from which a pixel's
+//! extra samples take their continuation count and their weight in its mean
+//! ([`AdaptiveSampling::extra_at`]).
 //!
 //! Determinism: every random number is a function of (seed, pixel, sample, dimension)
 //! ([`crate::sampler`]), pixels are independent and splats sum in fixed point, so the image is
 //! bit-identical for any thread count and tile order.
 
-use crate::adaptive::{AdaptiveSampling, FramePilot, Luma, NoiseMeasure, PenumbraPilot};
+use crate::adaptive::{
+    AdaptiveSampling, FramePilot, Luma, NoiseMeasure, PenumbraPilot, SplitStats,
+};
 use crate::camera::Camera;
 use crate::film::{Film, Splat, Splats};
 use crate::image_io::ImageRgba;
@@ -84,27 +89,34 @@ struct FirstPass {
     y: f32,
     y2: f32,
     factor: u32,
+    split: SplitStats,
 }
 
 /// Sums over a run of a pixel's camera samples: RGB radiance and alpha, luminance and its
-/// square.
+/// square; the rays they traced, and the spread and rays of their path continuations
+/// (`Ctx::split`, the spread exposed as the luminances).
 #[derive(Clone, Copy, Debug, Default)]
 struct Sums {
     rgba: DVec4,
     y: f64,
     y2: f64,
+    rays: u64,
+    spread: f64,
+    continuation_rays: u64,
 }
 
 /// A run of a pixel's camera samples: `n` of them, taking `factor` × the integrator's light
 /// samples per light, drawn from the pixel's stratified set of `n` points — rescrambled under
 /// `salt` when there is one (penumbra samples, the frame pilot's), the `n` points after the
-/// pixel's first `base` ([`SampleStream::after`]: adaptive extra samples).
+/// pixel's first `base` ([`SampleStream::after`]: adaptive extra samples), split into `splits`
+/// path continuations each (0: the integrator's own; adaptive splitting).
 #[derive(Clone, Copy, Debug)]
 struct Run {
     n: u32,
     factor: u32,
     salt: Option<u64>,
     base: u32,
+    splits: u32,
 }
 
 /// The render's counters, summed over the workers.
@@ -370,6 +382,16 @@ impl Frame {
         } else {
             Vec::new()
         };
+        // Adaptive splitting: the continuations' statistics of every first-pass row.
+        let first_splits = scene.integrator.splits();
+        let mut split: Vec<SplitStats> = if adaptive.measure == NoiseMeasure::Linear
+            && adaptive.max_splits > 1
+            && first_splits > 1
+        {
+            vec![[0.0; 3]; rw * rows]
+        } else {
+            Vec::new()
+        };
         tiles.run(
             [x0, hy0, x1, hy1],
             &|x, y, c, _| self.first_pass(scene, x, y, c),
@@ -377,8 +399,8 @@ impl Frame {
                 let rows = d.min(y1).saturating_sub(b.max(y0));
                 progress((c - a) as u64 * rows as u64)
             },
-            &mut (&mut *film, &mut luma, &mut factors),
-            &|(film, luma, factors), [tx0, ty0, tx1, _], px: &[FirstPass]| {
+            &mut (&mut *film, &mut luma, &mut factors, &mut split),
+            &|(film, luma, factors, split), [tx0, ty0, tx1, _], px: &[FirstPass]| {
                 let tw = (tx1 - tx0) as usize;
                 for (row, first) in px.chunks(tw).enumerate() {
                     let y = ty0 + row as u32;
@@ -389,6 +411,11 @@ impl Frame {
                     if !factors.is_empty() {
                         for (f, p) in factors[at..at + tw].iter_mut().zip(first) {
                             *f = p.factor;
+                        }
+                    }
+                    if !split.is_empty() {
+                        for (f, p) in split[at..at + tw].iter_mut().zip(first) {
+                            *f = p.split;
                         }
                     }
                     if (y0..y1).contains(&y) {
@@ -409,7 +436,16 @@ impl Frame {
             self.window,
             &|x, y, c, extra| {
                 let (i, j) = ((x - x0) as usize, (y - hy0) as usize);
-                let n = adaptive.samples_at(self.spp, &luma, [rw, rows], [i, j], frame_mean);
+                let extra_at = adaptive.extra_at(
+                    self.spp,
+                    &luma,
+                    &split,
+                    first_splits,
+                    [rw, rows],
+                    [i, j],
+                    frame_mean,
+                );
+                let n = extra_at.n;
                 if n <= self.spp {
                     return None;
                 }
@@ -422,20 +458,23 @@ impl Frame {
                     factor,
                     salt: (factor > 1).then_some(PenumbraPilot::SALT),
                     base: self.spp,
+                    splits: extra_at.splits,
                 };
                 let sums = self.samples(scene, [x, y], run, c, &mut |_| {});
-                Some((n, sums.rgba))
+                Some((ne, extra_at.weight, sums.rgba))
             },
             &|[a, b, c, d]| progress((c - a) as u64 * (d - b) as u64),
             film,
-            &|film, [tx0, ty0, tx1, _], px: &[Option<(u32, DVec4)>]| {
+            &|film, [tx0, ty0, tx1, _], px: &[Option<(u32, f64, DVec4)>]| {
                 let tw = (tx1 - tx0) as usize;
                 for (row, second) in px.chunks(tw).enumerate() {
                     let y = ty0 + row as u32;
                     for (q, s) in film.row_mut([tx0, y], tw).iter_mut().zip(second) {
-                        if let Some((n, sums)) = *s {
+                        // the mean of all its samples, the extra ones weighted `w` against
+                        // the first ones (1 but with adaptive splitting)
+                        if let Some((ne, w, sums)) = *s {
                             let base = DVec4::from_array(q.map(f64::from)) * self.spp as f64;
-                            *q = to_f32((base + sums) / n as f64);
+                            *q = to_f32((base + sums * w) / (self.spp as f64 + ne as f64 * w));
                         }
                     }
                 }
@@ -471,6 +510,7 @@ impl Frame {
                     factor: 1,
                     salt,
                     base: 0,
+                    splits: 0,
                 };
                 self.samples(tiles.scene, [x, y], run, c, &mut |_| {}).y
             },
@@ -509,11 +549,18 @@ impl Frame {
     ) -> FirstPass {
         let (factor, s) = self.first_samples(scene, [x, y], c, &mut |_| {});
         let k = 1.0 / self.spp as f64;
+        // (per sample: a sample that does not split has no spread and traces no continuation)
+        let continuations = self.spp as f64 * scene.integrator.splits() as f64;
         FirstPass {
             rgba: to_f32(s.rgba / self.spp as f64),
             y: (s.y * k) as f32,
             y2: (s.y2 * k) as f32,
             factor,
+            split: [
+                (s.spread * k) as f32,
+                ((s.rays - s.continuation_rays) as f64 * k) as f32,
+                (s.continuation_rays as f64 / continuations) as f32,
+            ],
         }
     }
 
@@ -549,6 +596,7 @@ impl Frame {
             factor,
             salt,
             base: 0,
+            splits: 0,
         };
         let s = self.samples(scene, [x, y], run, c, each);
         (factor, s)
@@ -592,6 +640,7 @@ impl Frame {
             factor,
             salt,
             base,
+            splits,
         }: Run,
         c: &mut Ctx,
         each: &mut impl FnMut(DVec3),
@@ -608,6 +657,7 @@ impl Frame {
             return sums;
         }
         let index = y as u64 * self.width as u64 + x as u64;
+        let (rays0, split0) = (c.counters.rays, c.split);
         for s in 0..n {
             let mut st = SampleStream::new(self.seed, index, s, n);
             if let Some(salt) = salt {
@@ -615,6 +665,9 @@ impl Frame {
             }
             if base > 0 {
                 st = st.after(base);
+            }
+            if splits > 0 {
+                st = st.with_splits(splits);
             }
             let j = st.get2(Dim::Camera);
             let (o, d, tmin, tmax) = scene.camera.ray(x as f64 + j[0], y as f64 + j[1]);
@@ -631,6 +684,9 @@ impl Frame {
             sums.y += l;
             sums.y2 += l * l;
         }
+        sums.rays = c.counters.rays - rays0;
+        sums.spread = (c.split.spread - split0.spread) * self.exposure_scale * self.exposure_scale;
+        sums.continuation_rays = c.split.continuation_rays - split0.continuation_rays;
         sums
     }
 }

@@ -76,6 +76,24 @@ pub struct Ctx {
     pub vis: Scratch,
     /// Splats to other pixels ([`Integrator::splats`]), which the tile loop hands to the film.
     pub splats: Vec<Splat>,
+    /// The path tracer's continuations so far ([`SplitSums`]).
+    pub split: SplitSums,
+}
+
+/// Sums over camera samples that split into path continuations (the path tracer's, with
+/// `k ≥ 2`), which adaptive splitting reads from a pixel's first samples
+/// (`AdaptiveSampling::max_splits`). A camera sample's estimate is `A + (1/k)·Σⱼ cⱼ`, `A` the
+/// camera vertex's light and `cⱼ` what continuation `j` brings back.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SplitSums {
+    /// Camera samples.
+    pub samples: u64,
+    /// Σ over samples of `Σⱼ (Y(cⱼ) − Ȳ)² / (k − 1)`, `Y` the luminance: each term is an
+    /// unbiased estimate of the variance of one continuation's luminance given the camera
+    /// sample.
+    pub spread: f64,
+    /// Rays (closest-hit and shadow) traced by the continuations.
+    pub continuation_rays: u64,
 }
 
 /// Everything an integrator is built from: the scene, how it sees, the camera and the
@@ -109,6 +127,13 @@ pub trait Integrator: Sync {
     /// (each camera sample must be one particle of the same estimator).
     fn splats(&self) -> bool {
         false
+    }
+
+    /// Path continuations each camera sample splits into at its first surface (1: none), as
+    /// [`Ctx::split`] counts them; a camera sample asking for another count
+    /// ([`SampleStream::splits`]) takes it.
+    fn splits(&self) -> u32 {
+        1
     }
 
     /// What this integrator cannot do as the scene says (each names the prim and what was
@@ -197,6 +222,12 @@ macro_rules! integrators {
             fn splats(&self) -> bool {
                 match self {
                     $( AnyIntegrator::$kind(i) => i.splats(), )+
+                }
+            }
+
+            fn splits(&self) -> u32 {
+                match self {
+                    $( AnyIntegrator::$kind(i) => i.splits(), )+
                 }
             }
 

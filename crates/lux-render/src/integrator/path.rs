@@ -151,13 +151,33 @@ impl Integrator for PathIntegrator<'_> {
             return (rgb, 1.0);
         }
         // `k` continuations, each its own sub-sample of the pixel's stratified set (`k = 1`:
-        // `split(0, 1)` is `st` itself, and the sum is divided by 1)
-        let k = self.splits;
+        // `split(0, 1)` is `st` itself, and the sum is divided by 1); the sample's own
+        // count when adaptive splitting gave it one
+        let k = match st.splits() {
+            0 => self.splits,
+            k => k,
+        };
+        let rays1 = ctx.counters.rays;
         let mut sum = DVec3::ZERO;
+        let (mut y, mut y2) = (0.0, 0.0);
         for j in 0..k {
-            sum += self.continuation(&sp, &st.split(j, k), ctx);
+            let c = self.continuation(&sp, &st.split(j, k), ctx);
+            let l = lux_math::luminance(c);
+            (y, y2) = (y + l, y2 + l * l);
+            sum += c;
+        }
+        let split = &mut ctx.split;
+        if k > 1 {
+            let kf = k as f64;
+            split.samples += 1;
+            split.spread += ((y2 - y * y / kf) / (kf - 1.0)).max(0.0);
+            split.continuation_rays += ctx.counters.rays - rays1;
         }
         rgb += sum / k as f64;
         (rgb, 1.0)
+    }
+
+    fn splits(&self) -> u32 {
+        if self.max_depth > 1 { self.splits } else { 1 }
     }
 }
