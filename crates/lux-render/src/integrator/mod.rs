@@ -28,7 +28,7 @@ mod trace;
 
 pub use direct::DirectIntegrator;
 pub use light_tracer::LightTracer;
-pub use path::{PathIntegrator, ROULETTE_DEPTH};
+pub use path::{PathIntegrator, ROULETTE_DEPTH, ROULETTE_SCALE};
 pub use shadow::{first_shadow_occluder, shadow_ray};
 pub use trace::closest;
 

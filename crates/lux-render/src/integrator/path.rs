@@ -14,10 +14,10 @@
 //! was already counted there. The back of a single-sided surface ends the path: it blocks, but
 //! reflects nothing (camera rays do not see it either) — except where its material transmits, whose
 //! inside a refracted path meets. After [`ROULETTE_DEPTH`] vertices Russian roulette ends the path
-//! with probability 1 − q, q = min(1, max(β)), and divides β by q; at most `max_depth` vertices are
-//! lit (`max_depth = 1` is the direct integrator, bit for bit). The reference estimator
-//! (`SamplingMode::Reference`) has no BSDF sampling to continue along: a path of it is the direct
-//! integrator.
+//! with probability 1 − q, q = min(1, [`ROULETTE_SCALE`]·max(β)), and divides β by q; at most
+//! `max_depth` vertices are lit (`max_depth = 1` is the direct integrator, bit for bit). The
+//! reference estimator (`SamplingMode::Reference`) has no BSDF sampling to continue along: a path
+//! of it is the direct integrator.
 
 use super::camera_vertex::{CameraVertex, camera_vertex};
 use super::nee::{Nee, Traced};
@@ -31,6 +31,13 @@ use glam::DVec3;
 /// scenes (128², 64 spp, depth 8; BENCHMARKS.md, issue 39): the short paths that roulette
 /// ended early carried light the box's walls pass on with albedos near 0.75.
 pub const ROULETTE_DEPTH: u32 = 5;
+
+/// Russian roulette keeps a path with probability `q = min(1, ROULETTE_SCALE · max(β))`: a
+/// path whose throughput is at least 1/2 always goes on. With Mitsuba 3's `q = max(β)` (scale
+/// 1) the paths killed at throughputs of 1/2 to 1 added more variance than their rays saved:
+/// time × variance 6 % lower on the Cornell box, 1–5 % on two clutter scenes and the
+/// StandardShaderBall, 3 no better than 2 (BENCHMARKS.md, issue 39).
+pub const ROULETTE_SCALE: f64 = 2.0;
 
 /// Path tracing with next-event estimation and MIS at every vertex.
 #[derive(Clone, Copy)]
@@ -83,7 +90,7 @@ impl PathIntegrator<'_> {
         }
         *beta *= bs.weight;
         if bounce + 1 >= ROULETTE_DEPTH {
-            let q = beta.max_element().min(1.0);
+            let q = (ROULETTE_SCALE * beta.max_element()).min(1.0);
             if q.is_nan() || q <= 0.0 || st.get1(Dim::Roulette { bounce }) >= q {
                 return None;
             }
