@@ -33,10 +33,10 @@ use glam::DVec3;
 pub const ROULETTE_DEPTH: u32 = 5;
 
 /// Russian roulette keeps a path with probability `q = min(1, ROULETTE_SCALE · max(β))`: a
-/// path whose throughput is at least 1/2 always goes on. With Mitsuba 3's `q = max(β)` (scale
-/// 1) the paths killed at throughputs of 1/2 to 1 added more variance than their rays saved:
-/// time × variance 6 % lower on the Cornell box, 1–5 % on two clutter scenes and the
-/// StandardShaderBall, 3 no better than 2 (BENCHMARKS.md, issue 39).
+/// path whose throughput is at least 1/2 always goes on. With Mitsuba 3's `q = max(β)`, a
+/// scale of one, the paths killed at throughputs of 1/2 to 1 added more variance than their
+/// rays saved: with 2, time × variance is 6 % lower on the Cornell box and 1–5 % on two
+/// clutter scenes and the StandardShaderBall; 3 is no better (BENCHMARKS.md, issue 39).
 pub const ROULETTE_SCALE: f64 = 2.0;
 
 /// Path tracing with next-event estimation and MIS at every vertex.
