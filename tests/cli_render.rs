@@ -533,6 +533,18 @@ fn counts_are_singular_for_one() {
     }
 }
 
+/// The samples a pixel took on average, as a successful render's closing summary gives them
+/// (`… (12.34 a pixel) …`).
+fn samples_a_pixel(o: &std::process::Output) -> String {
+    assert!(o.status.success(), "{}", stderr(o));
+    let log = stderr(o);
+    log.split(" a pixel)")
+        .next()
+        .and_then(|s| s.rsplit('(').next())
+        .unwrap_or_else(|| panic!("no sample count: {log}"))
+        .to_owned()
+}
+
 /// `--adaptive-measure` without `--adaptive-threshold` takes that measure's own default
 /// threshold (perceived 0.01, linear 0.1), whatever measure the integrator would default to:
 /// the same samples (the closing summary's count) and the same pixels as with the threshold
@@ -559,15 +571,7 @@ fn an_adaptive_measure_alone_takes_its_own_default_threshold() {
         ];
         all.extend_from_slice(args);
         let o = lux(&all, &[]);
-        assert!(o.status.success(), "{}", stderr(&o));
-        let log = stderr(&o);
-        let count = log
-            .split(" a pixel)")
-            .next()
-            .and_then(|s| s.rsplit('(').next())
-            .unwrap_or_else(|| panic!("no sample count: {log}"))
-            .to_owned();
-        (count, read_png(&png).1.into_raw())
+        (samples_a_pixel(&o), read_png(&png).1.into_raw())
     };
     for (scene, integrator, other, t) in [
         (&sphere, "direct", "linear", "0.1"),
@@ -621,17 +625,7 @@ fn adaptive_splits_default_off_and_out_of_range() {
         let _ = std::fs::remove_file(&png);
         lux(&all, &[])
     };
-    let count = |o: &std::process::Output| {
-        assert!(o.status.success(), "{}", stderr(o));
-        let log = stderr(o);
-        let n = log
-            .split(" a pixel)")
-            .next()
-            .and_then(|s| s.rsplit('(').next())
-            .unwrap_or_else(|| panic!("no sample count: {log}"))
-            .to_owned();
-        (n, read_png(&png).1.into_raw())
-    };
+    let count = |o: &std::process::Output| (samples_a_pixel(o), read_png(&png).1.into_raw());
     let default = count(&run(&[]));
     assert_eq!(default, count(&run(&["--adaptive-splits", "8"])));
     assert_ne!(default.0, count(&run(&["--adaptive-splits", "1"])).0);

@@ -651,7 +651,10 @@ impl Frame {
             // integrator's camera vertex answers for such a ray, black with alpha 0, taken
             // without drawing or tracing it (the sums stay 0, as adding those samples leaves
             // them). A splatting integrator is asked: its particles go elsewhere.
+            // (the rays count as drawn: one each, also in the sums adaptive splitting reads, so
+            // that they do not depend on where a tile's edges fall)
             c.counters.rays += n as u64;
+            sums.rays = n as u64;
             let rgb = DVec3::ZERO * self.exposure_scale;
             (0..n).for_each(|_| each(rgb));
             return sums;
