@@ -131,8 +131,8 @@ fn lambertian_path_tracing_matches_light_tracing() {
 /// The path tracer's adaptive sampling by the linear measure (its default): pixel counts
 /// read from the neighbours' samples and the frame pilot's, extra samples continuing each
 /// pixel's points, split into as many continuations as the neighbours find cheapest and
-/// weighted by their variance (adaptive splitting), or without splitting. Still the light
-/// tracer's picture, block by block.
+/// weighted by their variance (adaptive splitting), also from one sample a pixel, or without
+/// splitting. Still the light tracer's picture, block by block.
 #[test]
 fn adaptive_path_tracing_matches_light_tracing() {
     let s = cornell();
@@ -142,6 +142,9 @@ fn adaptive_path_tracing_matches_light_tracing() {
     let path = block_means(&s, IntegratorKind::Path, 8, 32, PATH_SPLITS, lambert, a);
     let light = block_means(&s, IntegratorKind::Light, 8, 256, 1, lambert, OFF);
     agree(&path, &light, "depth 8, Lambertian, adaptive");
+    // One sample a pixel: the spread across the neighbours stands in for the one within.
+    let one = block_means(&s, IntegratorKind::Path, 8, 1, PATH_SPLITS, lambert, a);
+    agree(&one, &light, "depth 8, Lambertian, adaptive from 1 spp");
     let plain = AdaptiveSampling { max_splits: 1, ..a };
     let unsplit = block_means(&s, IntegratorKind::Path, 8, 32, PATH_SPLITS, lambert, plain);
     agree(

@@ -182,24 +182,16 @@ impl AdaptiveSampling {
         if m < 2 {
             return spp;
         }
-        let k = nb.count as f64;
-        let (mean, e2) = (nb.y / k, nb.y2 / k);
-        let n = m as f64;
-        // The spread of all the pooled samples (within and across pixels), unbiased.
-        let pooled = ((e2 - mean * mean) * n / (n - 1.0)).max(0.0);
         match self.measure {
-            NoiseMeasure::Perceived => self.samples(spp, m, mean, pooled),
+            NoiseMeasure::Perceived => {
+                let k = nb.count as f64;
+                self.samples(spp, m, nb.y / k, pooled_variance(&nb, spp))
+            }
             NoiseMeasure::Linear => {
                 if frame_mean.is_nan() || frame_mean <= 0.0 {
                     return spp;
                 }
-                let within = if spp > 1 {
-                    let s = spp as f64;
-                    ((nb.y2 - nb.yy) / k * s / (s - 1.0)).max(0.0)
-                } else {
-                    pooled
-                };
-                self.for_noise(spp, within.sqrt() / frame_mean)
+                self.for_noise(spp, linear_variance(&nb, spp).sqrt() / frame_mean)
             }
         }
     }
@@ -212,8 +204,9 @@ impl AdaptiveSampling {
     /// [`AdaptiveSampling::samples_at`].
     ///
     /// From the neighbours' first samples (the block of [`neighbours`], the cell itself left
-    /// out): `V` the variance of one sample's luminance as [`NoiseMeasure::Linear`] pools it,
-    /// `V_c` the mean spread of one continuation's luminance (`SplitStats[0]`), so
+    /// out): `V` the variance of one sample's luminance as [`NoiseMeasure::Linear`] pools it
+    /// (with one sample a pixel, the spread across pixels: `V_a` then errs high, towards fewer
+    /// splits), `V_c` the mean spread of one continuation's luminance (`SplitStats[0]`), so
     /// `V = V_a + V_c/k₀` (`V_a` what the camera ray and its vertex add, `k₀ = first_splits`,
     /// `V_a` ≥ 0), and the rays a sample traces before its continuations `C_a` and a
     /// continuation `C_c`. A sample split into `k` has variance `V_k = V·(V_a + V_c/k)/(V_a +
@@ -245,7 +238,6 @@ impl AdaptiveSampling {
             || self.measure != NoiseMeasure::Linear
             || self.max_splits < 2
             || first_splits < 2
-            || spp < 2
             || splits.len() != first.len()
         {
             return plain;
@@ -253,7 +245,7 @@ impl AdaptiveSampling {
         let nb = neighbours(first, [w, h], [i, j], self.reach());
         let count = nb.count as f64;
         let s = spp as f64;
-        let v = ((nb.y2 - nb.yy) / count * s / (s - 1.0)).max(0.0);
+        let v = linear_variance(&nb, spp);
         let mut sum = [0.0f64; 3];
         let reach = self.reach();
         for nj in j.saturating_sub(reach)..(j + reach + 1).min(h) {
@@ -302,6 +294,26 @@ pub struct Extra {
     pub splits: u32,
     /// Weight of an extra sample against a first one in the pixel's mean (1 without splitting).
     pub weight: f64,
+}
+
+/// The unbiased variance of all the samples pooled in `nb` (`spp` each), within and across
+/// pixels: `(E[Y²] − E[Y]²)·n/(n − 1)` over their `n` samples.
+fn pooled_variance(nb: &Neighbours, spp: u32) -> f64 {
+    let k = nb.count as f64;
+    let (mean, e2) = (nb.y / k, nb.y2 / k);
+    let n = k * spp as f64;
+    ((e2 - mean * mean) * n / (n - 1.0)).max(0.0)
+}
+
+/// The variance of one sample's luminance by [`NoiseMeasure::Linear`]: the spread within the
+/// pixels of `nb`, pooled (`mean_j (E_j[Y²] − E_j[Y]²)·s/(s − 1)`, `s = spp`), or with one
+/// sample a pixel, where no spread within is known, [`pooled_variance`].
+fn linear_variance(nb: &Neighbours, spp: u32) -> f64 {
+    if spp < 2 {
+        return pooled_variance(nb, spp);
+    }
+    let (k, s) = (nb.count as f64, spp as f64);
+    ((nb.y2 - nb.yy) / k * s / (s - 1.0)).max(0.0)
 }
 
 /// The continuations `k` among `k₀`, 2·`k₀`, 4·`k₀` … ≤ `max` of least `(v_a + v_c/k) · (c_a +
@@ -609,6 +621,13 @@ mod tests {
                 ..plain
             }
         );
+        // One sample a pixel: the pooled spread stands in for the one within pixels, V =
+        // 0.0225·48/47 = 0.02298 < V_c/2, so V_a = 0 and k = 8; n₀ = ⌈√0.02298/0.05⌉ = 4,
+        // V_8/V = 1/4, gain 12/(42/4); m = (4·√(8/7) − 1)/4 = 0.82 → 1 sample of weight 4.
+        let one = a.extra_at(1, &first, &stats, 2, [w, h], [3, 3], 0.5);
+        assert_eq!(a.samples_at(1, &first, [w, h], [3, 3], 0.5), 4);
+        assert_eq!((one.n, one.splits), (2, 8));
+        assert!((one.weight - 4.0).abs() < 1e-9, "{}", one.weight);
         // A pixel that takes no extra sample splits no further.
         let calm: Vec<Luma> = vec![[0.5, 0.25]; w * h];
         let none = a.extra_at(4, &calm, &stats, 2, [w, h], [3, 3], 0.5);
