@@ -25,7 +25,7 @@ use crate::adaptive::{
 use crate::camera::Camera;
 use crate::film::{Film, Splat, Splats};
 use crate::image_io::ImageRgba;
-use crate::integrator::{CameraRay, Ctx, Integrator};
+use crate::integrator::{CameraRay, Ctx, Integrator, SplitSums};
 use crate::sampler::{Dim, SampleStream};
 use crate::stats::{Counters, RenderStats};
 use crate::visibility::{Scratch, Visibility};
@@ -660,7 +660,10 @@ impl Frame {
             return sums;
         }
         let index = y as u64 * self.width as u64 + x as u64;
-        let (rays0, split0) = (c.counters.rays, c.split);
+        // (the continuations' sums start from zero for each run, not as differences of the
+        // worker's running totals, whose rounding would depend on the tiles it rendered before)
+        let rays0 = c.counters.rays;
+        c.split = SplitSums::default();
         for s in 0..n {
             let mut st = SampleStream::new(self.seed, index, s, n);
             if let Some(salt) = salt {
@@ -688,8 +691,8 @@ impl Frame {
             sums.y2 += l * l;
         }
         sums.rays = c.counters.rays - rays0;
-        sums.spread = (c.split.spread - split0.spread) * self.exposure_scale * self.exposure_scale;
-        sums.continuation_rays = c.split.continuation_rays - split0.continuation_rays;
+        sums.spread = c.split.spread * self.exposure_scale * self.exposure_scale;
+        sums.continuation_rays = c.split.continuation_rays;
         sums
     }
 }

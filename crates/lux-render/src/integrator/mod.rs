@@ -76,7 +76,8 @@ pub struct Ctx {
     pub vis: Scratch,
     /// Splats to other pixels ([`Integrator::splats`]), which the tile loop hands to the film.
     pub splats: Vec<Splat>,
-    /// The path tracer's continuations so far ([`SplitSums`]).
+    /// The path tracer's continuations since the tile loop last cleared it, at the start of
+    /// each run of a pixel's samples ([`SplitSums`]).
     pub split: SplitSums,
 }
 
