@@ -247,14 +247,9 @@ impl AdaptiveSampling {
         let s = spp as f64;
         let v = linear_variance(&nb, spp);
         let mut sum = [0.0f64; 3];
-        let reach = self.reach();
-        for nj in j.saturating_sub(reach)..(j + reach + 1).min(h) {
-            for ni in i.saturating_sub(reach)..(i + reach + 1).min(w) {
-                if (ni, nj) != (i, j) {
-                    for (a, b) in sum.iter_mut().zip(splits[nj * w + ni]) {
-                        *a += b as f64;
-                    }
-                }
+        for c in block([w, h], [i, j], self.reach()) {
+            for (a, b) in sum.iter_mut().zip(splits[c]) {
+                *a += b as f64;
             }
         }
         let [v_c, c_a, c_c] = sum.map(|x| x / count);
@@ -435,20 +430,21 @@ pub fn neighbours(
         }
         return nb;
     }
-    for nj in j.saturating_sub(reach)..(j + reach + 1).min(h) {
-        let row = &first[nj * w..][..w];
-        for (ni, &cell) in row
-            .iter()
-            .enumerate()
-            .take((i + reach + 1).min(w))
-            .skip(i.saturating_sub(reach))
-        {
-            if (ni, nj) != (i, j) {
-                nb.add(cell);
-            }
-        }
+    for c in block([w, h], [i, j], reach) {
+        nb.add(first[c]);
     }
     nb
+}
+
+/// The cells of the `(2·reach + 1)²` block around cell `[i, j]` of a `[w, h]` grid (row-major
+/// indices), clipped to the grid, but itself — row by row from the top, left to right.
+#[inline]
+fn block([w, h]: [usize; 2], [i, j]: [usize; 2], reach: usize) -> impl Iterator<Item = usize> {
+    let cols = i.saturating_sub(reach)..(i + reach + 1).min(w);
+    (j.saturating_sub(reach)..(j + reach + 1).min(h))
+        .flat_map(move |nj| cols.clone().map(move |ni| (ni, nj)))
+        .filter(move |&c| c != (i, j))
+        .map(move |(ni, nj)| nj * w + ni)
 }
 
 /// The penumbra pilot (`RenderOptions::penumbra_samples`): light samples per light for a
@@ -547,8 +543,6 @@ mod tests {
         assert_eq!(a.samples_at(4, &first[..1], [1, 1], [0, 0], 0.0), 4);
     }
 
-    /// The linear measure: `n = ⌈spp · σ_w / (t · μ̄)⌉` with `σ_w²` the neighbours' mean
-    /// within-pixel variance, whatever their means (an edge between them adds nothing).
     /// `best_splits` against the products written out: `(v_a + v_c/k)·(c_a + k·c_c)` with
     /// `v_a` = 1, `v_c` = 16, `c_a` = `c_c` = 1 is 27, 25, 27 at k = 2, 4, 8 (the continuous
     /// optimum √16 = 4).
@@ -634,6 +628,8 @@ mod tests {
         assert_eq!((none.n, none.splits, none.weight), (4, 0, 1.0));
     }
 
+    /// The linear measure: `n = ⌈spp · σ_w / (t · μ̄)⌉` with `σ_w²` the neighbours' mean
+    /// within-pixel variance, whatever their means (an edge between them adds nothing).
     #[test]
     fn linear_counts_read_the_spread_within_pixels() {
         let a = AdaptiveSampling {

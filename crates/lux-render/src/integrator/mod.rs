@@ -87,8 +87,6 @@ pub struct Ctx {
 /// camera vertex's light and `cⱼ` what continuation `j` brings back.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SplitSums {
-    /// Camera samples.
-    pub samples: u64,
     /// Σ over samples of `Σⱼ (Y(cⱼ) − Ȳ)² / (k − 1)`, `Y` the luminance: each term is an
     /// unbiased estimate of the variance of one continuation's luminance given the camera
     /// sample.

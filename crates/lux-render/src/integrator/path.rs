@@ -176,7 +176,6 @@ impl Integrator for PathIntegrator<'_> {
         let split = &mut ctx.split;
         if k > 1 {
             let kf = k as f64;
-            split.samples += 1;
             split.spread += ((y2 - y * y / kf) / (kf - 1.0)).max(0.0);
             split.continuation_rays += ctx.counters.rays - rays1;
         }
