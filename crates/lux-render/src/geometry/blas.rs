@@ -6,7 +6,7 @@
 
 use super::MAX_TRIANGLES;
 use super::Region;
-use glam::DVec3;
+use glam::{DVec3, Vec3A};
 use lux_usd::Scene;
 use obvhs::BvhBuildParams;
 use obvhs::cwbvh::CwBvh;
@@ -49,8 +49,8 @@ pub(crate) fn mesh_triangles(
 /// Triangles of some meshes, in their meshes' common space, and their BVH.
 pub(crate) struct Blas {
     bvh: CwBvh,
-    /// Triangles in BVH primitive order (`f32`, for traversal).
-    tris: Vec<Triangle>,
+    /// Triangles in BVH primitive order (`f32`, for traversal), with their normals.
+    tris: Vec<RayTriangle>,
     /// Per BVH primitive: its source.
     pub prims: Vec<PrimRef>,
     /// `f64` bounds of the stored triangles' vertices (the meshes' space).
@@ -110,10 +110,10 @@ impl Blas {
         // obvhs reserves one node per primitive; a CWBVH needs about one per 8–16.
         bvh.nodes.shrink_to_fit();
         // Lay the triangles out in BVH order so that leaves index them directly.
-        let tris_ordered: Vec<Triangle> = bvh
+        let tris_ordered: Vec<RayTriangle> = bvh
             .primitive_indices
             .iter()
-            .map(|&i| tris[i as usize])
+            .map(|&i| RayTriangle::new(tris[i as usize]))
             .collect();
         let prims_ordered: Vec<PrimRef> = bvh
             .primitive_indices
@@ -136,14 +136,14 @@ impl Blas {
 
     /// The `f32` triangles in BVH order (tests).
     #[cfg(test)]
-    pub(crate) fn triangles(&self) -> &[Triangle] {
-        &self.tris
+    pub(crate) fn triangles(&self) -> impl Iterator<Item = &Triangle> {
+        self.tris.iter().map(|t| &t.tri)
     }
 
     /// The vertices of triangle `id` (BVH order) as its ray tests see them (`f32`, widened).
     #[inline]
     pub fn vertices(&self, id: u32) -> Option<[DVec3; 3]> {
-        let t = self.tris.get(id as usize)?;
+        let t = &self.tris.get(id as usize)?.tri;
         Some([t.v0, t.v1, t.v2].map(|v| DVec3::new(v.x as f64, v.y as f64, v.z as f64)))
     }
 
@@ -156,7 +156,7 @@ impl Blas {
     pub fn heap_bytes(&self) -> usize {
         self.bvh.nodes.capacity() * size_of::<obvhs::cwbvh::node::CwBvhNode>()
             + self.bvh.primitive_indices.capacity() * size_of::<u32>()
-            + self.tris.capacity() * size_of::<Triangle>()
+            + self.tris.capacity() * size_of::<RayTriangle>()
             + self.prims.capacity() * size_of::<PrimRef>()
     }
 
@@ -190,14 +190,11 @@ impl Blas {
     #[inline(always)]
     fn cull_back(&self, r: &Ray, id: usize) -> f32 {
         let tri = &self.tris[id];
-        let t = tri.intersect(r);
-        if t.is_finite() && !self.prims[id].double_sided {
-            let n = (tri.v1 - tri.v0).cross(tri.v2 - tri.v0);
-            if n.dot(r.direction) > 0.0 {
-                return f32::INFINITY;
-            }
+        if self.prims[id].double_sided {
+            tri.intersect(r)
+        } else {
+            tri.intersect_front(r)
         }
-        t
     }
 
     /// Every triangle (BVH index) of a mesh that `casts` which `region` does not rule out, in
@@ -209,7 +206,7 @@ impl Blas {
         mut take: impl FnMut(u32) -> bool,
     ) -> Option<u32> {
         super::region_search(&self.bvh, region, |id| {
-            !region.culls_triangle(&self.tris[id])
+            !region.culls_triangle(&self.tris[id].tri)
                 && casts(self.prims[id].mesh as usize)
                 && take(id as u32)
         })
@@ -240,7 +237,7 @@ impl Blas {
     pub fn culls(&self, cone: &impl Region, id: u32) -> bool {
         self.tris
             .get(id as usize)
-            .is_none_or(|t| cone.culls_triangle(t))
+            .is_none_or(|t| cone.culls_triangle(&t.tri))
     }
 
     /// [`Blas::any`] among the triangles `ids` alone (BVH indices).
@@ -256,5 +253,135 @@ impl Blas {
         !self
             .bvh
             .ray_traverse_miss(ray, |r, id| self.tris[id].intersect(r))
+    }
+}
+
+/// A triangle as ray queries test it: obvhs's [`Triangle`] with its unnormalised normal
+/// `n = (v0 − v1) × (v2 − v0)` formed once, where `Triangle::intersect` forms it at every test.
+/// The test is that one's Möller–Trumbore arithmetic, operation for operation, so distances
+/// and misses are the same bits. One cache line.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+pub(crate) struct RayTriangle {
+    /// The vertices.
+    pub tri: Triangle,
+    /// `(v0 − v1) × (v2 − v0)`: against the front, `-((v1 − v0) × (v2 − v0))`.
+    n: Vec3A,
+}
+
+impl RayTriangle {
+    fn new(tri: Triangle) -> RayTriangle {
+        RayTriangle {
+            tri,
+            n: (tri.v0 - tri.v1).cross(tri.v2 - tri.v0),
+        }
+    }
+
+    /// Distance to the triangle along `ray` within `[tmin, tmax]` (`f32::INFINITY` for a
+    /// miss), from either side: `Triangle::intersect`.
+    #[inline(always)]
+    pub fn intersect(&self, ray: &Ray) -> f32 {
+        self.test(ray, self.n.dot(ray.direction))
+    }
+
+    /// [`RayTriangle::intersect`] with the back a miss: the ray along the front normal
+    /// `(v1 − v0) × (v2 − v0)` (`det = n·d < 0`), known before the rest of the test.
+    #[inline(always)]
+    pub fn intersect_front(&self, ray: &Ray) -> f32 {
+        let det = self.n.dot(ray.direction);
+        if det < 0.0 {
+            return f32::INFINITY;
+        }
+        self.test(ray, det)
+    }
+
+    /// Möller–Trumbore given `det = n·d`: barycentrics `u`, `v`, `w = 1 − u − v` all of
+    /// clear sign bit (so `−0` misses, as in obvhs) and `t = n·(v0 − o)/det` in range.
+    #[inline(always)]
+    fn test(&self, ray: &Ray, det: f32) -> f32 {
+        let t = &self.tri;
+        let e1 = t.v0 - t.v1;
+        let e2 = t.v2 - t.v0;
+        let c = t.v0 - ray.origin;
+        let r = ray.direction.cross(c);
+        let inv_det = 1.0 / det;
+        let u = r.dot(e2) * inv_det;
+        let v = r.dot(e1) * inv_det;
+        let w = 1.0 - u - v;
+        let signs = u.to_bits() | v.to_bits() | w.to_bits();
+        if inv_det != 0.0 && signs & 0x8000_0000 == 0 {
+            let t = self.n.dot(c) * inv_det;
+            if t >= ray.tmin && t <= ray.tmax {
+                return t;
+            }
+        }
+        f32::INFINITY
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lux_sample::SplitMix64;
+
+    /// `RayTriangle::intersect` is `Triangle::intersect` bit for bit, and `intersect_front`
+    /// that with the back faces (`((v1 − v0) × (v2 − v0))·d > 0`) missing, as `Blas` culled
+    /// them before: random triangles and rays, rays through vertices and along edges
+    /// (`u`, `v` or `w` zero), in the plane (det 0), and `tmin`/`tmax` cutting the hit.
+    #[test]
+    fn ray_triangle_is_obvhs_triangle_bit_for_bit() {
+        let mut rng = SplitMix64::new(7);
+        let mut v = || {
+            let mut c = || (rng.next_f64() * 4.0 - 2.0) as f32;
+            Vec3A::new(c(), c(), c())
+        };
+        let (mut hits, mut culled) = (0, 0);
+        for i in 0..200_000 {
+            let tri = Triangle {
+                v0: v(),
+                v1: v(),
+                v2: v(),
+            };
+            let o = v() * 2.0;
+            let target = match i % 5 {
+                0 => tri.v1,
+                1 => (tri.v0 + tri.v2) * 0.5,
+                2 => tri.v0 + (tri.v1 - tri.v0) * 0.25 + (tri.v2 - tri.v0) * 0.5,
+                _ => v(),
+            };
+            let o = if i % 97 == 0 {
+                tri.v0 + (tri.v1 - tri.v0) * 3.0
+            } else {
+                o
+            };
+            let d = (target - o).normalize_or_zero();
+            let (tmin, tmax) = match i % 3 {
+                0 => (0.0, f32::INFINITY),
+                1 => (0.0, (target - o).length() * 0.999),
+                _ => (0.5, 3.0),
+            };
+            let ray = Ray::new(o, d, tmin, tmax);
+            let rt = RayTriangle::new(tri);
+            let want = tri.intersect(&ray);
+            assert_eq!(rt.intersect(&ray).to_bits(), want.to_bits(), "triangle {i}");
+            let back = (tri.v1 - tri.v0).cross(tri.v2 - tri.v0).dot(ray.direction) > 0.0;
+            let want_front = if want.is_finite() && back {
+                f32::INFINITY
+            } else {
+                want
+            };
+            assert_eq!(
+                rt.intersect_front(&ray).to_bits(),
+                want_front.to_bits(),
+                "front {i}"
+            );
+            hits += want.is_finite() as u32;
+            culled += (want.is_finite() && back) as u32;
+        }
+        // (the cases above do reach both outcomes often)
+        assert!(
+            hits > 25_000 && culled > 10_000,
+            "{hits} hits, {culled} culled"
+        );
     }
 }
