@@ -21,7 +21,7 @@
 
 use super::camera_vertex::{CameraVertex, camera_vertex};
 use super::nee::{Nee, Traced};
-use super::{CameraRay, Ctx, Integrator, SamplingMode, Setup, closest};
+use super::{BsdfPoint, CameraRay, Ctx, Integrator, SamplingMode, Setup, closest};
 use crate::material::SurfacePoint;
 use crate::sampler::{Dim, SampleStream};
 use glam::DVec3;
@@ -65,10 +65,11 @@ impl<'a> PathIntegrator<'a> {
 }
 
 impl PathIntegrator<'_> {
-    /// Continues a path from `sp`, vertex `bounce`, along its BSDF sample: `beta` takes the
-    /// sample's weight (and Russian roulette's), and the surface met is returned (`None`: the
-    /// path ends). When the vertex's estimate already traced that sample (`traced`: the same
-    /// sample, the same ray), its hit is taken instead of tracing again.
+    /// Continues a path from `sp`, vertex `bounce`, along its BSDF sample (drawn from
+    /// `point`, the vertex's numbers): `beta` takes the sample's weight (and Russian
+    /// roulette's), and the surface met is returned (`None`: the path ends). When the vertex's
+    /// estimate already traced that sample (`traced`: the same sample, the same ray), its hit
+    /// is taken instead of tracing again.
     #[inline]
     fn scatter(
         &self,
@@ -78,11 +79,12 @@ impl PathIntegrator<'_> {
         beta: &mut DVec3,
         ctx: &mut Ctx,
         traced: Option<Traced>,
+        point: BsdfPoint,
     ) -> Option<SurfacePoint> {
         let w = &self.nee.world;
         let bs = match traced {
             Some(t) => t.bs,
-            None => super::sample_bsdf(&sp.bsdf, st, bounce)?,
+            None => point.sample(&sp.bsdf)?,
         };
         let side = sp.ng.dot(bs.wi);
         if side == 0.0 || (side < 0.0 && !sp.bsdf.transmits()) {
@@ -120,23 +122,33 @@ impl PathIntegrator<'_> {
     }
 
     /// What a path continued from the camera's vertex `sp0` brings back: the light of every
-    /// later vertex, weighted by the throughput to it.
+    /// later vertex, weighted by the throughput to it. `first`: the numbers of its first BSDF
+    /// sample (vertex 0 of `st`).
     #[inline]
-    fn continuation(&self, sp0: &SurfacePoint, st: &SampleStream, ctx: &mut Ctx) -> DVec3 {
+    fn continuation(
+        &self,
+        sp0: &SurfacePoint,
+        st: &SampleStream,
+        first: BsdfPoint,
+        ctx: &mut Ctx,
+    ) -> DVec3 {
         let mut beta = DVec3::ONE;
         let mut out = DVec3::ZERO;
         // (the camera vertex's estimate drew its BSDF sample from the unsplit stream: not
         // this continuation's)
-        let Some(mut sp) = self.scatter(sp0, st, 0, &mut beta, ctx, None) else {
+        let Some(mut sp) = self.scatter(sp0, st, 0, &mut beta, ctx, None, first) else {
             return out;
         };
         for bounce in 1..self.max_depth {
+            let last = bounce + 1 == self.max_depth;
+            // (drawn before the estimate's shadow rays, which hide the hashing)
+            let point = BsdfPoint::draw(&sp.bsdf, st, bounce);
             let mut traced = None;
             out += beta * self.nee.estimate_keeping(&sp, st, bounce, ctx, &mut traced);
-            if bounce + 1 == self.max_depth {
+            if last {
                 break;
             }
-            match self.scatter(&sp, st, bounce, &mut beta, ctx, traced) {
+            match self.scatter(&sp, st, bounce, &mut beta, ctx, traced, point) {
                 Some(next) => sp = next,
                 None => break,
             }
@@ -167,8 +179,15 @@ impl Integrator for PathIntegrator<'_> {
         let rays1 = ctx.counters.rays;
         let mut sum = DVec3::ZERO;
         let (mut y, mut y2) = (0.0, 0.0);
+        // Each continuation's first numbers are drawn while the one before is traced.
+        let first = |j| BsdfPoint::draw(&sp.bsdf, &st.split(j, k), 0);
+        let mut next = first(0);
         for j in 0..k {
-            let c = self.continuation(&sp, &st.split(j, k), ctx);
+            let point = next;
+            if j + 1 < k {
+                next = first(j + 1);
+            }
+            let c = self.continuation(&sp, &st.split(j, k), point, ctx);
             let l = lux_math::luminance(c);
             (y, y2) = (y + l, y2 + l * l);
             sum += c;
