@@ -39,6 +39,15 @@ pub const ROULETTE_DEPTH: u32 = 5;
 /// clutter scenes and the StandardShaderBall; 3 is no better (BENCHMARKS.md, issue 39).
 pub const ROULETTE_SCALE: f64 = 2.0;
 
+/// The BSDF sample a path leaves a vertex along ([`PathIntegrator::scatter`]).
+#[derive(Clone, Copy)]
+enum Along {
+    /// The sample of these numbers.
+    Draw(BsdfPoint),
+    /// The sample the vertex's estimate traced, and what its ray met.
+    Traced(Traced),
+}
+
 /// Path tracing with next-event estimation and MIS at every vertex.
 #[derive(Clone, Copy)]
 pub struct PathIntegrator<'a> {
@@ -65,11 +74,10 @@ impl<'a> PathIntegrator<'a> {
 }
 
 impl PathIntegrator<'_> {
-    /// Continues a path from `sp`, vertex `bounce`, along its BSDF sample (drawn from
-    /// `point`, the vertex's numbers): `beta` takes the sample's weight (and Russian
-    /// roulette's), and the surface met is returned (`None`: the path ends). When the vertex's
-    /// estimate already traced that sample (`traced`: the same sample, the same ray), its hit
-    /// is taken instead of tracing again.
+    /// Continues a path from `sp`, vertex `bounce`, along its BSDF sample (`along`: drawn
+    /// from the vertex's numbers, or the one its estimate already traced, whose hit is taken
+    /// instead of tracing the same ray again): `beta` takes the sample's weight (and Russian
+    /// roulette's), and the surface met is returned (`None`: the path ends).
     #[inline]
     fn scatter(
         &self,
@@ -78,13 +86,12 @@ impl PathIntegrator<'_> {
         bounce: u32,
         beta: &mut DVec3,
         ctx: &mut Ctx,
-        traced: Option<Traced>,
-        point: BsdfPoint,
+        along: Along,
     ) -> Option<SurfacePoint> {
         let w = &self.nee.world;
-        let bs = match traced {
-            Some(t) => t.bs,
-            None => point.sample(&sp.bsdf)?,
+        let (bs, traced) = match along {
+            Along::Traced(t) => (t.bs, Some(t)),
+            Along::Draw(point) => (point.sample(&sp.bsdf)?, None),
         };
         let side = sp.ng.dot(bs.wi);
         if side == 0.0 || (side < 0.0 && !sp.bsdf.transmits()) {
@@ -136,7 +143,7 @@ impl PathIntegrator<'_> {
         let mut out = DVec3::ZERO;
         // (the camera vertex's estimate drew its BSDF sample from the unsplit stream: not
         // this continuation's)
-        let Some(mut sp) = self.scatter(sp0, st, 0, &mut beta, ctx, None, first) else {
+        let Some(mut sp) = self.scatter(sp0, st, 0, &mut beta, ctx, Along::Draw(first)) else {
             return out;
         };
         for bounce in 1..self.max_depth {
@@ -148,7 +155,11 @@ impl PathIntegrator<'_> {
             if last {
                 break;
             }
-            match self.scatter(&sp, st, bounce, &mut beta, ctx, traced, point) {
+            let along = match traced {
+                Some(t) => Along::Traced(t),
+                None => Along::Draw(point),
+            };
+            match self.scatter(&sp, st, bounce, &mut beta, ctx, along) {
                 Some(next) => sp = next,
                 None => break,
             }
