@@ -55,7 +55,18 @@ pub(crate) struct Blas {
     pub prims: Vec<PrimRef>,
     /// `f64` bounds of the stored triangles' vertices (the meshes' space).
     pub bounds: (DVec3, DVec3),
+    /// How many distinct triangles it holds (`tris` may hold a large one more than once: the
+    /// pieces of its box that [`SMALL_BVH`]'s pre-splitting made).
+    count: usize,
 }
+
+/// Triangles up to which a BVH is built with obvhs's `very_slow_build` (large triangles'
+/// boxes pre-split, every node reinserted where it lowers the SAH cost) rather than its
+/// `medium_build`: path-traced render time −6 % on the Cornell box, −3 to −4 % on the
+/// clutter scenes, direct light −1 to −3 %, for a build of about 0.13 µs a triangle more
+/// (StandardShaderBall, 222,992 triangles: +0.03 s on a 0.18 s load; BENCHMARKS.md, issue 39).
+/// Above it the extra build time is not surely won back, and the medium build stays.
+pub(crate) const SMALL_BVH: usize = 1 << 16;
 
 impl Blas {
     /// Builds the BVH over every valid triangle of the meshes `meshes` (in order) of `scene`:
@@ -102,11 +113,12 @@ impl Blas {
         if tris.is_empty() {
             return None;
         }
-        let mut bvh = build_cwbvh_from_tris(
-            &tris,
-            BvhBuildParams::medium_build(),
-            &mut Duration::default(),
-        );
+        let params = if tris.len() <= SMALL_BVH {
+            BvhBuildParams::very_slow_build()
+        } else {
+            BvhBuildParams::medium_build()
+        };
+        let mut bvh = build_cwbvh_from_tris(&tris, params, &mut Duration::default());
         // obvhs reserves one node per primitive; a CWBVH needs about one per 8–16.
         bvh.nodes.shrink_to_fit();
         // Lay the triangles out in BVH order so that leaves index them directly.
@@ -125,6 +137,7 @@ impl Blas {
             tris: tris_ordered,
             prims: prims_ordered,
             bounds: (lo, hi),
+            count: tris.len(),
         })
     }
 
@@ -147,9 +160,9 @@ impl Blas {
         Some([t.v0, t.v1, t.v2].map(|v| DVec3::new(v.x as f64, v.y as f64, v.z as f64)))
     }
 
-    /// Number of stored triangles.
+    /// Number of distinct triangles stored.
     pub fn len(&self) -> usize {
-        self.tris.len()
+        self.count
     }
 
     /// Bytes held by the BVH, the triangles and their provenance (capacity, not length).
