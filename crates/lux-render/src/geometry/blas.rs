@@ -337,6 +337,61 @@ mod tests {
     use super::*;
     use lux_sample::SplitMix64;
 
+    /// A small BVH is pre-split ([`SMALL_BVH`]): a triangle far larger than the others is
+    /// held more than once, yet counted once, and rays meet it (and only it) where it is.
+    #[test]
+    fn pre_split_triangles_count_once_and_are_hit() {
+        let prim = |tri| PrimRef {
+            mesh: 0,
+            tri,
+            double_sided: true,
+        };
+        // (a sliver along the diagonal: its box is far larger than it, so splitting pays)
+        let big = [
+            DVec3::new(-100.0, -100.0, 0.0),
+            DVec3::new(100.0, 100.0, 0.0),
+            DVec3::new(100.0, 98.0, 0.0),
+        ];
+        let mut items = vec![(prim(0), big)];
+        for i in 1..=200u32 {
+            let o = DVec3::new(
+                (i % 20) as f64 * 3.0 - 30.0,
+                (i / 20) as f64 * 3.0 - 15.0,
+                5.0,
+            );
+            let small = [
+                o,
+                o + DVec3::new(0.1, 0.0, 0.0),
+                o + DVec3::new(0.0, 0.1, 0.0),
+            ];
+            items.push((prim(i), small));
+        }
+        let mut stored = 0;
+        let b = Blas::from_triangles(items.into_iter(), &mut stored).unwrap();
+        assert_eq!((b.len(), stored), (201, 201));
+        assert!(
+            b.tris.len() > 201,
+            "no pre-split: {} references",
+            b.tris.len()
+        );
+        // (inside it: below the diagonal y = x, above y = 0.99·x − 1)
+        for (x, y) in [
+            (0.0, -0.5),
+            (50.0, 49.3),
+            (-50.0, -50.2),
+            (95.0, 94.5),
+            (-95.0, -95.02),
+        ] {
+            let ray = Ray::new(Vec3A::new(x, y, 1.0), Vec3A::NEG_Z, 0.0, f32::INFINITY);
+            let mut hit = RayHit::none();
+            assert!(b.closest(ray, &mut hit), "({x}, {y})");
+            assert_eq!(b.prims[hit.primitive_id as usize].tri, 0, "({x}, {y})");
+            assert_eq!(hit.t, 1.0);
+        }
+        let outside = Ray::new(Vec3A::new(0.0, 0.5, 1.0), Vec3A::NEG_Z, 0.0, f32::INFINITY);
+        assert!(!b.closest(outside, &mut RayHit::none()));
+    }
+
     /// `RayTriangle::intersect` is `Triangle::intersect` bit for bit, and `intersect_front`
     /// that with the back faces (`((v1 − v0) × (v2 − v0))·d > 0`) missing, as `Blas` culled
     /// them before: random triangles and rays, rays through vertices and along edges
