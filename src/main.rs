@@ -74,6 +74,7 @@ fn main() -> ExitCode {
                     surfaces: None,
                     light_samples: None,
                     penumbra_samples: 1,
+                    shadow_rays: lux::render::settings::VERTEX_SHADOW_RAYS,
                     adaptive_threshold: None,
                     adaptive_max: None,
                     adaptive_splits: None,

@@ -3,6 +3,9 @@
 //! independent seeds agree within their standard errors, for all bounces and for direct light
 //! alone (depth 1, against the direct integrator).
 
+mod common;
+
+use common::blocks::{self, stat};
 use lux::math::Profile;
 use lux::render::conformance::{ProfileSource, ResolvedProfile};
 use lux::render::render::{RenderOptions, Renderer};
@@ -34,76 +37,24 @@ fn block_means(
     surfaces: Option<SurfaceModel>,
     adaptive: AdaptiveSampling,
 ) -> Vec<Vec<[f64; 3]>> {
-    (0..SEEDS)
-        .map(|seed| {
-            let mut o = RenderOptions::new(ResolvedProfile {
-                profile: Profile::Spec,
-                source: ProfileSource::CommandLine,
-            });
-            o.integrator = kind;
-            o.max_depth = depth;
-            o.path_splits = splits;
-            if let Some(m) = surfaces {
-                o.surfaces = m;
-            }
-            o.spp = spp;
-            o.seed = 1000 + seed;
-            o.resolution = Some([SIZE, SIZE]);
-            o.adaptive = Some(adaptive);
-            let r = Renderer::new(s, o).unwrap();
-            let warnings: Vec<&String> = r.warnings().collect();
-            assert!(warnings.is_empty(), "{warnings:?}");
-            let (img, stats) = r.render(&|_| {});
-            assert_eq!(stats.non_finite_samples, 0);
-            let nb = SIZE / BLOCK;
-            let mut blocks = vec![[0.0; 3]; (nb * nb) as usize];
-            for y in 0..SIZE {
-                for x in 0..SIZE {
-                    let p = img.pixels[(y * SIZE + x) as usize];
-                    let b = &mut blocks[((y / BLOCK) * nb + x / BLOCK) as usize];
-                    for c in 0..3 {
-                        b[c] += p[c] as f64 / (BLOCK * BLOCK) as f64;
-                    }
-                }
-            }
-            blocks
-        })
-        .collect()
-}
-
-/// Mean and standard error over seeds of block `b`, channel `c`.
-fn stat(runs: &[Vec<[f64; 3]>], b: usize, c: usize) -> (f64, f64) {
-    let n = runs.len() as f64;
-    let m = runs.iter().map(|r| r[b][c]).sum::<f64>() / n;
-    let v = runs.iter().map(|r| (r[b][c] - m).powi(2)).sum::<f64>() / (n - 1.0);
-    (m, (v / n).sqrt())
-}
-
-/// Every block's mean agrees within 4 combined standard errors (and 2 % of the brightest
-/// block, for blocks whose seeds agree to the last bit), and some blocks are lit.
-fn agree(a: &[Vec<[f64; 3]>], b: &[Vec<[f64; 3]>], what: &str) {
-    let blocks = a[0].len();
-    let top = (0..blocks).map(|k| stat(a, k, 1).0).fold(0.0f64, f64::max);
-    assert!(top > 1e-2, "{what}: lit ({top})");
-    let mut worst = 0.0f64;
-    for k in 0..blocks {
-        for c in 0..3 {
-            let ((ma, sa), (mb, sb)) = (stat(a, k, c), stat(b, k, c));
-            let z = (ma - mb).abs() / (sa * sa + sb * sb).sqrt().max(1e-3 * top);
-            worst = worst.max(z);
-            assert!(
-                z < 4.0,
-                "{what}: block {k} channel {c}: {ma:.5} ± {sa:.5} vs {mb:.5} ± {sb:.5}"
-            );
-        }
+    let mut o = RenderOptions::new(ResolvedProfile {
+        profile: Profile::Spec,
+        source: ProfileSource::CommandLine,
+    });
+    o.integrator = kind;
+    o.max_depth = depth;
+    o.path_splits = splits;
+    if let Some(m) = surfaces {
+        o.surfaces = m;
     }
-    let rel = (0..blocks)
-        .map(|k| {
-            let ((ma, sa), (_, sb)) = (stat(a, k, 1), stat(b, k, 1));
-            (sa * sa + sb * sb).sqrt() / ma.max(1e-9)
-        })
-        .fold(0.0f64, f64::max);
-    eprintln!("{what}: worst block {worst:.2} standard errors; largest relative error {rel:.4}");
+    o.spp = spp;
+    o.adaptive = Some(adaptive);
+    blocks::block_means(s, &o, SIZE, BLOCK, SEEDS).0
+}
+
+/// Every block's mean agrees within 4 combined standard errors, and some blocks are lit.
+fn agree(a: &[Vec<[f64; 3]>], b: &[Vec<[f64; 3]>], what: &str) {
+    blocks::agree(a, b, 1e-2, what)
 }
 
 /// Also the check of the path tracer's two continuations from the camera's vertex

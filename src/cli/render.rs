@@ -170,6 +170,11 @@ pub struct RenderArgs {
     /// takes this many times more.
     #[arg(long, default_value_t = 1)]
     pub penumbra_samples: u32,
+    /// Shadow rays each path vertex past the camera's shares among its light samples, 0 to 64
+    /// (`--integrator path`; 0: one per light sample): with more light samples than this, as
+    /// many are picked in proportion to what each adds unshadowed, and weighted by their share
+    #[arg(long, default_value_t = lux::render::settings::VERTEX_SHADOW_RAYS)]
+    pub shadow_rays: u32,
     /// Adaptive sampling's noise threshold t: after --spp samples, a pixel takes spp·s/t in
     /// all, s the luminance noise of one sample by --adaptive-measure (counted from its
     /// neighbours' samples only, so pixels stay unbiased). On by default with lux sampling:
@@ -350,6 +355,12 @@ pub fn check_args(args: &RenderArgs) -> Result<Vec<(PathBuf, OutputFormat)>, Str
             return Err(format!("{flag} {v}: {what} must be 1 to {max}"));
         }
     }
+    if args.shadow_rays > MAX_LIGHT_SAMPLES {
+        return Err(format!(
+            "--shadow-rays {}: shadow rays must be 0 to {MAX_LIGHT_SAMPLES}",
+            args.shadow_rays
+        ));
+    }
     if let Some(t) = args.adaptive_threshold
         && !(t.is_finite() && t > 0.0)
     {
@@ -455,6 +466,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         };
     }
     options.penumbra_samples = args.penumbra_samples;
+    options.shadow_rays = args.shadow_rays;
     options.subdiv_level = args.subdiv_level;
     options.sampling = match args.sampling {
         SamplingArg::Lux => SamplingMode::Lux,

@@ -83,7 +83,7 @@ pub fn settings_string(options: &RenderOptions, camera_light: bool) -> String {
     format!(
         "lux={};spp={};resolution={resolution};crop={crop};camera={};camera_light={camera_light};\
          profile={};sampling={};integrator={};max_depth={};path_splits={};surfaces={};light_selection={};\
-         light_samples={};penumbra_samples={};adaptive={adaptive};cone_clipping={};visibility={};seed={};strict={}",
+         light_samples={};penumbra_samples={};shadow_rays={};adaptive={adaptive};cone_clipping={};visibility={};seed={};strict={}",
         env!("CARGO_PKG_VERSION"),
         options.spp,
         options.camera.as_deref().unwrap_or("default"),
@@ -96,6 +96,7 @@ pub fn settings_string(options: &RenderOptions, camera_light: bool) -> String {
         lower(&options.selection),
         options.light_samples(),
         options.penumbra_samples,
+        options.shadow_rays,
         options.cone_clipping,
         lower(&options.visibility),
         options.seed,

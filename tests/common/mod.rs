@@ -4,6 +4,7 @@
 
 #![allow(dead_code)]
 
+pub mod blocks;
 pub mod cli;
 
 use glam::{DMat4, DVec3};

@@ -195,6 +195,7 @@ impl<'s> Renderer<'s> {
             },
             max_depth: self.options.max_depth,
             splits: self.options.path_splits,
+            shadow_rays: self.options.shadow_rays,
         };
         AnyIntegrator::new(self.options.integrator, &setup)
     }

@@ -360,6 +360,11 @@ pub enum Dim {
         /// Path vertex.
         bounce: u32,
     },
+    /// Which of a shading point's light samples get its shadow rays (1D).
+    ShadowPick {
+        /// Path vertex.
+        bounce: u32,
+    },
 }
 
 impl Dim {
@@ -377,6 +382,7 @@ impl Dim {
             Dim::Bsdf { bounce } => (bounce, 2),
             Dim::Roulette { bounce } => (bounce, 3),
             Dim::LightChoice { bounce } => (bounce, 4),
+            Dim::ShadowPick { bounce } => (bounce, 6),
             Dim::Light { bounce, index } => (bounce, 5 + 2 * (index & 0x3F_FFFF)),
         };
         ((bounce & Dim::MAX_BOUNCE) << 24).wrapping_add(k)

@@ -34,6 +34,14 @@ pub const PATH_SPLITS: u32 = 2;
 /// Largest [`RenderOptions::path_splits`].
 pub const MAX_PATH_SPLITS: u32 = 64;
 
+/// Shadow rays a path vertex past the camera's shares among its light samples
+/// ([`RenderOptions::shadow_rays`]): one. With several lights, one shadow ray resampled from
+/// their unshadowed contributions is cheaper for its noise than one per light (time ×
+/// variance on clutter_mix seeds 1 / 2 −17 / −14 %, on the StandardShaderBall's five
+/// RectLights −5 %; at the camera's vertex, where the light's noise is not yet drowned in
+/// the path's, it lost: BENCHMARKS.md, issue 39).
+pub const VERTEX_SHADOW_RAYS: u32 = 1;
+
 /// Largest number of light samples per shading point ([`RenderOptions::light_samples`]).
 pub const MAX_LIGHT_SAMPLES: u32 = 64;
 
@@ -74,6 +82,13 @@ pub struct RenderOptions {
     /// a pixel where one was blocked takes this many times the light samples per light in all
     /// its samples ([`crate::adaptive::PenumbraPilot`]).
     pub penumbra_samples: u32,
+    /// Shadow rays each path vertex past the camera's traces for its light samples (0 to
+    /// [`MAX_LIGHT_SAMPLES`]; `path` only): when it has more light samples with opaque plain
+    /// shadows than this, this many are picked by systematic resampling in proportion to
+    /// their unshadowed contributions and weighted by the inverse of their share (unbiased;
+    /// exact where every pick is unblocked); 0: a shadow ray for every light sample. Default
+    /// [`VERTEX_SHADOW_RAYS`].
+    pub shadow_rays: u32,
     /// Sample shaped rect and cylinder lights only where their emission cone reaches the
     /// receiver (default); `false` for A/B measurements ([`crate::light::LightOptions`]).
     pub cone_clipping: bool,
@@ -125,6 +140,7 @@ impl RenderOptions {
             surfaces,
             light_samples: None,
             penumbra_samples: 1,
+            shadow_rays: VERTEX_SHADOW_RAYS,
             cone_clipping: true,
             visibility: VisibilityMode::Exact,
             adaptive: None,
@@ -297,6 +313,12 @@ pub fn resolve(scene: &Scene, options: &RenderOptions) -> Result<Resolved, Rende
                 "{what} {v}: expected 1 to {max}"
             )));
         }
+    }
+    if options.shadow_rays > MAX_LIGHT_SAMPLES {
+        return Err(RenderError::Settings(format!(
+            "shadow rays {}: expected 0 to {MAX_LIGHT_SAMPLES}",
+            options.shadow_rays
+        )));
     }
     {
         let a = options.adaptive();

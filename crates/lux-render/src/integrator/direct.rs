@@ -18,7 +18,7 @@ impl<'a> DirectIntegrator<'a> {
     /// Direct lighting over `setup`'s scene with its sampling mode and light samples.
     pub fn new(setup: &Setup<'a>) -> DirectIntegrator<'a> {
         DirectIntegrator {
-            nee: Nee::new(setup.world, setup.vis, setup.sampling, setup.light_samples),
+            nee: Nee::new(setup),
         }
     }
 }

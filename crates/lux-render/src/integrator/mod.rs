@@ -113,6 +113,9 @@ pub struct Setup<'a> {
     pub max_depth: u32,
     /// Paths continued from each camera sample's first vertex (`path`, ≥ 1).
     pub splits: u32,
+    /// Shadow rays a path vertex past the camera's shares among its light samples (0: one
+    /// each; `RenderOptions::shadow_rays`).
+    pub shadow_rays: u32,
 }
 
 /// A light-transport estimator: pbrt-v4's `Integrator::Li` for one camera sample.

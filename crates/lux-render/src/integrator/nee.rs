@@ -25,7 +25,7 @@
 //! distance-limited or disabled shadows, shadow links) are estimated by light sampling alone:
 //! a BSDF ray stops at the first occluder, which is not what their shadow says.
 
-use super::{Ctx, SamplingMode, power_heuristic, shadow_ray};
+use super::{Ctx, SamplingMode, Setup, power_heuristic, shadow_ray};
 use crate::geometry::{Hit, shadow_ray_to, shadow_tmax};
 use crate::light::{LiSample, Light, LightBase, Seen};
 use crate::material::{Bsdf, BsdfSample, SurfacePoint};
@@ -52,6 +52,9 @@ pub(super) struct Nee<'a> {
     /// ([`Light::uniform_area`]): at a Lambertian point, all are then estimated by light
     /// sampling alone and no BSDF ray is needed.
     all_uniform: bool,
+    /// Shadow rays the pooled light samples of a vertex past the camera's share (0: one
+    /// each, no pool).
+    shadow_rays: u32,
 }
 
 /// What the light samples of one shading point share.
@@ -95,19 +98,61 @@ pub(super) struct Traced {
     pub hit: Option<Hit>,
 }
 
+/// One light sample before its shadow ray: what it adds were nothing in the way, and the ray.
+#[derive(Clone, Copy, Debug)]
+struct Candidate {
+    /// Shadow ray: origin, direction, distance.
+    ray: (DVec3, DVec3, f64),
+    /// BSDF times the light's radiance.
+    fl: DVec3,
+    /// The scalar factor: cos θ · MIS weight · diffuse multiplier / (pmf · pdf).
+    s: f64,
+}
+
+/// Most light samples of a shading point whose shadow rays are resampled together.
+const POOL: usize = 16;
+
+/// The light samples of a shading point whose shadow rays are resampled together
+/// ([`Nee::resolve`]): those of lights with opaque plain shadows, up to [`POOL`].
+struct Pool {
+    /// Shadow rays they share (0: no pool, every sample traced at once).
+    rays: u32,
+    /// Candidates held.
+    n: usize,
+    /// Their lights' indices.
+    light: [u32; POOL],
+    cand: [Candidate; POOL],
+    /// Their unshadowed contributions `|c|₁` (> 0, finite).
+    w: [f64; POOL],
+}
+
+impl Pool {
+    /// An empty pool sharing `rays` shadow rays.
+    #[inline(always)]
+    fn new(rays: u32) -> Pool {
+        Pool {
+            rays,
+            n: 0,
+            light: [0; POOL],
+            cand: [Candidate {
+                ray: (DVec3::ZERO, DVec3::ZERO, 0.0),
+                fl: DVec3::ZERO,
+                s: 0.0,
+            }; POOL],
+            w: [0.0; POOL],
+        }
+    }
+}
+
 impl<'a> Nee<'a> {
-    /// The estimator of `mode` over `world` seen through `vis`, with `light_samples` (≥ 1)
-    /// light samples per light or light choice.
-    pub(super) fn new(
-        world: World<'a>,
-        vis: &'a Visibility,
-        mode: SamplingMode,
-        light_samples: u32,
-    ) -> Nee<'a> {
-        let lux = mode == SamplingMode::Lux;
+    /// The estimator of `setup`: its scene, visibility, sampling mode, light samples per
+    /// light or light choice (≥ 1) and shadow rays past the camera's vertex.
+    pub(super) fn new(setup: &Setup<'a>) -> Nee<'a> {
+        let lux = setup.sampling == SamplingMode::Lux;
+        let world = setup.world;
         Nee {
             world,
-            vis,
+            vis: setup.vis,
             strategy: if lux {
                 Strategy::Lux
             } else {
@@ -115,8 +160,9 @@ impl<'a> Nee<'a> {
             },
             mis: lux,
             select: lux,
-            light_samples: light_samples.max(1),
+            light_samples: setup.light_samples.max(1),
             all_uniform: world.lights.lights.iter().all(Light::uniform_area),
+            shadow_rays: setup.shadow_rays,
         }
     }
 
@@ -222,6 +268,10 @@ impl<'a> Nee<'a> {
     ) -> DVec3 {
         let kf = at.k as f64;
         let mut out = DVec3::ZERO;
+        // (at the camera's vertex every light sample keeps its shadow ray: resampling them
+        // lost there, BENCHMARKS.md)
+        let mut pool = Pool::new(if bounce > 0 { self.shadow_rays } else { 0 });
+
         for (li, light) in self.world.lights.lights.iter().enumerate() {
             // (light linking: an unlinked light adds nothing here, nor by BSDF sampling)
             if !light.base().illuminates(sp.mesh, sp.instance) {
@@ -235,7 +285,9 @@ impl<'a> Nee<'a> {
             if at.k == 1 {
                 let strategy = self.strategy_for(light, alone, bounce);
                 let ls = light.sample_li(&at.r, st.get2(dim), strategy);
-                out += self.sample_light(sp, at, light, ls, kf, alone, &ShadowHint::NONE, ctx);
+                if let Some(c) = self.unshadowed(sp, at, light, ls, kf, alone, ctx) {
+                    out += self.pool_or_trace(&mut pool, li, c, ctx);
+                }
                 continue;
             }
             // What the light's k samples share, computed once.
@@ -262,6 +314,71 @@ impl<'a> Nee<'a> {
                     out += self.sample_light(sp, at, light, ls, kf, alone, &e.hint, ctx);
                 }
             });
+        }
+        out + self.resolve(&pool, st, bounce, ctx)
+    }
+
+    /// Puts the candidate `c` of light `li` in `pool` if its shadow ray may be resampled
+    /// (opaque plain shadows, room left), else traces it: what it adds now.
+    #[inline(always)]
+    fn pool_or_trace(&self, pool: &mut Pool, li: usize, c: Candidate, ctx: &mut Ctx) -> DVec3 {
+        let l = &self.world.lights.lights[li];
+        let w = c.fl.abs().element_sum() * c.s.abs();
+        if pool.rays == 0
+            || pool.n == POOL
+            || self.world.transparent
+            || !l.base().shadow.enable
+            || !l.base().plain_shadows()
+        {
+            return self.shadowed(&c, l, &ShadowHint::NONE, ctx);
+        }
+        if !(w > 0.0 && w.is_finite()) {
+            // Adds nothing (or nothing finite, which is dropped) whatever its shadow ray finds.
+            return DVec3::ZERO;
+        }
+        pool.light[pool.n] = li as u32;
+        pool.cand[pool.n] = c;
+        pool.w[pool.n] = w;
+        pool.n += 1;
+        DVec3::ZERO
+    }
+
+    /// The pooled light samples' contribution through `K` shadow rays (the pool's share at
+    /// vertex `bounce`): every candidate traced when there are no more than `K`, else `K`
+    /// picks by systematic resampling in proportion to the unshadowed contributions `wᵢ`
+    /// (`|c|₁`), each pick weighted `W/(K·wᵢ)`: unbiased for the sum of the candidates'
+    /// shadowed contributions, and exactly it where every pick is unblocked and the
+    /// candidates' colours agree.
+    fn resolve(&self, pool: &Pool, st: &SampleStream, bounce: u32, ctx: &mut Ctx) -> DVec3 {
+        let lights = &self.world.lights.lights;
+        let k = pool.rays as usize;
+        let mut out = DVec3::ZERO;
+        if pool.n <= k {
+            for i in 0..pool.n {
+                let l = &lights[pool.light[i] as usize];
+                out += self.shadowed(&pool.cand[i], l, &ShadowHint::NONE, ctx);
+            }
+            return out;
+        }
+        let total: f64 = pool.w[..pool.n].iter().sum();
+        let u = st.get1(Dim::ShadowPick { bounce });
+        let (mut i, mut cum, kf) = (0, pool.w[0], k as f64);
+        let mut j = 0;
+        while j < k {
+            let t = (j as f64 + u) / kf * total;
+            while t >= cum && i + 1 < pool.n {
+                i += 1;
+                cum += pool.w[i];
+            }
+            // Picks of the same candidate share its ray.
+            let mut m = 1;
+            while j + m < k && ((j + m) as f64 + u) / kf * total < cum {
+                m += 1;
+            }
+            let l = &lights[pool.light[i] as usize];
+            let scale = m as f64 * total / (kf * pool.w[i]);
+            out += self.shadowed(&pool.cand[i], l, &ShadowHint::NONE, ctx) * scale;
+            j += m;
         }
         out
     }
@@ -324,9 +441,28 @@ impl<'a> Nee<'a> {
         hint: &ShadowHint,
         ctx: &mut Ctx,
     ) -> DVec3 {
-        let Some(ls) = ls else {
-            return DVec3::ZERO;
-        };
+        match self.unshadowed(sp, at, l, ls, pmf, alone, ctx) {
+            Some(c) => self.shadowed(&c, l, hint, ctx),
+            None => DVec3::ZERO,
+        }
+    }
+
+    /// The light sample `ls` of light `l` as a [`Candidate`]: its contribution were nothing
+    /// in the way (MIS-weighted, divided by `pmf · pdf`) and its shadow ray; `None` when it
+    /// adds nothing whatever the shadow ray finds.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn unshadowed(
+        &self,
+        sp: &SurfacePoint,
+        at: &At,
+        l: &Light,
+        ls: Option<LiSample>,
+        pmf: f64,
+        alone: bool,
+        ctx: &mut Ctx,
+    ) -> Option<Candidate> {
+        let ls = ls?;
         ctx.counters.light_samples += 1;
         let mut cos = sp.ns.dot(ls.wi);
         let side = sp.ng.dot(ls.wi);
@@ -334,38 +470,31 @@ impl<'a> Nee<'a> {
         if at.transmits && side < 0.0 {
             // Behind a transmitting surface: the shading normal must agree on the side.
             if cos >= 0.0 {
-                return DVec3::ZERO;
+                return None;
             }
             cos = -cos;
             origin = at.origin_back;
         }
         if cos <= 0.0 || side == 0.0 || ls.pdf.is_nan() || ls.pdf <= 0.0 {
-            return DVec3::ZERO;
+            return None;
         }
         if side < 0.0 && !at.transmits {
-            return DVec3::ZERO;
+            return None;
         }
         if ls.l == DVec3::ZERO {
-            return DVec3::ZERO;
+            return None;
         }
         // A mesh light is geometry: its shadow ray aims at the sampled point from `origin`
         // (`shadow_ray_to`); other lights are not occluders.
         let (dir, tmax) = match l {
-            Light::Mesh(_) => match shadow_ray_to(origin, ls.point) {
-                Some(ray) => ray,
-                None => return DVec3::ZERO,
-            },
+            Light::Mesh(_) => shadow_ray_to(origin, ls.point)?,
             _ if ls.dist.is_finite() => (ls.wi, shadow_tmax(ls.dist, ls.point)),
             _ => (ls.wi, f64::INFINITY),
         };
         if tmax <= 0.0 {
-            return DVec3::ZERO;
+            return None;
         }
         let base = l.base();
-        let w = &self.world;
-        let Some(vis) = shadow_ray(w, self.vis, base, (origin, dir, tmax), hint, ctx) else {
-            return DVec3::ZERO;
-        };
         let pdf = pmf * ls.pdf;
         let weight = if alone || ls.delta || !self.mis || !base.plain_shadows() {
             1.0
@@ -374,11 +503,28 @@ impl<'a> Nee<'a> {
         };
         // The light's inputs:diffuse and inputs:specular scale the two parts of f; one scale
         // for a Lambertian surface or equal multipliers.
-        let contrib = if one_scale(&sp.bsdf, base) {
-            sp.bsdf.f(ls.wi) * ls.l * vis * (base.diffuse * cos * weight / pdf)
+        let (fl, s) = if one_scale(&sp.bsdf, base) {
+            (sp.bsdf.f(ls.wi) * ls.l, base.diffuse * cos * weight / pdf)
         } else {
-            sp.bsdf.f_scaled(ls.wi, base.diffuse, base.specular) * ls.l * vis * (cos * weight / pdf)
+            (
+                sp.bsdf.f_scaled(ls.wi, base.diffuse, base.specular) * ls.l,
+                cos * weight / pdf,
+            )
         };
+        Some(Candidate {
+            ray: (origin, dir, tmax),
+            fl,
+            s,
+        })
+    }
+
+    /// A candidate's contribution through its shadow ray.
+    #[inline(always)]
+    fn shadowed(&self, c: &Candidate, l: &Light, hint: &ShadowHint, ctx: &mut Ctx) -> DVec3 {
+        let Some(vis) = shadow_ray(&self.world, self.vis, l.base(), c.ray, hint, ctx) else {
+            return DVec3::ZERO;
+        };
+        let contrib = c.fl * vis * c.s;
         if contrib.is_finite() {
             contrib
         } else {

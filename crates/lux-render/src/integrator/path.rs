@@ -66,7 +66,7 @@ impl<'a> PathIntegrator<'a> {
             SamplingMode::Reference => 1,
         };
         PathIntegrator {
-            nee: Nee::new(setup.world, setup.vis, setup.sampling, setup.light_samples),
+            nee: Nee::new(setup),
             max_depth,
             splits: setup.splits.max(1),
         }
