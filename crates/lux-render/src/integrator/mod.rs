@@ -28,6 +28,7 @@ mod trace;
 
 pub use direct::DirectIntegrator;
 pub use light_tracer::LightTracer;
+pub use nee::ShadowPool;
 pub use path::{PathIntegrator, ROULETTE_DEPTH, ROULETTE_SCALE};
 pub use shadow::{first_shadow_occluder, shadow_ray};
 pub use trace::closest;
@@ -79,6 +80,9 @@ pub struct Ctx {
     /// The path tracer's continuations since the tile loop last cleared it, at the start of
     /// each run of a pixel's samples ([`SplitSums`]).
     pub split: SplitSums,
+    /// Next-event estimation's buffer of light samples whose shadow rays are resampled
+    /// together (`nee.rs`).
+    pub pool: ShadowPool,
 }
 
 /// Sums over camera samples that split into path continuations (the path tracer's, with

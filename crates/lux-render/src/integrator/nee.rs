@@ -100,7 +100,7 @@ pub(super) struct Traced {
 
 /// One light sample before its shadow ray: what it adds were nothing in the way, and the ray.
 #[derive(Clone, Copy, Debug)]
-struct Candidate {
+pub(super) struct Candidate {
     /// Shadow ray: origin, direction, distance.
     ray: (DVec3, DVec3, f64),
     /// BSDF times the light's radiance.
@@ -109,40 +109,16 @@ struct Candidate {
     s: f64,
 }
 
-/// Most light samples of a shading point whose shadow rays are resampled together.
+/// Most light samples of a shading point whose shadow rays are resampled together (more
+/// are traced one by one).
 const POOL: usize = 16;
 
 /// The light samples of a shading point whose shadow rays are resampled together
-/// ([`Nee::resolve`]): those of lights with opaque plain shadows, up to [`POOL`].
-struct Pool {
-    /// Shadow rays they share (0: no pool, every sample traced at once).
-    rays: u32,
-    /// Candidates held.
-    n: usize,
-    /// Their lights' indices.
-    light: [u32; POOL],
-    cand: [Candidate; POOL],
-    /// Their unshadowed contributions `|c|₁` (> 0, finite).
-    w: [f64; POOL],
-}
-
-impl Pool {
-    /// An empty pool sharing `rays` shadow rays.
-    #[inline(always)]
-    fn new(rays: u32) -> Pool {
-        Pool {
-            rays,
-            n: 0,
-            light: [0; POOL],
-            cand: [Candidate {
-                ray: (DVec3::ZERO, DVec3::ZERO, 0.0),
-                fl: DVec3::ZERO,
-                s: 0.0,
-            }; POOL],
-            w: [0.0; POOL],
-        }
-    }
-}
+/// (`Nee::resolve`): those of lights with opaque plain shadows, each with its light's index
+/// and its unshadowed contribution `wᵢ = |c|₁` (> 0, finite). A worker's one buffer
+/// ([`Ctx::pool`]), refilled at each vertex.
+#[derive(Clone, Debug, Default)]
+pub struct ShadowPool(Vec<(u32, Candidate, f64)>);
 
 impl<'a> Nee<'a> {
     /// The estimator of `setup`: its scene, visibility, sampling mode, light samples per
@@ -268,10 +244,20 @@ impl<'a> Nee<'a> {
     ) -> DVec3 {
         let kf = at.k as f64;
         let mut out = DVec3::ZERO;
-        // (at the camera's vertex every light sample keeps its shadow ray: resampling them
-        // lost there, BENCHMARKS.md)
-        let mut pool = Pool::new(if bounce > 0 { self.shadow_rays } else { 0 });
-
+        // Past the camera's vertex, the light samples of several lights share the pool's
+        // shadow rays (at the camera's vertex, every one keeps its own: resampling them lost
+        // there, BENCHMARKS.md).
+        let rays = if bounce > 0 && self.world.lights.lights.len() > 1 {
+            self.shadow_rays
+        } else {
+            0
+        };
+        let mut pool = if rays > 0 {
+            std::mem::take(&mut ctx.pool)
+        } else {
+            ShadowPool::default()
+        };
+        pool.0.clear();
         for (li, light) in self.world.lights.lights.iter().enumerate() {
             // (light linking: an unlinked light adds nothing here, nor by BSDF sampling)
             if !light.base().illuminates(sp.mesh, sp.instance) {
@@ -286,7 +272,7 @@ impl<'a> Nee<'a> {
                 let strategy = self.strategy_for(light, alone, bounce);
                 let ls = light.sample_li(&at.r, st.get2(dim), strategy);
                 if let Some(c) = self.unshadowed(sp, at, light, ls, kf, alone, ctx) {
-                    out += self.pool_or_trace(&mut pool, li, c, ctx);
+                    out += self.pool_or_trace(&mut pool, rays, li, c, ctx);
                 }
                 continue;
             }
@@ -315,69 +301,82 @@ impl<'a> Nee<'a> {
                 }
             });
         }
-        out + self.resolve(&pool, st, bounce, ctx)
+        if rays > 0 {
+            out += self.resolve(&pool.0, rays as usize, st, bounce, ctx);
+            ctx.pool = pool;
+        }
+        out
     }
 
     /// Puts the candidate `c` of light `li` in `pool` if its shadow ray may be resampled
-    /// (opaque plain shadows, room left), else traces it: what it adds now.
+    /// (`rays` > 0, opaque plain shadows, room left), else traces it: what it adds now.
     #[inline(always)]
-    fn pool_or_trace(&self, pool: &mut Pool, li: usize, c: Candidate, ctx: &mut Ctx) -> DVec3 {
+    fn pool_or_trace(
+        &self,
+        pool: &mut ShadowPool,
+        rays: u32,
+        li: usize,
+        c: Candidate,
+        ctx: &mut Ctx,
+    ) -> DVec3 {
         let l = &self.world.lights.lights[li];
-        let w = c.fl.abs().element_sum() * c.s.abs();
-        if pool.rays == 0
-            || pool.n == POOL
+        if rays == 0
+            || pool.0.len() == POOL
             || self.world.transparent
             || !l.base().shadow.enable
             || !l.base().plain_shadows()
         {
             return self.shadowed(&c, l, &ShadowHint::NONE, ctx);
         }
-        if !(w > 0.0 && w.is_finite()) {
-            // Adds nothing (or nothing finite, which is dropped) whatever its shadow ray finds.
-            return DVec3::ZERO;
+        let w = c.fl.abs().element_sum() * c.s.abs();
+        // (adding nothing, or nothing finite, which is dropped, whatever its shadow ray finds)
+        if w > 0.0 && w.is_finite() {
+            pool.0.push((li as u32, c, w));
         }
-        pool.light[pool.n] = li as u32;
-        pool.cand[pool.n] = c;
-        pool.w[pool.n] = w;
-        pool.n += 1;
         DVec3::ZERO
     }
 
-    /// The pooled light samples' contribution through `K` shadow rays (the pool's share at
-    /// vertex `bounce`): every candidate traced when there are no more than `K`, else `K`
-    /// picks by systematic resampling in proportion to the unshadowed contributions `wᵢ`
-    /// (`|c|₁`), each pick weighted `W/(K·wᵢ)`: unbiased for the sum of the candidates'
-    /// shadowed contributions, and exactly it where every pick is unblocked and the
-    /// candidates' colours agree.
-    fn resolve(&self, pool: &Pool, st: &SampleStream, bounce: u32, ctx: &mut Ctx) -> DVec3 {
+    /// The pooled light samples' contribution through `k` shadow rays: every candidate traced
+    /// when there are no more than `k`, else `k` picks by systematic resampling in proportion
+    /// to the unshadowed contributions `wᵢ` (`|c|₁`), one number `u` (`Dim::ShadowPick`) for
+    /// the `k` evenly spaced points `(j + u)/k` of their cumulative sum `W`, each pick
+    /// weighted `W/(k·wᵢ)` (picks of one candidate share its ray): unbiased for the sum of
+    /// the candidates' shadowed contributions, and exactly it where every pick is unblocked
+    /// and the candidates' colours agree.
+    fn resolve(
+        &self,
+        pool: &[(u32, Candidate, f64)],
+        k: usize,
+        st: &SampleStream,
+        bounce: u32,
+        ctx: &mut Ctx,
+    ) -> DVec3 {
         let lights = &self.world.lights.lights;
-        let k = pool.rays as usize;
         let mut out = DVec3::ZERO;
-        if pool.n <= k {
-            for i in 0..pool.n {
-                let l = &lights[pool.light[i] as usize];
-                out += self.shadowed(&pool.cand[i], l, &ShadowHint::NONE, ctx);
+        if pool.len() <= k {
+            for (li, c, _) in pool {
+                out += self.shadowed(c, &lights[*li as usize], &ShadowHint::NONE, ctx);
             }
             return out;
         }
-        let total: f64 = pool.w[..pool.n].iter().sum();
+        let total: f64 = pool.iter().map(|p| p.2).sum();
         let u = st.get1(Dim::ShadowPick { bounce });
-        let (mut i, mut cum, kf) = (0, pool.w[0], k as f64);
+        let kf = k as f64;
+        let (mut i, mut cum) = (0, pool[0].2);
         let mut j = 0;
         while j < k {
             let t = (j as f64 + u) / kf * total;
-            while t >= cum && i + 1 < pool.n {
+            while t >= cum && i + 1 < pool.len() {
                 i += 1;
-                cum += pool.w[i];
+                cum += pool[i].2;
             }
-            // Picks of the same candidate share its ray.
             let mut m = 1;
             while j + m < k && ((j + m) as f64 + u) / kf * total < cum {
                 m += 1;
             }
-            let l = &lights[pool.light[i] as usize];
-            let scale = m as f64 * total / (kf * pool.w[i]);
-            out += self.shadowed(&pool.cand[i], l, &ShadowHint::NONE, ctx) * scale;
+            let (li, c, w) = &pool[i];
+            let scale = m as f64 * total / (kf * w);
+            out += self.shadowed(c, &lights[*li as usize], &ShadowHint::NONE, ctx) * scale;
             j += m;
         }
         out
