@@ -55,6 +55,8 @@ impl<'a> Source<'a> {
 pub(crate) enum Decoded {
     F32(usize, usize, Vec<[f32; 4]>),
     F16(usize, usize, Vec<[f16; 4]>),
+    /// A half-float file's RGB without alpha (alpha 1), as stored.
+    F16Rgb(usize, usize, Vec<[f16; 3]>),
     /// 8-bit sRGB codes (grey expanded to RGB, alpha 255 where there is none): colour decodes
     /// through [`srgb8_table`], alpha is `a / 255`.
     Srgb8(usize, usize, Vec<[u8; 4]>),
@@ -121,9 +123,9 @@ fn io_read_error(path: &Path, source: std::io::Error) -> ImageError {
 // ---------------------------------------------------------------------------------------------
 
 /// Pixel storage filled by the `exr` reader's callbacks.
-struct ExrPixels<T> {
+struct ExrPixels<T, const N: usize> {
     width: usize,
-    texels: Vec<[T; 4]>,
+    texels: Vec<[T; N]>,
     /// How many pixels the file actually delivered (to detect missing blocks).
     written: usize,
 }
@@ -166,31 +168,150 @@ fn load_exr(src: Source<'_>) -> Result<Decoded, ImageError> {
     file.seek(SeekFrom::Start(0))
         .map_err(|e| io_read_error(path, e))?;
     // The layer the reader takes, the first with R, G and B: kept in `f16` when those (and A)
-    // are half floats, else widened to `f32` as every other format.
+    // are half floats (three a texel without A), else widened to `f32` as every other format.
     let half = meta.headers.iter().find_map(|h| {
         let ch = |n: &str| h.channels.list.iter().find(|c| c.name.eq(n));
         let rgb = [ch("R")?, ch("G")?, ch("B")?];
         let f16 = exr::meta::attribute::SampleType::F16;
-        Some(
-            rgb.iter()
-                .chain(ch("A").as_ref())
-                .all(|c| c.sample_type == f16),
-        )
+        let alpha = ch("A");
+        let half = rgb
+            .iter()
+            .chain(alpha.as_ref())
+            .all(|c| c.sample_type == f16);
+        Some((half, alpha.is_some()))
     });
-    if half == Some(true) {
-        let (w, h, t) = read_exr::<f16>(path, file)?;
-        return Ok(Decoded::F16(w, h, t));
+    match half {
+        Some((true, true)) => {
+            if let Some((w, h, t)) = half_scanlines::<4>(&meta, file) {
+                return Ok(Decoded::F16(w, h, t));
+            }
+            let file = src.open().map_err(|e| io_read_error(path, e))?;
+            let (w, h, t) = read_exr::<f16, 4>(path, file)?;
+            return Ok(Decoded::F16(w, h, t));
+        }
+        Some((true, false)) => {
+            if let Some((w, h, t)) = half_scanlines::<3>(&meta, file) {
+                return Ok(Decoded::F16Rgb(w, h, t));
+            }
+            let file = src.open().map_err(|e| io_read_error(path, e))?;
+            let (w, h, t) = read_exr::<f16, 3>(path, file)?;
+            return Ok(Decoded::F16Rgb(w, h, t));
+        }
+        _ => {}
     }
-    let (w, h, t) = read_exr::<f32>(path, file)?;
+    let (w, h, t) = read_exr::<f32, 4>(path, file)?;
     Ok(Decoded::F32(w, h, t))
 }
 
+/// The fast path of the common half-float texture: a single flat layer of scan-line blocks
+/// (one resolution level) whose R, G, B (and, with `N` = 4, A) channels are `f16` at full
+/// resolution. Its blocks are decompressed in parallel (`exr`'s block API, on rayon's
+/// threads), each straight into the rows it covers, instead of `exr`'s per-pixel callbacks
+/// and a thread pool of its own for every file (a third of the StandardShaderBall's load).
+/// `None` when the file is of another kind or anything in it is amiss: the general reader
+/// then reads it (and names what is wrong).
+fn half_scanlines<const N: usize>(
+    meta: &exr::meta::MetaData,
+    file: Box<dyn ReadSeek + '_>,
+) -> Option<(usize, usize, Vec<[f16; N]>)> {
+    use exr::block::UncompressedBlock;
+    use exr::block::chunk::CompressedBlock;
+    use exr::meta::BlockDescription;
+    use exr::meta::attribute::SampleType;
+    use rayon::prelude::*;
+
+    let [header] = meta.headers.as_slice() else {
+        return None;
+    };
+    if header.deep || !matches!(header.blocks, BlockDescription::ScanLines) {
+        return None;
+    }
+    // Each channel's slot in a texel (R, G, B, A), or none (other channels are skipped).
+    let slot: Vec<Option<usize>> = header
+        .channels
+        .list
+        .iter()
+        .map(|c| ["R", "G", "B", "A"][..N].iter().position(|n| c.name.eq(n)))
+        .collect();
+    let full = |c: &exr::meta::attribute::ChannelDescription| c.sampling == Vec2(1, 1);
+    if !header.channels.list.iter().all(full)
+        || (0..N).any(|k| {
+            header
+                .channels
+                .list
+                .iter()
+                .zip(&slot)
+                .filter(|(c, s)| **s == Some(k) && c.sample_type == SampleType::F16)
+                .count()
+                != 1
+        })
+    {
+        return None;
+    }
+    let (w, h) = (header.layer_size.width(), header.layer_size.height());
+    let rows = header.compression.scan_lines_per_block();
+    if w == 0 || h == 0 || w > MAX_DIMENSION || h > MAX_DIMENSION || w * h > MAX_PIXELS {
+        return None;
+    }
+    let y0 = header.own_attributes.layer_position.y();
+    // The compressed blocks, each at its place (every block once, or the general reader).
+    let reader = exr::block::read(std::io::BufReader::new(file), false).ok()?;
+    let mut chunks: Vec<Option<exr::block::chunk::Chunk>> = vec![None; h.div_ceil(rows)];
+    for chunk in reader.all_chunks(false).ok()? {
+        let chunk = chunk.ok()?;
+        let CompressedBlock::ScanLine(b) = &chunk.compressed_block else {
+            return None;
+        };
+        let dy = usize::try_from(i64::from(b.y_coordinate) - i64::from(y0)).ok()?;
+        let at = chunks
+            .get_mut(dy / rows)
+            .filter(|c| dy % rows == 0 && c.is_none())?;
+        *at = Some(chunk);
+    }
+    if chunks.iter().any(Option::is_none) {
+        return None;
+    }
+    let mut texels = vec![[f16::ZERO; N]; w * h];
+    let ok = texels
+        .par_chunks_mut(w * rows)
+        .zip(chunks.into_par_iter())
+        .all(|(out, chunk)| {
+            let Some(block) =
+                chunk.and_then(|c| UncompressedBlock::decompress_chunk(c, meta, false).ok())
+            else {
+                return false;
+            };
+            let by = block.index.pixel_position.y();
+            let mut line_samples = vec![f16::ZERO; w];
+            let mut filled = 0;
+            for line in block.lines(&header.channels) {
+                let at = line.location;
+                let Some(k) = slot.get(at.channel).copied().flatten() else {
+                    continue;
+                };
+                let row = at.position.y() - by;
+                if at.position.x() != 0 || at.sample_count != w || (row + 1) * w > out.len() {
+                    return false;
+                }
+                if line.read_samples_into_slice(&mut line_samples).is_err() {
+                    return false;
+                }
+                for (t, v) in out[row * w..(row + 1) * w].iter_mut().zip(&line_samples) {
+                    t[k] = *v;
+                }
+                filled += w;
+            }
+            filled == out.len() * N
+        });
+    ok.then_some((w, h, texels))
+}
+
 /// Reads the first layer of `file` with R, G and B channels (A optional, 1 without) at its
-/// largest resolution level, as samples of type `T`.
-fn read_exr<T: FromNativeSample + Send + Sync>(
+/// largest resolution level, as samples of type `T`: RGBA (`N` = 4) or RGB (3).
+fn read_exr<T: FromNativeSample + Send + Sync, const N: usize>(
     path: &Path,
     file: Box<dyn ReadSeek + '_>,
-) -> Result<(usize, usize, Vec<[T; 4]>), ImageError> {
+) -> Result<(usize, usize, Vec<[T; N]>), ImageError> {
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
@@ -204,19 +325,20 @@ fn read_exr<T: FromNativeSample + Send + Sync>(
                     // Zeros (pages the allocator hands over already zeroed): the reader sets
                     // every pixel, alpha 1 where the file has none, or the file is refused.
                     texels: if ok {
-                        vec![[T::default(); 4]; w * h]
+                        vec![[T::default(); N]; w * h]
                     } else {
                         Vec::new()
                     },
                     written: 0,
                 }
             },
-            |pixels: &mut ExrPixels<T>, pos: Vec2<usize>, (r, g, b, a): (T, T, T, T)| {
+            |pixels: &mut ExrPixels<T, N>, pos: Vec2<usize>, (r, g, b, a): (T, T, T, T)| {
                 let index = pos.y() * pixels.width + pos.x();
                 if pos.x() < pixels.width
                     && let Some(texel) = pixels.texels.get_mut(index)
                 {
-                    *texel = [r, g, b, a];
+                    let rgba = [r, g, b, a];
+                    *texel = std::array::from_fn(|i| rgba[i]);
                     pixels.written += 1;
                 }
             },

@@ -15,6 +15,8 @@ use super::{ImageError, error::IN_MEMORY};
 enum Texels {
     F32(Vec<[f32; 4]>),
     F16(Vec<[f16; 4]>),
+    /// A half-float file's RGB without alpha (alpha 1).
+    F16Rgb(Vec<[f16; 3]>),
     Srgb8(Vec<[u8; 4]>),
     /// Grey without alpha, one code a texel.
     Grey8(Vec<u8>),
@@ -115,6 +117,12 @@ impl Texture {
                 let bad = sanitise(texels.as_flattened_mut(), finite);
                 Ok(Self::with(w, h, Texels::F16(texels), bad))
             }
+            super::read::Decoded::F16Rgb(w, h, mut texels) => {
+                super::check_buffer(path, w, h, texels.len())?;
+                let finite = |c: f16| c.to_bits() & 0x7C00 != 0x7C00;
+                let bad = sanitise(texels.as_flattened_mut(), finite);
+                Ok(Self::with(w, h, Texels::F16Rgb(texels), bad))
+            }
             super::read::Decoded::Srgb8(w, h, codes) => {
                 super::check_buffer(path, w, h, codes.len())?;
                 Ok(Self::with(w, h, Texels::Srgb8(codes), 0))
@@ -167,6 +175,10 @@ impl Texture {
         match &self.texels {
             Texels::F32(t) => t[i],
             Texels::F16(t) => t[i].map(f16::to_f32),
+            Texels::F16Rgb(t) => {
+                let [r, g, b] = t[i].map(f16::to_f32);
+                [r, g, b, 1.0]
+            }
             Texels::Srgb8(t) => srgb8(t[i]),
             Texels::Grey8(t) => srgb8([t[i], t[i], t[i], 255]),
         }
@@ -181,7 +193,7 @@ impl Texture {
     /// Whether the texels are held as the `f16` of a half-float file (half the memory of
     /// `f32`; lookups give the same values).
     pub fn is_half(&self) -> bool {
-        matches!(self.texels, Texels::F16(_))
+        matches!(self.texels, Texels::F16(_) | Texels::F16Rgb(_))
     }
 
     /// Whether the texels are held as the codes of an 8-bit image (a quarter of the memory of
@@ -195,6 +207,7 @@ impl Texture {
         match &self.texels {
             Texels::F32(t) => std::mem::size_of_val(t.as_slice()),
             Texels::F16(t) => std::mem::size_of_val(t.as_slice()),
+            Texels::F16Rgb(t) => std::mem::size_of_val(t.as_slice()),
             Texels::Srgb8(t) => std::mem::size_of_val(t.as_slice()),
             Texels::Grey8(t) => t.len(),
         }
