@@ -54,9 +54,11 @@ impl<'a> Source<'a> {
 /// the caller.
 pub(crate) enum Decoded {
     F32(usize, usize, Vec<[f32; 4]>),
-    F16(usize, usize, Vec<[f16; 4]>),
-    /// A half-float file's RGB without alpha (alpha 1), as stored.
-    F16Rgb(usize, usize, Vec<[f16; 3]>),
+    /// A half-float file's RGBA as stored (`f16` bits); `Some(n)`: its non-finite values
+    /// already replaced by 0, `n` of them.
+    F16(usize, usize, Vec<[u16; 4]>, Option<usize>),
+    /// A half-float file's RGB without alpha (alpha 1), as [`Decoded::F16`].
+    F16Rgb(usize, usize, Vec<[u16; 3]>, Option<usize>),
     /// 8-bit sRGB codes (grey expanded to RGB, alpha 255 where there is none): colour decodes
     /// through [`srgb8_table`], alpha is `a / 255`.
     Srgb8(usize, usize, Vec<[u8; 4]>),
@@ -180,22 +182,25 @@ fn load_exr(src: Source<'_>) -> Result<Decoded, ImageError> {
             .all(|c| c.sample_type == f16);
         Some((half, alpha.is_some()))
     });
+    // (`f16` to its bits in place: same size and alignment, no copy)
+    let bits = |t: Vec<[f16; 4]>| t.into_iter().map(|p| p.map(f16::to_bits)).collect();
+    let bits3 = |t: Vec<[f16; 3]>| t.into_iter().map(|p| p.map(f16::to_bits)).collect();
     match half {
         Some((true, true)) => {
-            if let Some((w, h, t)) = half_scanlines::<4>(&meta, file) {
-                return Ok(Decoded::F16(w, h, t));
+            if let Some((w, h, t, bad)) = half_scanlines::<4>(&meta, file) {
+                return Ok(Decoded::F16(w, h, t, Some(bad)));
             }
             let file = src.open().map_err(|e| io_read_error(path, e))?;
             let (w, h, t) = read_exr::<f16, 4>(path, file)?;
-            return Ok(Decoded::F16(w, h, t));
+            return Ok(Decoded::F16(w, h, bits(t), None));
         }
         Some((true, false)) => {
-            if let Some((w, h, t)) = half_scanlines::<3>(&meta, file) {
-                return Ok(Decoded::F16Rgb(w, h, t));
+            if let Some((w, h, t, bad)) = half_scanlines::<3>(&meta, file) {
+                return Ok(Decoded::F16Rgb(w, h, t, Some(bad)));
             }
             let file = src.open().map_err(|e| io_read_error(path, e))?;
             let (w, h, t) = read_exr::<f16, 3>(path, file)?;
-            return Ok(Decoded::F16Rgb(w, h, t));
+            return Ok(Decoded::F16Rgb(w, h, bits3(t), None));
         }
         _ => {}
     }
@@ -208,12 +213,13 @@ fn load_exr(src: Source<'_>) -> Result<Decoded, ImageError> {
 /// resolution. Its blocks are decompressed in parallel (`exr`'s block API, on rayon's
 /// threads), each straight into the rows it covers, instead of `exr`'s per-pixel callbacks
 /// and a thread pool of its own for every file (a third of the StandardShaderBall's load).
-/// `None` when the file is of another kind or anything in it is amiss: the general reader
-/// then reads it (and names what is wrong).
+/// The texels are the values' bits, NaN and ±∞ replaced by 0 as they are written (how many:
+/// the last element). `None` when the file is of another kind or anything in it is amiss: the
+/// general reader then reads it (and names what is wrong).
 fn half_scanlines<const N: usize>(
     meta: &exr::meta::MetaData,
     file: Box<dyn ReadSeek + '_>,
-) -> Option<(usize, usize, Vec<[f16; N]>)> {
+) -> Option<(usize, usize, Vec<[u16; N]>, usize)> {
     use exr::block::UncompressedBlock;
     use exr::block::chunk::CompressedBlock;
     use exr::meta::BlockDescription;
@@ -271,39 +277,45 @@ fn half_scanlines<const N: usize>(
     if chunks.iter().any(Option::is_none) {
         return None;
     }
-    let mut texels = vec![[f16::ZERO; N]; w * h];
-    let ok = texels
+    // (zeros: pages the allocator hands over already zeroed, first touched by the decoding)
+    let mut texels = vec![[0u16; N]; w * h];
+    let bad = texels
         .par_chunks_mut(w * rows)
         .zip(chunks.into_par_iter())
-        .all(|(out, chunk)| {
+        .map(|(out, chunk)| {
             let Some(block) =
                 chunk.and_then(|c| UncompressedBlock::decompress_chunk(c, meta, false).ok())
             else {
-                return false;
+                return None;
             };
             let by = block.index.pixel_position.y();
             let mut line_samples = vec![f16::ZERO; w];
-            let mut filled = 0;
+            let (mut filled, mut bad) = (0, 0);
             for line in block.lines(&header.channels) {
                 let at = line.location;
                 let Some(k) = slot.get(at.channel).copied().flatten() else {
                     continue;
                 };
-                let row = at.position.y() - by;
+                let row = at.position.y().checked_sub(by)?;
                 if at.position.x() != 0 || at.sample_count != w || (row + 1) * w > out.len() {
-                    return false;
+                    return None;
                 }
                 if line.read_samples_into_slice(&mut line_samples).is_err() {
-                    return false;
+                    return None;
                 }
                 for (t, v) in out[row * w..(row + 1) * w].iter_mut().zip(&line_samples) {
-                    t[k] = *v;
+                    // NaN and ±∞: the half floats whose exponent bits are all set
+                    let b = v.to_bits();
+                    let finite = b & 0x7C00 != 0x7C00;
+                    bad += usize::from(!finite);
+                    t[k] = if finite { b } else { 0 };
                 }
                 filled += w;
             }
-            filled == out.len() * N
-        });
-    ok.then_some((w, h, texels))
+            (filled == out.len() * N).then_some(bad)
+        })
+        .try_reduce(|| 0, |a, b| Some(a + b))?;
+    Some((w, h, texels, bad))
 }
 
 /// Reads the first layer of `file` with R, G and B channels (A optional, 1 without) at its

@@ -14,9 +14,10 @@ use super::{ImageError, error::IN_MEMORY};
 #[derive(Clone, Debug, PartialEq)]
 enum Texels {
     F32(Vec<[f32; 4]>),
-    F16(Vec<[f16; 4]>),
-    /// A half-float file's RGB without alpha (alpha 1).
-    F16Rgb(Vec<[f16; 3]>),
+    /// The bits of a half-float file's RGBA.
+    F16(Vec<[u16; 4]>),
+    /// The bits of a half-float file's RGB without alpha (alpha 1).
+    F16Rgb(Vec<[u16; 3]>),
     Srgb8(Vec<[u8; 4]>),
     /// Grey without alpha, one code a texel.
     Grey8(Vec<u8>),
@@ -38,6 +39,12 @@ fn srgb8(p: [u8; 4]) -> [f32; 4] {
         c[usize::from(p[2])],
         a[usize::from(p[3])],
     ]
+}
+
+/// Whether the half float of bits `b` is finite: NaN and ±∞ are those whose exponent bits are
+/// all set.
+fn half_finite(b: u16) -> bool {
+    b & 0x7C00 != 0x7C00
 }
 
 /// Replaces the components of `c` that are not `finite` (NaN, ±∞) by zero; how many there
@@ -110,17 +117,14 @@ impl Texture {
     fn decoded(path: &Path, d: super::read::Decoded) -> Result<Texture, ImageError> {
         match d {
             super::read::Decoded::F32(w, h, texels) => Self::build(path, w, h, texels),
-            super::read::Decoded::F16(w, h, mut texels) => {
+            super::read::Decoded::F16(w, h, mut texels, bad) => {
                 super::check_buffer(path, w, h, texels.len())?;
-                // NaN and ±∞ are the half floats whose exponent bits are all set.
-                let finite = |c: f16| c.to_bits() & 0x7C00 != 0x7C00;
-                let bad = sanitise(texels.as_flattened_mut(), finite);
+                let bad = bad.unwrap_or_else(|| sanitise(texels.as_flattened_mut(), half_finite));
                 Ok(Self::with(w, h, Texels::F16(texels), bad))
             }
-            super::read::Decoded::F16Rgb(w, h, mut texels) => {
+            super::read::Decoded::F16Rgb(w, h, mut texels, bad) => {
                 super::check_buffer(path, w, h, texels.len())?;
-                let finite = |c: f16| c.to_bits() & 0x7C00 != 0x7C00;
-                let bad = sanitise(texels.as_flattened_mut(), finite);
+                let bad = bad.unwrap_or_else(|| sanitise(texels.as_flattened_mut(), half_finite));
                 Ok(Self::with(w, h, Texels::F16Rgb(texels), bad))
             }
             super::read::Decoded::Srgb8(w, h, codes) => {
@@ -174,9 +178,9 @@ impl Texture {
     fn at(&self, i: usize) -> [f32; 4] {
         match &self.texels {
             Texels::F32(t) => t[i],
-            Texels::F16(t) => t[i].map(f16::to_f32),
+            Texels::F16(t) => t[i].map(|b| f16::from_bits(b).to_f32()),
             Texels::F16Rgb(t) => {
-                let [r, g, b] = t[i].map(f16::to_f32);
+                let [r, g, b] = t[i].map(|b| f16::from_bits(b).to_f32());
                 [r, g, b, 1.0]
             }
             Texels::Srgb8(t) => srgb8(t[i]),
