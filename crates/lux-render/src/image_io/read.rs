@@ -283,11 +283,7 @@ fn half_scanlines<const N: usize>(
         .par_chunks_mut(w * rows)
         .zip(chunks.into_par_iter())
         .map(|(out, chunk)| {
-            let Some(block) =
-                chunk.and_then(|c| UncompressedBlock::decompress_chunk(c, meta, false).ok())
-            else {
-                return None;
-            };
+            let block = UncompressedBlock::decompress_chunk(chunk?, meta, false).ok()?;
             let by = block.index.pixel_position.y();
             let mut line_samples = vec![f16::ZERO; w];
             let (mut filled, mut bad) = (0, 0);
