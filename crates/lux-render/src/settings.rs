@@ -37,9 +37,9 @@ pub const MAX_PATH_SPLITS: u32 = 64;
 /// Shadow rays a path vertex past the camera's shares among its light samples
 /// ([`RenderOptions::shadow_rays`]): one. With several lights, one shadow ray resampled from
 /// their unshadowed contributions is cheaper for its noise than one per light (time ×
-/// variance on clutter_mix seeds 1 / 2 −17 / −14 %, on the StandardShaderBall's five
-/// RectLights −5 %; at the camera's vertex, where the light's noise is not yet drowned in
-/// the path's, it lost: BENCHMARKS.md, issue 39).
+/// variance on clutter_mix seeds 1 / 2 −17 / −10 %, on the StandardShaderBall's five
+/// RectLights −8 %; two rays gained less; at the camera's vertex, where the light's noise is
+/// not yet drowned in the path's, it lost: BENCHMARKS.md, issue 39).
 pub const VERTEX_SHADOW_RAYS: u32 = 1;
 
 /// Largest number of light samples per shading point ([`RenderOptions::light_samples`]).
