@@ -182,30 +182,42 @@ fn load_exr(src: Source<'_>) -> Result<Decoded, ImageError> {
             .all(|c| c.sample_type == f16);
         Some((half, alpha.is_some()))
     });
-    // (`f16` to its bits in place: same size and alignment, no copy)
-    let bits = |t: Vec<[f16; 4]>| t.into_iter().map(|p| p.map(f16::to_bits)).collect();
-    let bits3 = |t: Vec<[f16; 3]>| t.into_iter().map(|p| p.map(f16::to_bits)).collect();
     match half {
         Some((true, true)) => {
-            if let Some((w, h, t, bad)) = half_scanlines::<4>(&meta, file) {
-                return Ok(Decoded::F16(w, h, t, Some(bad)));
-            }
-            let file = src.open().map_err(|e| io_read_error(path, e))?;
-            let (w, h, t) = read_exr::<f16, 4>(path, file)?;
-            return Ok(Decoded::F16(w, h, bits(t), None));
+            let (w, h, t, bad) = read_half::<4>(src, &meta, file)?;
+            return Ok(Decoded::F16(w, h, t, bad));
         }
         Some((true, false)) => {
-            if let Some((w, h, t, bad)) = half_scanlines::<3>(&meta, file) {
-                return Ok(Decoded::F16Rgb(w, h, t, Some(bad)));
-            }
-            let file = src.open().map_err(|e| io_read_error(path, e))?;
-            let (w, h, t) = read_exr::<f16, 3>(path, file)?;
-            return Ok(Decoded::F16Rgb(w, h, bits3(t), None));
+            let (w, h, t, bad) = read_half::<3>(src, &meta, file)?;
+            return Ok(Decoded::F16Rgb(w, h, t, bad));
         }
         _ => {}
     }
     let (w, h, t) = read_exr::<f32, 4>(path, file)?;
     Ok(Decoded::F32(w, h, t))
+}
+
+/// A half-float file's texels (`N` channels, R G B [A]) as bits: by [`half_scanlines`], else
+/// by the general reader (opening `src` again), its non-finite values then left in place
+/// (`None`) for the caller.
+#[allow(clippy::type_complexity)]
+fn read_half<const N: usize>(
+    src: Source<'_>,
+    meta: &exr::meta::MetaData,
+    file: Box<dyn ReadSeek + '_>,
+) -> Result<(usize, usize, Vec<[u16; N]>, Option<usize>), ImageError> {
+    if let Some((w, h, t, bad)) = half_scanlines::<N>(meta, file) {
+        return Ok((w, h, t, Some(bad)));
+    }
+    let file = src.open().map_err(|e| io_read_error(src.path, e))?;
+    let (w, h, t) = read_exr::<f16, N>(src.path, file)?;
+    // (`f16` to its bits in place: same size and alignment, no copy)
+    Ok((
+        w,
+        h,
+        t.into_iter().map(|p| p.map(f16::to_bits)).collect(),
+        None,
+    ))
 }
 
 /// The fast path of the common half-float texture: a single flat layer of scan-line blocks
