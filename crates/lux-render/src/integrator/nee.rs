@@ -3,7 +3,11 @@
 //!
 //! - **Light sampling**: every light (or one light chosen by lux-sample's selection when there
 //!   are many) sampled with its lux-sample technique, a shadow ray per sample (`shadow.rs`);
-//!   `k` samples per light, each weighted `1/k`.
+//!   `k` samples per light, each weighted `1/k`. Past the camera's vertex, the one-sample
+//!   light samples of several lights with opaque plain shadows share `Setup::shadow_rays`
+//!   shadow rays instead (`Nee::resolve`): picked in proportion to their unshadowed
+//!   contributions `wᵢ` by systematic resampling and weighted `W/(k·wᵢ)`, the same
+//!   expectation (resampled importance sampling's estimate of their sum, Talbot et al. 2005).
 //! - **BSDF sampling**: one direction from the BSDF, which collects the emission of every
 //!   analytic light it crosses before the first surface (lights are not occluders, as in the
 //!   reference renderer), of the mesh light it hits, or of the infinite lights if it escapes.
