@@ -17,8 +17,8 @@
 //! than with independent uniform numbers (≈ N^-3/4 instead of N^-1/2 in 2D).
 //!
 //! Which decision reads which dimension is fixed in one place, [`Dim`]: the camera's pixel
-//! jitter, then per bounce the light choice, each light's 2D sample, the BSDF's 2D sample and
-//! Russian roulette. A dimension is only a name for a stream: any two distinct names are
+//! jitter, then per bounce the light choice, each light's 2D sample, the pick of the light
+//! samples that get shadow rays, the BSDF's 2D sample and Russian roulette. A dimension is only a name for a stream: any two distinct names are
 //! decorrelated, so the layout never has to be dense.
 
 /// Largest sample count per pixel a render accepts (`RenderOptions::spp` and adaptive counts):
@@ -752,6 +752,7 @@ mod tests {
                 Dim::Bsdf { bounce },
                 Dim::Roulette { bounce },
                 Dim::LightChoice { bounce },
+                Dim::ShadowPick { bounce },
             ]
             .into_iter()
             .chain((0..50).map(|index| Dim::Light { bounce, index }))
