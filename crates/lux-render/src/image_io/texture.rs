@@ -7,10 +7,10 @@ use exr::prelude::f16;
 
 use super::{ImageError, error::IN_MEMORY};
 
-/// How a [`Texture`] holds its texels: `f32`, the `f16` of a half-float OpenEXR file as
-/// stored (half the memory), or the codes of an 8-bit image (a quarter; a sixteenth for grey
-/// without alpha), each read back as the same `f32` values: `f16` widened exactly, 8-bit codes
-/// through their decoding tables.
+/// How a [`Texture`] holds its texels: `f32`, the `f16` bits of a half-float OpenEXR file as
+/// stored (half the memory; three eighths for RGB without alpha), or the codes of an 8-bit
+/// image (a quarter; a sixteenth for grey without alpha), each read back as the same `f32`
+/// values: `f16` widened exactly, 8-bit codes through their decoding tables.
 #[derive(Clone, Debug, PartialEq)]
 enum Texels {
     F32(Vec<[f32; 4]>),
@@ -195,7 +195,7 @@ impl Texture {
     }
 
     /// Whether the texels are held as the `f16` of a half-float file (half the memory of
-    /// `f32`; lookups give the same values).
+    /// `f32`, three eighths without alpha; lookups give the same values).
     pub fn is_half(&self) -> bool {
         matches!(self.texels, Texels::F16(_) | Texels::F16Rgb(_))
     }
