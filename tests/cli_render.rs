@@ -409,6 +409,7 @@ fn arguments_are_checked_before_the_stage_is_read() {
         (vec!["--max-depth", "129"], "--max-depth 129"),
         (vec!["--light-samples", "65"], "--light-samples 65"),
         (vec!["--penumbra-samples", "0"], "--penumbra-samples 0"),
+        (vec!["--shadow-rays", "65"], "--shadow-rays 65"),
         (vec!["--adaptive-max", "0"], "--adaptive-max 0"),
         (vec!["--adaptive-max", "1025"], "--adaptive-max 1025"),
         (vec!["--adaptive-threshold", "0"], "--adaptive-threshold 0"),
