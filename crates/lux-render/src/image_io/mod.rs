@@ -88,6 +88,13 @@ pub fn linear_to_srgb(c: f32) -> f32 {
     linear_to_srgb_f64(f64::from(c)) as f32
 }
 
+/// Whether the IEEE 754 half float of bits `b` is finite: NaN and ±∞ are those whose five
+/// exponent bits are all set (`b & 0x7C00 == 0x7C00`).
+#[inline(always)]
+pub(crate) fn half_finite(b: u16) -> bool {
+    b & 0x7C00 != 0x7C00
+}
+
 /// [`srgb_to_linear`] in `f64` (the one formula, `lux_usd::shading::color_space`'s, which
 /// MaterialX colour values and texture texels share).
 pub(crate) fn srgb_to_linear_f64(c: f64) -> f64 {

@@ -312,9 +312,8 @@ fn half_scanlines<const N: usize>(
                     return None;
                 }
                 for (t, v) in out[row * w..(row + 1) * w].iter_mut().zip(&line_samples) {
-                    // NaN and ±∞: the half floats whose exponent bits are all set
                     let b = v.to_bits();
-                    let finite = b & 0x7C00 != 0x7C00;
+                    let finite = super::half_finite(b);
                     bad += usize::from(!finite);
                     t[k] = if finite { b } else { 0 };
                 }

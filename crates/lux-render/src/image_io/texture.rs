@@ -5,7 +5,7 @@ use std::path::Path;
 
 use exr::prelude::f16;
 
-use super::{ImageError, error::IN_MEMORY};
+use super::{ImageError, error::IN_MEMORY, half_finite};
 
 /// How a [`Texture`] holds its texels: `f32`, the `f16` bits of a half-float OpenEXR file as
 /// stored (half the memory; three eighths for RGB without alpha), or the codes of an 8-bit
@@ -39,12 +39,6 @@ fn srgb8(p: [u8; 4]) -> [f32; 4] {
         c[usize::from(p[2])],
         a[usize::from(p[3])],
     ]
-}
-
-/// Whether the half float of bits `b` is finite: NaN and ±∞ are those whose exponent bits are
-/// all set.
-fn half_finite(b: u16) -> bool {
-    b & 0x7C00 != 0x7C00
 }
 
 /// Replaces the components of `c` that are not `finite` (NaN, ±∞) by zero; how many there

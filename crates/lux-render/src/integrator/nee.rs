@@ -113,10 +113,6 @@ pub(super) struct Candidate {
     s: f64,
 }
 
-/// Most light samples of a shading point whose shadow rays are resampled together (more
-/// are traced one by one).
-const POOL: usize = 16;
-
 /// The light samples of a shading point whose shadow rays are resampled together
 /// (`Nee::resolve`): those of lights with opaque plain shadows, each with its light's index
 /// and its unshadowed contribution `wᵢ = |c|₁` (> 0, finite). A worker's one buffer
@@ -313,7 +309,7 @@ impl<'a> Nee<'a> {
     }
 
     /// Puts the candidate `c` of light `li` in `pool` if its shadow ray may be resampled
-    /// (`rays` > 0, opaque plain shadows, room left), else traces it: what it adds now.
+    /// (`rays` > 0, opaque plain shadows), else traces it: what it adds now.
     #[inline(always)]
     fn pool_or_trace(
         &self,
@@ -325,7 +321,6 @@ impl<'a> Nee<'a> {
     ) -> DVec3 {
         let l = &self.world.lights.lights[li];
         if rays == 0
-            || pool.0.len() == POOL
             || self.world.transparent
             || !l.base().shadow.enable
             || !l.base().plain_shadows()
