@@ -83,8 +83,8 @@ impl RectFrom<'_> {
                 let area = light.width * light.height;
                 let q = DVec3::new((u[0] - 0.5) * light.width, (u[1] - 0.5) * light.height, 0.0);
                 let d2 = (q - pl).length_squared();
-                let cos = -pl.z / d2.sqrt();
-                (q, d2 / (cos * area))
+                // d²/(A·cos θ) with cos θ = −p.z/d: one division, not two
+                (q, d2 * d2.sqrt() / (-pl.z * area))
             }
             RectPlan::WindowArea(w) => {
                 let q = DVec3::new(
@@ -93,8 +93,7 @@ impl RectFrom<'_> {
                     0.0,
                 );
                 let d2 = (q - pl).length_squared();
-                let cos = -pl.z / d2.sqrt();
-                (q, d2 / (cos * (w[2] - w[0]) * (w[3] - w[1])))
+                (q, d2 * d2.sqrt() / (-pl.z * (w[2] - w[0]) * (w[3] - w[1])))
             }
             RectPlan::Spherical {
                 sr,

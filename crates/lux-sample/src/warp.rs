@@ -12,10 +12,17 @@ use glam::{DVec2, DVec3};
 /// (density 1/π) and keeping strata compact.
 #[inline]
 pub fn sample_concentric_disk(u: [f64; 2]) -> DVec2 {
+    concentric_disk(u).0
+}
+
+/// [`sample_concentric_disk`] with the point's radius `r = max(|2u₀ − 1|, |2u₁ − 1|)`,
+/// exactly: the mapping takes the square's ring of half-width r onto the circle of radius r.
+#[inline(always)]
+fn concentric_disk(u: [f64; 2]) -> (DVec2, f64) {
     let a = 2.0 * u[0] - 1.0;
     let b = 2.0 * u[1] - 1.0;
     if a == 0.0 && b == 0.0 {
-        return DVec2::ZERO;
+        return (DVec2::ZERO, 0.0);
     }
     // θ = π/4 · b/a, or π/2 − π/4 · a/b, whose sine and cosine are those of π/4 · a/b
     // swapped: either way the sine and cosine of an angle in [−π/4, π/4]. Written as selects
@@ -25,11 +32,12 @@ pub fn sample_concentric_disk(u: [f64; 2]) -> DVec2 {
     let (num, den) = if wide { (b, a) } else { (a, b) };
     let (s, c) = sin_cos_quarter(FRAC_PI_4 * (num / den));
     let (x, y) = (den * c, den * s);
-    if wide {
+    let d = if wide {
         DVec2::new(x, y)
     } else {
         DVec2::new(y, x)
-    }
+    };
+    (d, den.abs())
 }
 
 /// `(sin x, cos x)` for |x| ≤ π/4 from their Taylor series, through x¹⁵ and x¹⁶: the first
@@ -141,8 +149,10 @@ pub fn invert_uniform_sphere(w: DVec3) -> [f64; 2] {
 /// density cos θ / π.
 #[inline]
 pub fn sample_cosine_hemisphere(u: [f64; 2]) -> DVec3 {
-    let d = sample_concentric_disk(u);
-    let z = (1.0 - d.length_squared()).max(0.0).sqrt();
+    // (the height from the disk point's exact radius, not from its rounded coordinates: no
+    // wait for the angle's division and series)
+    let (d, r) = concentric_disk(u);
+    let z = ((1.0 - r) * (1.0 + r)).max(0.0).sqrt();
     DVec3::new(d.x, d.y, z)
 }
 
@@ -308,6 +318,14 @@ mod tests {
             let w = sample_uniform_sphere([u0, u1]);
             prop_assert!((w.length() - 1.0).abs() < 1e-12);
             prop_assert!(close(invert_uniform_sphere(w), [u0, u1], 1e-9));
+        }
+
+        /// The radius the cosine hemisphere lifts by is the disk point's own.
+        #[test]
+        fn concentric_radius_is_the_points(u0 in 0.0..1.0f64, u1 in 0.0..1.0f64) {
+            let (d, r) = concentric_disk([u0, u1]);
+            prop_assert!((d.length() - r).abs() <= 2.0 * f64::EPSILON);
+            prop_assert_eq!(r, (2.0 * u0 - 1.0).abs().max((2.0 * u1 - 1.0).abs()));
         }
 
         #[test]
