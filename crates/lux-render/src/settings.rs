@@ -26,13 +26,10 @@ pub use crate::visibility::VisibilityMode;
 pub const MAX_DEPTH: u32 = 128;
 
 /// Paths continued from each camera sample's first vertex by default
-/// ([`RenderOptions::path_splits`]). Two lowered time × variance by 9–23 % against one on the
-/// Cornell box, three clutter scenes and the StandardShaderBall; since adaptive splitting and
-/// resampled shadow rays, four reach the races' noise targets sooner than two (Mitsuba's
-/// 64-spp noise: Cornell box 0.52 → 0.48 of Mitsuba's time, four clutter scenes 0.31–0.39 →
-/// 0.20–0.37, shader ball 0.47 → 0.43; at its 256-spp noise the same or lower but on one
-/// clutter scene, 0.316 → 0.322), eight later (BENCHMARKS.md, issue 39).
-pub const PATH_SPLITS: u32 = 4;
+/// ([`RenderOptions::path_splits`]): time × variance 9–23 % lower than with one on the
+/// Cornell box, three clutter scenes and the StandardShaderBall; 4 within 6 % of 2 either way,
+/// 8 worse than 1 on a clutter scene (BENCHMARKS.md, issue 39).
+pub const PATH_SPLITS: u32 = 2;
 
 /// Largest [`RenderOptions::path_splits`].
 pub const MAX_PATH_SPLITS: u32 = 64;
