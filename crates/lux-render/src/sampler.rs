@@ -18,8 +18,9 @@
 //!
 //! Which decision reads which dimension is fixed in one place, [`Dim`]: the camera's pixel
 //! jitter, then per bounce the light choice, each light's 2D sample, the pick of the light
-//! samples that get shadow rays, the BSDF's 2D sample and Russian roulette. A dimension is only a name for a stream: any two distinct names are
-//! decorrelated, so the layout never has to be dense.
+//! samples that get shadow rays, the BSDF's 2D sample and Russian roulette. A dimension is
+//! only a name for a stream: any two distinct names are decorrelated, so the layout never has
+//! to be dense.
 
 /// Largest sample count per pixel a render accepts (`RenderOptions::spp` and adaptive counts):
 /// a pixel's stream stratifies up to this many samples.
