@@ -16,6 +16,15 @@
 //! For smooth integrands (a light's solid angle, a pixel's footprint) the error falls faster
 //! than with independent uniform numbers (≈ N^-3/4 instead of N^-1/2 in 2D).
 //!
+//! **Past the camera's vertex the numbers are independent** ([`STRATIFIED_BOUNCES`]): a path's
+//! later vertices read many dimensions, and a pair stratified on its own (not jointly with
+//! the vertices before it, which decide where it is) buys little there, while each scrambled
+//! point costs some forty integer multiplications. Their numbers are a SplitMix64 stream per
+//! (pixel, dimension) read at the sample's index — uniform, independent across samples and
+//! dimensions, and as pure a function of the counters. Time × squared error against a ground
+//! truth (six seeds): Cornell box −8 %, StandardShaderBall −8 %, clutter_mix −6 % and
+//! −19 %, clutter_one unchanged (BENCHMARKS.md, issue 39).
+//!
 //! Which decision reads which dimension is fixed in one place, [`Dim`]: the camera's pixel
 //! jitter, then per bounce the light choice, each light's 2D sample, the pick of the light
 //! samples that get shadow rays, the BSDF's 2D sample and Russian roulette. A dimension is
@@ -25,6 +34,42 @@
 /// Largest sample count per pixel a render accepts (`RenderOptions::spp` and adaptive counts):
 /// a pixel's stream stratifies up to this many samples.
 pub const MAX_SPP: u32 = 1 << 20;
+
+/// Path vertices whose numbers are stratified (scrambled Sobol points); the numbers of
+/// vertex `STRATIFIED_BOUNCES` and later are independent ([`independent`]). One: the
+/// camera's vertex only (its light samples, BSDF sample and the direct integrator's every
+/// number).
+pub const STRATIFIED_BOUNCES: u32 = 1;
+
+/// Whether dimension (pair) id `dim` ([`Dim::id`]) belongs to a vertex whose numbers are
+/// independent rather than stratified.
+#[inline(always)]
+fn is_independent(dim: u32) -> bool {
+    dim >> 24 >= STRATIFIED_BOUNCES
+}
+
+/// 64 independent uniform bits of dimension (pair) `dim` for point `index` of the pixel
+/// `key`: element `index + 1` of the SplitMix64 stream seeded by the pixel's and the
+/// dimension's hash, `mix64(h + (index + 1)·γ)`, γ the golden-ratio increment.
+#[inline(always)]
+fn independent(key: u64, dim: u64, index: u32) -> u64 {
+    let h = mix64(key ^ dim.wrapping_add(1).wrapping_mul(0xD6E8_FEB8_6659_FD93));
+    mix64(h.wrapping_add((index as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15)))
+}
+
+/// The 2D point of [`independent`]: the two 32-bit halves as unit fractions.
+#[inline(always)]
+fn independent2(key: u64, dim: u32, index: u32) -> [f64; 2] {
+    let h = independent(key, dim as u64, index);
+    [unit(h as u32), unit((h >> 32) as u32)]
+}
+
+/// The 1D number of [`independent`] (a name apart from the 2D pair's of the same id, as
+/// [`point1`]'s).
+#[inline(always)]
+fn independent1(key: u64, dim: u32, index: u32) -> f64 {
+    unit(independent(key, dim as u64 | 1 << 32, index) as u32)
+}
 
 /// 64-bit finaliser of SplitMix64 / MurmurHash3 (a bijection with full avalanche).
 #[inline(always)]
@@ -261,9 +306,17 @@ impl SampleStream {
     /// with the dimension's hashes computed once.
     #[inline(always)]
     pub fn split_get2(&self, dim: Dim, k: u32) -> impl Iterator<Item = [f64; 2]> + use<> {
-        let (p, s0, s1) = Self::hashes(self.key, dim.id());
+        let id = dim.id();
+        let (p, s0, s1) = Self::hashes(self.key, id);
         let (base, first, spp) = (self.base * k, self.sample * k, self.spp * k);
-        (0..k).map(move |j| point2_of(base, first + j, spp, p, s0, s1))
+        let (key, free) = (self.key, is_independent(id));
+        (0..k).map(move |j| {
+            if free {
+                independent2(key, id, base + first + j)
+            } else {
+                point2_of(base, first + j, spp, p, s0, s1)
+            }
+        })
     }
 
     /// The permutation seed and the two scrambling seeds of dimension (pair) `dim` under `key`.
@@ -274,10 +327,14 @@ impl SampleStream {
         (lo, hi, hash32(lo ^ hi.rotate_left(16) ^ 0x5BD1_E995))
     }
 
-    /// The 2D point of dimension pair `dim` (any number identifying the pair): both
-    /// coordinates uniform in \[0, 1), stratified across the pixel's samples.
+    /// The 2D point of dimension pair `dim` (a [`Dim::id`]): both coordinates uniform in
+    /// \[0, 1), stratified across the pixel's samples at the camera's vertex, independent past
+    /// it ([`STRATIFIED_BOUNCES`]).
     #[inline(always)]
     pub fn u2(&self, dim: u32) -> [f64; 2] {
+        if is_independent(dim) {
+            return independent2(self.key, dim, self.base + self.sample);
+        }
         point2(self.key, self.base, self.sample, self.spp, dim)
     }
 
@@ -293,9 +350,13 @@ impl SampleStream {
         self.u(dim.id())
     }
 
-    /// A 1D number of dimension `dim`, uniform in \[0, 1), stratified across the samples.
+    /// A 1D number of dimension `dim` (a [`Dim::id`]), uniform in \[0, 1), stratified across
+    /// the samples at the camera's vertex, independent past it ([`STRATIFIED_BOUNCES`]).
     #[inline(always)]
     pub fn u(&self, dim: u32) -> f64 {
+        if is_independent(dim) {
+            return independent1(self.key, dim, self.base + self.sample);
+        }
         point1(self.key, self.base, self.sample, self.spp, dim)
     }
 }
@@ -714,6 +775,84 @@ mod tests {
         // Independent sampling: σ(xy)/8 = 0.2205/8 ≈ 0.0276.
         assert!(rms < 0.0276 / 8.0, "rms error {rms}");
         assert!(rms > 0.0, "a scrambled estimate is random");
+    }
+
+    /// Past the camera's vertex the numbers are independent uniform ones: 2D and 1D bins
+    /// even by chi-square, no correlation between consecutive samples of a pixel, between a
+    /// pair and the 1D number of the same name, or between neighbouring pixels; a 64-sample
+    /// mean of x·y has the error of independent sampling (not the net's); the camera's vertex
+    /// keeps its scrambled points.
+    #[test]
+    fn independent_numbers_past_the_camera_vertex() {
+        let (bsdf, roulette) = (Dim::Bsdf { bounce: 1 }, Dim::Roulette { bounce: 3 });
+        let mut bins2 = [0usize; 64];
+        let mut bins1 = [0usize; 64];
+        let (mut lag, mut cross, mut near, mut n) = (0.0, 0.0, 0.0, 0usize);
+        for pixel in 0..2048u64 {
+            let mut last = 0.5;
+            for s in 0..16 {
+                let st = SampleStream::new(1, pixel, s, 16);
+                let a = st.get2(bsdf);
+                let c = st.get1(roulette);
+                let d = SampleStream::new(1, pixel + 1, s, 16).get2(bsdf);
+                for x in [a[0], a[1], c] {
+                    assert!((0.0..1.0).contains(&x));
+                }
+                bins2[(a[0] * 8.0) as usize * 8 + (a[1] * 8.0) as usize] += 1;
+                bins1[(c * 64.0) as usize] += 1;
+                lag += (a[0] - 0.5) * (last - 0.5);
+                cross += (a[1] - 0.5) * (st.get1(bsdf) - 0.5);
+                near += (a[0] - 0.5) * (d[0] - 0.5);
+                last = a[0];
+                n += 1;
+            }
+        }
+        let e = n as f64 / 64.0;
+        for bins in [bins2, bins1] {
+            let chi2: f64 = bins.iter().map(|&o| (o as f64 - e).powi(2) / e).sum();
+            // 63 degrees of freedom: P(chi2 > 110) < 1e-4, P(chi2 < 30) < 1e-4 (too even
+            // for independent draws).
+            assert!((30.0..110.0).contains(&chi2), "chi2 {chi2}");
+        }
+        for corr in [lag, cross, near] {
+            let corr = corr / n as f64 * 12.0;
+            assert!(corr.abs() < 4.0 / (n as f64).sqrt(), "correlation {corr}");
+        }
+        // A pixel's 64-sample estimate of ∫∫ x·y = 1/4: independent sampling's error
+        // σ(xy)/8 = √(1/9 − 1/16)/8 ≈ 0.02756 (its estimate from 4000 pixels within ±6 %,
+        // about four standard errors), where the camera vertex's net does 8× better.
+        let rms = |dim: Dim| {
+            let pixels = 4000;
+            let se: f64 = (0..pixels)
+                .map(|pixel| {
+                    let m = (0..64)
+                        .map(|s| {
+                            let p = SampleStream::new(5, pixel, s, 64).get2(dim);
+                            p[0] * p[1]
+                        })
+                        .sum::<f64>()
+                        / 64.0;
+                    (m - 0.25) * (m - 0.25)
+                })
+                .sum();
+            (se / pixels as f64).sqrt()
+        };
+        let independent = (1.0f64 / 9.0 - 1.0 / 16.0).sqrt() / 8.0;
+        let past = rms(Dim::Bsdf { bounce: 1 });
+        assert!((past / independent - 1.0).abs() < 0.06, "rms {past}");
+        assert!(rms(Dim::Bsdf { bounce: 0 }) < independent / 8.0);
+        // Pure functions of the counters; a later set (`after`) continues the stream.
+        let st = SampleStream::new(2, 77, 3, 8);
+        assert_eq!(st.get2(bsdf), SampleStream::new(2, 77, 3, 8).get2(bsdf));
+        assert_eq!(
+            st.after(8).get2(bsdf),
+            SampleStream::new(2, 77, 11, 19).get2(bsdf)
+        );
+        assert_ne!(st.after(8).get2(bsdf), st.get2(bsdf));
+        assert_eq!(
+            st.get2(Dim::Bsdf { bounce: 0 }),
+            point2(st.key, 0, 3, 8, Dim::Bsdf { bounce: 0 }.id())
+        );
     }
 
     /// `split_get2` is `split(j, k).get2(dim)` for every sub-sample.
