@@ -36,9 +36,9 @@
 pub const MAX_SPP: u32 = 1 << 20;
 
 /// Path vertices whose numbers are stratified (scrambled Sobol points); the numbers of
-/// vertex `STRATIFIED_BOUNCES` and later are independent ([`independent`]). One: the
-/// camera's vertex only (its light samples, BSDF sample and the direct integrator's every
-/// number).
+/// vertex `STRATIFIED_BOUNCES` and later are independent, a hashed stream per dimension
+/// ([`SampleStream::u2`]). One: the camera's vertex only (its light samples, BSDF sample and
+/// the direct integrator's every number).
 pub const STRATIFIED_BOUNCES: u32 = 1;
 
 /// Whether dimension (pair) id `dim` ([`Dim::id`]) belongs to a vertex whose numbers are
