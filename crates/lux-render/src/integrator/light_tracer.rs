@@ -45,7 +45,7 @@ use lux_sample::AliasTable;
 use std::f64::consts::PI;
 
 /// Vertices a particle passes before Russian roulette may end it. It stays at the 3rd where
-/// the path tracer's moved to the 5th ([`super::ROULETTE_DEPTH`]): for particles the later
+/// the path tracer's moved later ([`super::ROULETTE_DEPTH`]): for particles the 5th as a
 /// start cost 4–9 % more time × variance (Cornell box and a clutter scene, 128², 16 spp;
 /// BENCHMARKS.md, issue 39).
 pub const PARTICLE_ROULETTE_DEPTH: u32 = 3;

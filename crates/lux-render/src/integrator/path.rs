@@ -26,11 +26,14 @@ use crate::material::SurfacePoint;
 use crate::sampler::{Dim, SampleStream};
 use glam::DVec3;
 
-/// Vertices lit before Russian roulette may end a path (Mitsuba 3's `rr_depth` too). From the
-/// 5th rather than the 3rd, time × variance fell by 6–8 % on the Cornell box and two clutter
-/// scenes (128², 64 spp, depth 8; BENCHMARKS.md, issue 39): the short paths that roulette
-/// ended early carried light the box's walls pass on with albedos near 0.75.
-pub const ROULETTE_DEPTH: u32 = 5;
+/// Vertices lit before Russian roulette may end a path. From the 5th (Mitsuba 3's `rr_depth`)
+/// rather than the 3rd, time × variance fell by 6–8 % on the Cornell box and two clutter
+/// scenes (128², 64 spp, depth 8): the short paths that roulette ended early carried light
+/// the box's walls pass on with albedos near 0.75. Once a path's later vertices drew cheaper,
+/// independent numbers, the 4th was better again: time × squared error −2.9 % on the Cornell
+/// box, −2.3 % on the StandardShaderBall, 0 to −2 % on four clutter scenes, where the 6th
+/// lost 3.6 % on the box (BENCHMARKS.md, issue 39).
+pub const ROULETTE_DEPTH: u32 = 4;
 
 /// Russian roulette keeps a path with probability `q = min(1, ROULETTE_SCALE · max(β))`: a
 /// path whose throughput is at least 1/2 always goes on. With Mitsuba 3's `q = max(β)`, a
