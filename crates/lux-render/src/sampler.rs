@@ -31,6 +31,8 @@
 //! only a name for a stream: any two distinct names are decorrelated, so the layout never has
 //! to be dense.
 
+use lux_sample::SplitMix64;
+
 /// Largest sample count per pixel a render accepts (`RenderOptions::spp` and adaptive counts):
 /// a pixel's stream stratifies up to this many samples.
 pub const MAX_SPP: u32 = 1 << 20;
@@ -49,12 +51,12 @@ fn is_independent(dim: u32) -> bool {
 }
 
 /// 64 independent uniform bits of dimension (pair) `dim` for point `index` of the pixel
-/// `key`: element `index + 1` of the SplitMix64 stream seeded by the pixel's and the
-/// dimension's hash, `mix64(h + (index + 1)·γ)`, γ the golden-ratio increment.
+/// `key`: element `index` of the SplitMix64 stream ([`SplitMix64::at`]) seeded by the pixel's
+/// and the dimension's hash.
 #[inline(always)]
 fn independent(key: u64, dim: u64, index: u32) -> u64 {
     let h = mix64(key ^ dim.wrapping_add(1).wrapping_mul(0xD6E8_FEB8_6659_FD93));
-    mix64(h.wrapping_add((index as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15)))
+    SplitMix64::at(h, index as u64)
 }
 
 /// The 2D point of [`independent`]: the two 32-bit halves as unit fractions.
