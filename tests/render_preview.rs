@@ -253,3 +253,52 @@ fn light_diffuse_and_specular_scale_their_lobes() {
     }
     assert_eq!(read(0.0, 0.0), DVec3::ZERO);
 }
+
+/// A direct render decodes a `UsdUVTexture` file when a lookup first reads it
+/// (`TextureDecoding::OnFirstUse`; `strict` decodes every file up front instead): the same
+/// bits, on pools of 1, 2 and 3 threads whose workers meet the undecoded texture at once, and
+/// no late warning for files that decode.
+#[test]
+fn textures_decoded_on_first_use_render_the_bits_of_textures_decoded_up_front() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/scenes/preview_surface.usda");
+    let mut s = lux::usd::load_stage(&path, 1.0).unwrap();
+    // Looking down −z at the unit quads from above their middle, 1.2 units across, lit by a
+    // distant light straight down the −z axis (a light's identity frame).
+    let mut c = lux::usd::Camera::with_defaults(
+        "/Above",
+        DMat4::from_translation(DVec3::new(0.5, 0.5, 5.0)),
+    );
+    c.projection = lux::usd::Projection::Orthographic;
+    (c.horizontal_aperture, c.vertical_aperture) = (12.0, 12.0);
+    s.cameras.push(c);
+    let mut sun = Light::with_defaults(
+        "/Down",
+        LightShape::Distant { angle_deg: 0.0 },
+        DMat4::IDENTITY,
+    );
+    sun.params.intensity = 2.0;
+    s.lights.push(sun);
+    let mut o = options(Profile::Spec, 2, [48, 48]);
+    o.integrator = IntegratorKind::Direct;
+    o.surfaces = lux::render::material::SurfaceModel::Lambert;
+    let image = |strict: bool, threads: usize| {
+        let mut o = o.clone();
+        o.strict = strict;
+        let r = Renderer::new(&s, o).unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let pixels = pool.install(|| r.render(&|_| {})).0.pixels;
+        assert_eq!(r.late_warnings().count(), 0);
+        pixels
+    };
+    let want = image(true, 2);
+    // The leaf's texture is in the picture: its texels are not all one colour.
+    let lit: Vec<_> = want.iter().filter(|p| p[3] > 0.0).collect();
+    assert!(lit.iter().any(|p| p[0] != lit[0][0]), "a flat picture");
+    for threads in [1, 2, 3] {
+        assert!(image(false, threads) == want, "{threads} threads");
+    }
+}

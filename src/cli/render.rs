@@ -579,6 +579,9 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let threads = pool.current_num_threads();
     let (image, stats) = pool.install(|| renderer.render(&|n| bar.inc(n)));
     bar.finish_and_clear();
+    for w in renderer.late_warnings() {
+        eprintln!("lux: warning: {w}");
+    }
     // Every output is encoded to a temporary file before any replaces its target: a failed
     // encode or write leaves none (and no temporary file).
     let tile = args.tile.zip(rows);

@@ -6,9 +6,9 @@ use crate::adaptive::PenumbraPilot;
 use crate::camera::Camera;
 use crate::geometry::Geometry;
 use crate::image_io::ImageRgba;
-use crate::integrator::{AnyIntegrator, Ctx, Integrator, Setup};
+use crate::integrator::{AnyIntegrator, Ctx, Integrator, IntegratorKind, Setup};
 use crate::light::{LightOptions, LightSet};
-use crate::material::Materials;
+use crate::material::{Materials, TextureDecoding};
 use crate::settings::resolve;
 use crate::tiles::{Frame, Scene as TileScene};
 use crate::visibility::Visibility;
@@ -70,7 +70,13 @@ impl<'s> Renderer<'s> {
                 cone_clipping: options.cone_clipping,
             },
         )?;
-        let materials = Materials::with_policy(scene_ref, options.strict, options.surfaces)?;
+        // A direct-lit frame shades only what the camera sees: its textures are decoded
+        // when first read (a textured wall behind the camera never is).
+        let decoding = match options.integrator {
+            IntegratorKind::Direct => TextureDecoding::OnFirstUse,
+            IntegratorKind::Path | IntegratorKind::Light => TextureDecoding::UpFront,
+        };
+        let materials = Materials::prepare(scene_ref, options.strict, options.surfaces, decoding)?;
         let geometry = Geometry::new(scene_ref);
         let visibility = Visibility::new(options.visibility, scene_ref, &geometry);
         let frame = Frame {
@@ -115,6 +121,13 @@ impl<'s> Renderer<'s> {
             .chain(&self.lights.warnings)
             .chain(&self.materials.warnings)
             .chain(&self.integrator_warnings)
+    }
+
+    /// What a render replaced that only it could find: texture files decoded on first use
+    /// whose data turned out unreadable (each use took the fallback a file failing up front
+    /// gets, in the words of [`Renderer::warnings`]). Empty before a render.
+    pub fn late_warnings(&self) -> impl Iterator<Item = String> + '_ {
+        self.materials.late_warnings()
     }
 
     /// Output image size.

@@ -18,8 +18,8 @@
 //!   channels are half floats, held as its `f16` (8 bytes a texel instead of 16), and an 8-bit
 //!   image, held as its codes (4 bytes, 1 for grey without alpha; colour decoded through the
 //!   sRGB table, alpha `a/255`):
-//!   every lookup reads back the same `f32` values. Materials decode all their texture files in
-//!   parallel before they are prepared (`material::Materials`).
+//!   every lookup reads back the same `f32` values. Materials decode their texture files in
+//!   parallel before they are prepared, or each when first read (`material::TextureDecoding`).
 //! * **Sanitising.** Loaded textures never contain NaN or ±∞: such texels (possible in EXR) are
 //!   replaced by 0 and counted ([`Texture::non_finite_count`]). Negative values are kept.
 //! * **Limits.** Images must be between 1 and [`MAX_DIMENSION`] pixels per side and hold at most

@@ -66,27 +66,59 @@ pub(crate) enum Decoded {
     Grey8(usize, usize, Vec<u8>),
 }
 
-/// Loads the image of `src` by extension.
-pub(crate) fn load_texels(src: Source<'_>) -> Result<Decoded, ImageError> {
-    let path = src.path;
+/// How a file is decoded, by its (case-insensitive) extension.
+enum Format {
+    Exr,
+    /// An `image` crate format and what such a file must be.
+    Image(ImageFormat, &'static str),
+}
+
+/// The decoder of `path` by extension; [`ImageError::UnsupportedFormat`] for others.
+fn format_of(path: &Path) -> Result<Format, ImageError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
-    let (format, expected) = match ext.as_deref() {
-        Some("exr") => return guarded(path, EXPECTED_EXR, || load_exr(src)),
-        Some("png") => (ImageFormat::Png, "a PNG image"),
-        Some("jpg" | "jpeg") => (ImageFormat::Jpeg, "a JPEG image"),
-        Some("hdr") => (ImageFormat::Hdr, "a Radiance HDR (RGBE) image"),
-        Some("tga") => (ImageFormat::Tga, "a Truevision TGA image"),
-        Some("bmp") => (ImageFormat::Bmp, "a BMP image"),
+    Ok(match ext.as_deref() {
+        Some("exr") => Format::Exr,
+        Some("png") => Format::Image(ImageFormat::Png, "a PNG image"),
+        Some("jpg" | "jpeg") => Format::Image(ImageFormat::Jpeg, "a JPEG image"),
+        Some("hdr") => Format::Image(ImageFormat::Hdr, "a Radiance HDR (RGBE) image"),
+        Some("tga") => Format::Image(ImageFormat::Tga, "a Truevision TGA image"),
+        Some("bmp") => Format::Image(ImageFormat::Bmp, "a BMP image"),
         _ => {
             return Err(ImageError::UnsupportedFormat {
                 path: path.to_path_buf(),
             });
         }
-    };
-    guarded(path, expected, || load_with_image(src, format, expected))
+    })
+}
+
+/// Loads the image of `src` by extension.
+pub(crate) fn load_texels(src: Source<'_>) -> Result<Decoded, ImageError> {
+    let path = src.path;
+    match format_of(path)? {
+        Format::Exr => guarded(path, EXPECTED_EXR, || load_exr(src)),
+        Format::Image(format, expected) => {
+            guarded(path, expected, || load_with_image(src, format, expected))
+        }
+    }
+}
+
+/// Checks what [`load_texels`] checks before it decodes `src`: a format lux decodes (by
+/// extension), a header that parses, dimensions within the limits. Reads the header only: the
+/// pixel data may still turn out corrupt when decoded.
+pub(crate) fn probe_texels(src: Source<'_>) -> Result<(), ImageError> {
+    let path = src.path;
+    match format_of(path)? {
+        Format::Exr => guarded(path, EXPECTED_EXR, || {
+            let mut file = src.open().map_err(|e| io_read_error(path, e))?;
+            exr_header(path, &mut file).map(drop)
+        }),
+        Format::Image(format, expected) => {
+            guarded(path, expected, || image_header(src, format, expected))
+        }
+    }
 }
 
 /// Runs a decoder, turning a panic inside it into [`ImageError::Decode`].
@@ -153,20 +185,7 @@ pub(crate) fn exr_error(path: &Path, error: exr::error::Error) -> ImageError {
 fn load_exr(src: Source<'_>) -> Result<Decoded, ImageError> {
     let path = src.path;
     let mut file = src.open().map_err(|e| io_read_error(path, e))?;
-
-    // Check every layer's size from the header before the reader allocates anything.
-    let meta = exr::meta::MetaData::read_from_unbuffered(&mut file, false)
-        .map_err(|e| exr_error(path, e))?;
-    if meta.headers.is_empty() {
-        return Err(ImageError::Decode {
-            path: path.to_path_buf(),
-            expected: EXPECTED_EXR,
-            message: "the file has no layers".to_string(),
-        });
-    }
-    for header in meta.headers.iter() {
-        check_dimensions(path, header.layer_size.0 as u64, header.layer_size.1 as u64)?;
-    }
+    let meta = exr_header(path, &mut file)?;
     file.seek(SeekFrom::Start(0))
         .map_err(|e| io_read_error(path, e))?;
     // The layer the reader takes, the first with R, G and B: kept in `f16` when those (and A)
@@ -195,6 +214,27 @@ fn load_exr(src: Source<'_>) -> Result<Decoded, ImageError> {
     }
     let (w, h, t) = read_exr::<f32, 4>(path, file)?;
     Ok(Decoded::F32(w, h, t))
+}
+
+/// The header of the OpenEXR file `file` (at `path`), every layer's size checked before a
+/// reader allocates anything.
+fn exr_header(
+    path: &Path,
+    file: &mut Box<dyn ReadSeek + '_>,
+) -> Result<exr::meta::MetaData, ImageError> {
+    let meta =
+        exr::meta::MetaData::read_from_unbuffered(file, false).map_err(|e| exr_error(path, e))?;
+    if meta.headers.is_empty() {
+        return Err(ImageError::Decode {
+            path: path.to_path_buf(),
+            expected: EXPECTED_EXR,
+            message: "the file has no layers".to_string(),
+        });
+    }
+    for header in meta.headers.iter() {
+        check_dimensions(path, header.layer_size.0 as u64, header.layer_size.1 as u64)?;
+    }
+    Ok(meta)
 }
 
 /// A half-float file's texels (`N` channels, R G B [A]) as bits: by [`half_scanlines`], else
@@ -448,15 +488,16 @@ fn open_reader<'a>(
     Ok(reader)
 }
 
-fn load_with_image(
+/// Checks the header of an `image` crate file: absurd sizes are rejected (with lux's own
+/// error) before a decoder allocates the pixel buffer. PNG's IHDR is read directly, since the
+/// decoder refuses (with a less specific error) sizes it deems too large even for reading the
+/// header.
+fn image_header(
     src: Source<'_>,
     format: ImageFormat,
     expected: &'static str,
-) -> Result<Decoded, ImageError> {
+) -> Result<(), ImageError> {
     let path = src.path;
-    // Header first: reject absurd sizes (with our own error) before the decoder allocates the
-    // pixel buffer. PNG's IHDR is read directly, since the decoder refuses (with a less
-    // specific error) sizes it deems too large even for reading the header.
     if format == ImageFormat::Png
         && let Some((w, h)) = png_ihdr_dimensions(src)?
     {
@@ -465,8 +506,16 @@ fn load_with_image(
     let (w, h) = open_reader(src, format, false)?
         .into_dimensions()
         .map_err(|e| image_error(path, expected, e))?;
-    check_dimensions(path, u64::from(w), u64::from(h))?;
+    check_dimensions(path, u64::from(w), u64::from(h))
+}
 
+fn load_with_image(
+    src: Source<'_>,
+    format: ImageFormat,
+    expected: &'static str,
+) -> Result<Decoded, ImageError> {
+    let path = src.path;
+    image_header(src, format, expected)?;
     let image = open_reader(src, format, true)?
         .decode()
         .map_err(|e| image_error(path, expected, e))?;

@@ -106,6 +106,18 @@ impl Texture {
         Self::decoded(name, super::read::load_texels(source)?)
     }
 
+    /// Checks, from its header alone, that [`Texture::load`] could start decoding the file at
+    /// `path`: a format it reads, a header that parses, dimensions within the limits (the
+    /// same errors). What lies past the header is not read.
+    pub fn probe(path: &Path) -> Result<(), ImageError> {
+        super::read::probe_texels(super::read::Source::file(path))
+    }
+
+    /// [`Texture::probe`] of an image held in memory, as [`Texture::from_bytes`] reads it.
+    pub fn probe_bytes(name: &Path, bytes: &[u8]) -> Result<(), ImageError> {
+        super::read::probe_texels(super::read::Source::memory(name, bytes))
+    }
+
     /// A texture from what a decoder gave: `f32` texels, a half-float file's `f16` ones, or an
     /// 8-bit image's codes (always finite).
     fn decoded(path: &Path, d: super::read::Decoded) -> Result<Texture, ImageError> {

@@ -25,13 +25,11 @@ use graph::{GraphShader, ShadingContext};
 
 use crate::RenderError;
 use crate::geometry::Hit;
-use crate::image_io::Texture;
 use glam::{DMat3, DVec2, DVec3, DVec4};
 use lux_usd::{Input, Scene, SurfaceSpectral, TextureInput};
-use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
-use texture::{TextureShader, texture_shader};
+use texture::{TextureFiles, TextureShader, texture_shader};
 
 /// A prepared UsdPreviewSurface input: a constant (a float input in `x`), a texture, or a
 /// primvar of the gprim (slot `slot` of the material's [`Shader::primvars`]).
@@ -251,6 +249,8 @@ impl Bsdf {
 pub struct Materials {
     /// Textures that could not be read (each replaced by its fallback).
     pub warnings: Vec<String>,
+    /// The texture files, and the uses of those decoded on first use ([`Materials::late_warnings`]).
+    files: TextureFiles,
     materials: Vec<Shader>,
     /// Per mesh: the albedo of a `wavelength:reflectance` authored on the gprim.
     mesh_reflectance: Vec<Option<DVec3>>,
@@ -400,6 +400,18 @@ impl SurfaceModel {
     }
 }
 
+/// When the texture files of `UsdUVTexture` inputs are decoded ([`Materials::prepare`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TextureDecoding {
+    /// All of them in parallel before the render: for integrators whose rays can reach any
+    /// surface (a path's bounces, light particles).
+    UpFront,
+    /// Each when a lookup first needs it, its header checked up front (missing files, formats
+    /// lux does not read and bad headers warn at once): a direct-lit frame shades only what
+    /// the camera sees, and a texture no camera ray meets is never decoded. The same texels.
+    OnFirstUse,
+}
+
 impl Materials {
     /// Loads the textures of every material (once per file), UsdPreviewSurface surfaces. A
     /// texture that does not resolve or cannot be read gives its `UsdUVTexture` fallback, with
@@ -416,9 +428,23 @@ impl Materials {
         strict: bool,
         surfaces: SurfaceModel,
     ) -> Result<Materials, RenderError> {
+        Materials::prepare(scene, strict, surfaces, TextureDecoding::UpFront)
+    }
+
+    /// [`Materials::with_policy`], with the `UsdUVTexture` files decoded as `decoding` says
+    /// (always up front when `strict`, so that a corrupt file is an error before the render).
+    pub fn prepare(
+        scene: &Scene,
+        strict: bool,
+        surfaces: SurfaceModel,
+        decoding: TextureDecoding,
+    ) -> Result<Materials, RenderError> {
         let unit = scene.unit_for_wavelength;
         let mut ld = InputLoader {
-            cache: HashMap::new(),
+            files: TextureFiles {
+                on_first_use: decoding == TextureDecoding::OnFirstUse && !strict,
+                ..TextureFiles::default()
+            },
             graph_textures: graph::TextureCache::new(),
             warnings: Vec::new(),
             strict,
@@ -490,6 +516,7 @@ impl Materials {
             .map(|i| plain_albedo(scene, i, &materials, mesh_reflectance[i], &no_response))
             .collect();
         Ok(Materials {
+            files: ld.files,
             no_response,
             warnings,
             materials,
@@ -500,6 +527,13 @@ impl Materials {
             mesh_transparent,
             instance_transparent,
         })
+    }
+
+    /// The warnings of texture files decoded on first use that failed when a render first read
+    /// them (their uses took the fallback [`Materials::with_policy`] names): the words a file
+    /// failing up front gives in [`Materials::warnings`].
+    pub fn late_warnings(&self) -> impl Iterator<Item = String> + '_ {
+        self.files.late_warnings()
     }
 
     /// Whether some surface can let rays through (UsdPreviewSurface `opacity` below 1 or an
@@ -1034,7 +1068,8 @@ fn shading_graph<'a>(
 
 /// Prepares material inputs, reading each texture file once.
 struct InputLoader {
-    cache: HashMap<PathBuf, Arc<Texture>>,
+    /// The `UsdUVTexture` files.
+    files: TextureFiles,
     /// The textures of MaterialX graphs (per file and colour space).
     graph_textures: graph::TextureCache,
     warnings: Vec<String>,
@@ -1045,10 +1080,10 @@ struct InputLoader {
 
 impl InputLoader {
     /// Decodes, in parallel, the texture files that preparing the materials of `scene` in
-    /// order would read one after another: the `UsdUVTexture` files of their USD inputs and
-    /// the `image` files of their graphs. The results are those the lazy reads would give
-    /// (files that fail are left to them, so their warnings are unchanged); a file of a graph
-    /// branch that compiling folds away may be decoded without being used.
+    /// order would read one after another: the `UsdUVTexture` files of their USD inputs
+    /// (unless they are decoded on first use) and the `image` files of their graphs. The
+    /// results are those the reads in order would give; a file of a graph branch that
+    /// compiling folds away may be decoded without being used.
     fn prefetch(&mut self, scene: &Scene, built: &[Option<Built>], surfaces: SurfaceModel) {
         let mut files: Vec<PathBuf> = Vec::new();
         let mut seen = std::collections::HashSet::new();
@@ -1067,7 +1102,8 @@ impl InputLoader {
                 .flatten()
             {
                 if let Some(p) = t.file.as_ref().and_then(|f| f.resolved.as_ref())
-                    && !self.cache.contains_key(p)
+                    && !self.files.on_first_use
+                    && !self.files.files.contains_key(p)
                     && seen.insert(p)
                 {
                     files.push(p.clone());
@@ -1078,12 +1114,15 @@ impl InputLoader {
         use rayon::prelude::*;
         let loaded: Vec<_> = files
             .into_par_iter()
-            .filter_map(|p| {
-                let t = crate::assets::load_texture(&p).ok()?;
-                Some((p, Arc::new(t)))
+            .map(|p| {
+                let t = crate::assets::load_texture(&p).map_err(|e| e.to_string());
+                (
+                    p.clone(),
+                    Arc::new(crate::assets::TextureFile::decoded(p, t)),
+                )
             })
             .collect();
-        self.cache.extend(loaded);
+        self.files.files.extend(loaded);
         self.graph_textures.prefetch(&graphs);
     }
 
@@ -1101,7 +1140,7 @@ impl InputLoader {
             name,
             default,
             t,
-            &mut self.cache,
+            &mut self.files,
             self.strict,
             &mut self.warnings,
         )
@@ -1316,9 +1355,90 @@ def Mesh "T" (prepend apiSchemas = ["MaterialBindingAPI"]) {{
         assert!((a - b).abs().max_element() < 1e-6, "{a} ≠ {b}");
     }
 
+    /// A `UsdUVTexture` of `file` (`None`: no file), its rgb connected.
+    fn texture_input(file: Option<&std::path::Path>) -> Box<TextureInput> {
+        Box::new(TextureInput {
+            shader: "/M/Tex".to_owned(),
+            file: file.map(|f| lux_usd::AssetRef {
+                authored: f.display().to_string(),
+                resolved: Some(f.to_path_buf()),
+            }),
+            st_primvar: "st".to_owned(),
+            st_fallback: DVec2::ZERO,
+            transform: None,
+            scale: DVec4::ONE,
+            bias: DVec4::ZERO,
+            fallback: DVec4::new(0.0, 0.0, 0.0, 1.0),
+            fallback_authored: false,
+            wrap_s: lux_usd::Wrap::Repeat,
+            wrap_t: lux_usd::Wrap::Repeat,
+            source_color_space: lux_usd::SourceColorSpace::Auto,
+            output: "rgb".to_owned(),
+        })
+    }
+
+    /// Decoded on first use, a texture gives the texels decoded up front, and nothing is
+    /// decoded before a lookup needs it. A file whose header reads but whose data is
+    /// corrupt gives, in both modes, the input's default where it is read, with the same
+    /// warning: at once up front, after the lookup (`late_warnings`) on first use.
+    #[test]
+    fn textures_decoded_on_first_use_are_those_decoded_up_front() {
+        let dir = std::env::temp_dir().join(format!("lux_first_use_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let (good, bad) = (dir.join("ramp.png"), dir.join("cut.png"));
+        image::RgbImage::from_fn(4, 2, |x, y| {
+            image::Rgb([60 * x as u8, 200 - 90 * y as u8, 7])
+        })
+        .save(&good)
+        .unwrap();
+        // Every chunk up to the image data read whole, then the data cut short.
+        let bytes = std::fs::read(&good).unwrap();
+        let idat = bytes.windows(4).position(|w| w == b"IDAT").unwrap();
+        std::fs::write(&bad, &bytes[..idat + 6]).unwrap();
+        let mut s = Scene::empty("code.usda");
+        for (name, f) in [("/G", &good), ("/B", &bad)] {
+            s.materials.push(Material {
+                diffuse: Input::Texture(texture_input(Some(f))),
+                ..Material::new(name)
+            });
+        }
+        let diffuse = |m: &Materials, k: usize| match &m.materials[k].diffuse {
+            Param::Texture(t) => t.clone(),
+            p => panic!("material {k}: {p:?}"),
+        };
+        let up =
+            Materials::prepare(&s, false, SurfaceModel::Lambert, TextureDecoding::UpFront).unwrap();
+        let lazy = Materials::prepare(
+            &s,
+            false,
+            SurfaceModel::Lambert,
+            TextureDecoding::OnFirstUse,
+        )
+        .unwrap();
+        // Up front: the corrupt file is its fallback (0.18 grey) with a warning at once.
+        assert_eq!(up.warnings.len(), 1, "{:?}", up.warnings);
+        assert!(up.warnings[0].contains("cut.png"), "{}", up.warnings[0]);
+        assert!(matches!(up.materials[1].diffuse, Param::Value(v) if v == DVec3::splat(0.18)));
+        // On first use: headers only, no warning yet, nothing decoded.
+        assert!(lazy.warnings.is_empty(), "{:?}", lazy.warnings);
+        let (g, b) = (diffuse(&lazy, 0), diffuse(&lazy, 1));
+        assert!(!g.file().is_decoded() && !b.file().is_decoded());
+        assert_eq!(lazy.late_warnings().count(), 0);
+        let reference = diffuse(&up, 0);
+        for st in [(0.1, 0.2), (0.37, 0.9), (0.875, 0.25), (1.6, -0.3)] {
+            let st = DVec2::new(st.0, st.1);
+            assert_eq!(g.eval(st), reference.eval(st), "{st}");
+        }
+        assert!(g.file().is_decoded() && !b.file().is_decoded());
+        assert_eq!(b.eval(DVec2::new(0.5, 0.5)), DVec3::splat(0.18));
+        assert!(b.file().failure().is_some());
+        assert_eq!(lazy.late_warnings().collect::<Vec<_>>(), up.warnings);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     /// What preparing a UsdPreviewSurface reads is decoded ahead: its `diffuseColor` texture
     /// with either surface model, its `opacity` texture only where its graph shades it (the
-    /// UsdPreviewSurface model); an unresolved file is left to the lazy read.
+    /// UsdPreviewSurface model); a file that cannot be read keeps its error.
     #[test]
     fn prefetch_decodes_the_textures_the_materials_read() {
         let dir = std::env::temp_dir().join(format!("lux_prefetch_m_{}", std::process::id()));
@@ -1329,26 +1449,7 @@ def Mesh "T" (prepend apiSchemas = ["MaterialBindingAPI"]) {{
                 .save(path)
                 .unwrap();
         }
-        let tex = |file: Option<&std::path::Path>| {
-            Box::new(TextureInput {
-                shader: "/M/Tex".to_owned(),
-                file: file.map(|f| lux_usd::AssetRef {
-                    authored: f.display().to_string(),
-                    resolved: Some(f.to_path_buf()),
-                }),
-                st_primvar: "st".to_owned(),
-                st_fallback: DVec2::ZERO,
-                transform: None,
-                scale: DVec4::ONE,
-                bias: DVec4::ZERO,
-                fallback: DVec4::new(0.0, 0.0, 0.0, 1.0),
-                fallback_authored: false,
-                wrap_s: lux_usd::Wrap::Repeat,
-                wrap_t: lux_usd::Wrap::Repeat,
-                source_color_space: lux_usd::SourceColorSpace::Auto,
-                output: "rgb".to_owned(),
-            })
-        };
+        let tex = texture_input;
         let mut s = Scene::empty("code.usda");
         s.materials.push(Material {
             preview: true,
@@ -1365,7 +1466,7 @@ def Mesh "T" (prepend apiSchemas = ["MaterialBindingAPI"]) {{
             (SurfaceModel::Preview, vec![&white, &grey]),
         ] {
             let mut ld = InputLoader {
-                cache: HashMap::new(),
+                files: TextureFiles::default(),
                 graph_textures: graph::TextureCache::new(),
                 warnings: Vec::new(),
                 strict: false,
@@ -1377,7 +1478,12 @@ def Mesh "T" (prepend apiSchemas = ["MaterialBindingAPI"]) {{
                 .map(|m| built_graph(m, surfaces))
                 .collect();
             ld.prefetch(&s, &built, surfaces);
-            let mut got: Vec<_> = ld.cache.keys().collect();
+            let mut got: Vec<_> = (ld.files.files.iter())
+                .filter(|(_, f)| f.get().is_some())
+                .map(|(p, _)| p)
+                .collect();
+            let gone = &ld.files.files[&dir.join("gone.png")];
+            assert!(gone.failure().is_some(), "{surfaces:?}");
             got.sort();
             let mut want = want.clone();
             want.sort();

@@ -4,11 +4,12 @@
 
 use super::Param;
 use crate::RenderError;
-use crate::image_io::{Texture, linear_to_srgb};
+use crate::assets::{TextureFile, load_texture, probe_texture};
+use crate::image_io::linear_to_srgb;
 use glam::{DVec2, DVec3, DVec4};
 use lux_usd::{SourceColorSpace, TextureInput, Transform2d};
 use std::collections::HashMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// How a texture coordinate outside \[0, 1\] is folded back (UsdUVTexture `wrapS`/`wrapT`).
@@ -59,7 +60,11 @@ impl Wrap {
 /// A prepared `UsdUVTexture` feeding a UsdPreviewSurface input.
 #[derive(Clone, Debug)]
 pub(super) struct TextureShader {
-    tex: Arc<Texture>,
+    tex: Arc<TextureFile>,
+    /// The value of the input should the file fail to decode when first read (the texture's
+    /// authored fallback, else the input's default, as [`texture_shader`] gives at once for a
+    /// file that fails up front).
+    on_failure: DVec3,
     /// A `UsdTransform2d` applied to the texture coordinates first.
     transform: Option<Transform2d>,
     scale: DVec4,
@@ -73,8 +78,18 @@ pub(super) struct TextureShader {
 }
 
 impl TextureShader {
+    /// The file it reads.
+    #[cfg(test)]
+    pub(super) fn file(&self) -> &TextureFile {
+        &self.tex
+    }
+
+    /// The input's value at texture coordinates `st`.
     #[inline]
     pub(super) fn eval(&self, st: DVec2) -> DVec3 {
+        let Some(tex) = self.tex.get() else {
+            return self.on_failure;
+        };
         let st = match &self.transform {
             Some(t) => t.apply(st),
             None => st,
@@ -89,7 +104,7 @@ impl TextureShader {
             return pick(self.fallback);
         };
         // USD texture coordinates have (0, 0) at the image's bottom-left.
-        let t = self.tex.bilinear(u, 1.0 - v);
+        let t = tex.bilinear(u, 1.0 - v);
         let mut c = DVec4::new(t[0] as f64, t[1] as f64, t[2] as f64, t[3] as f64);
         if self.raw {
             c = DVec4::new(
@@ -103,60 +118,105 @@ impl TextureShader {
     }
 }
 
+/// The texture files the materials read, each decoded once: all at once (what
+/// `InputLoader::prefetch` decoded in parallel, else here), or on first use, their headers
+/// checked now.
+#[derive(Debug, Default)]
+pub(super) struct TextureFiles {
+    /// Every file opened, by resolved path.
+    pub(super) files: HashMap<PathBuf, Arc<TextureFile>>,
+    /// Decode a file when a lookup first needs it ([`TextureFile::get`]) rather than now.
+    pub(super) on_first_use: bool,
+    /// Each use of a file not yet decoded, with what its failure would mean ("material M
+    /// uses … for input"): the warnings of files that fail when first read.
+    pub(super) pending: Vec<(Arc<TextureFile>, String)>,
+}
+
+impl TextureFiles {
+    /// The file at resolved `path`, opened once: decoded now, or (on first use) its header
+    /// checked now and its texels decoded when first read.
+    fn open(&mut self, path: &Path) -> Arc<TextureFile> {
+        let lazy = self.on_first_use;
+        self.files
+            .entry(path.to_path_buf())
+            .or_insert_with(|| {
+                let path = path.to_path_buf();
+                Arc::new(if !lazy {
+                    let decoded = load_texture(&path).map_err(|e| e.to_string());
+                    TextureFile::decoded(path, decoded)
+                } else {
+                    match probe_texture(&path) {
+                        Ok(()) => TextureFile::lazy(path),
+                        Err(e) => TextureFile::decoded(path, Err(e.to_string())),
+                    }
+                })
+            })
+            .clone()
+    }
+
+    /// The warnings of the files that failed when first read during a render: the same
+    /// words a file failing up front gives.
+    pub(super) fn late_warnings(&self) -> impl Iterator<Item = String> + '_ {
+        self.pending.iter().filter_map(|(f, consequence)| {
+            f.failure()
+                .map(|m| format!("{}: {m}; {consequence}", f.path().display()))
+        })
+    }
+}
+
 /// The input `input` of a material fed by a `UsdUVTexture`. A texture file that does not
 /// resolve or cannot be read (missing, a format lux does not decode such as RenderMan `.tex`,
 /// corrupt) is replaced, with a warning naming the material and the file (an error when
 /// `strict`), by the texture's `inputs:fallback` when authored, else by the input's own
 /// default `default` (0.18 grey for `diffuseColor`): the surface stays visible and lit, where
-/// the schema default (0, 0, 0, 1) would paint it black.
+/// the schema default (0, 0, 0, 1) would paint it black. A file decoded on first use whose
+/// data then turns out corrupt gives the same value, its warning after the render
+/// ([`TextureFiles::late_warnings`]).
 pub(super) fn texture_shader(
     material: &str,
     input: &str,
     default: DVec3,
     t: &TextureInput,
-    cache: &mut HashMap<PathBuf, Arc<Texture>>,
+    files: &mut TextureFiles,
     strict: bool,
     warnings: &mut Vec<String>,
 ) -> Result<Param, RenderError> {
     let Some(file) = &t.file else {
         return Ok(Param::Value(pick_output(t.fallback, &t.output)));
     };
-    let failed = |file: PathBuf, message: String, warnings: &mut Vec<String>| {
+    let (on_failure, what) = if t.fallback_authored {
+        (
+            pick_output(t.fallback, &t.output),
+            "the texture's inputs:fallback".to_owned(),
+        )
+    } else {
+        (default, format!("{input}'s default"))
+    };
+    let consequence = format!("material {material} uses {what} {on_failure} for {input}");
+    let failed = |file: &Path, message: &str, warnings: &mut Vec<String>| {
         if strict {
-            return Err(RenderError::Asset { file, message });
+            return Err(RenderError::Asset {
+                file: file.to_path_buf(),
+                message: message.to_owned(),
+            });
         }
-        let (value, what) = if t.fallback_authored {
-            (
-                pick_output(t.fallback, &t.output),
-                "the texture's inputs:fallback".to_owned(),
-            )
-        } else {
-            (default, format!("{input}'s default"))
-        };
-        warnings.push(format!(
-            "{}: {message}; material {material} uses {what} {value} for {input}",
-            file.display(),
-        ));
-        Ok(Param::Value(value))
+        warnings.push(format!("{}: {message}; {consequence}", file.display()));
+        Ok(Param::Value(on_failure))
     };
     let Some(path) = &file.resolved else {
         return failed(
-            PathBuf::from(&file.authored),
-            format!("texture of material {material} does not resolve to a file"),
+            Path::new(&file.authored),
+            &format!("texture of material {material} does not resolve to a file"),
             warnings,
         );
     };
-    let tex = match cache.get(path) {
-        Some(t) => t.clone(),
-        None => match crate::assets::load_texture(path) {
-            Ok(tex) => {
-                let tex = Arc::new(tex);
-                cache.insert(path.clone(), tex.clone());
-                tex
-            }
-            Err(e) => return failed(path.clone(), e.to_string(), warnings),
-        },
-    };
+    let tex = files.open(path);
+    if let Some(message) = tex.failure() {
+        return failed(path, message, warnings);
+    }
+    if !tex.is_decoded() {
+        files.pending.push((tex.clone(), consequence.clone()));
+    }
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -164,6 +224,7 @@ pub(super) fn texture_shader(
         .to_ascii_lowercase();
     Ok(Param::Texture(TextureShader {
         tex,
+        on_failure,
         transform: t.transform,
         scale: t.scale,
         bias: t.bias,
