@@ -94,3 +94,92 @@ fn rebuilt_preview_networks_flatten_as_the_authored_ones() {
         "{compared} compared, {textured} textured"
     );
 }
+
+/// A `UsdUVTexture`'s `wrapS` / `wrapT` tokens reach its `image` node as the MaterialX address
+/// modes they mean: `repeat` → `periodic`, `black` → `constant` (the texture's fallback
+/// outside the image, as on the USD side), `clamp` and `mirror` as they are, `useMetadata`
+/// (not written) the nodedef's `periodic`; none leaves a note. In code-built networks and in
+/// a stage's own.
+#[test]
+fn wrap_tokens_become_image_address_modes() {
+    use lux_usd::{AssetRef, Input, Material, TextureInput, Wrap};
+    let texture = |wrap: Wrap| TextureInput {
+        shader: "/M/Tex".to_owned(),
+        file: Some(AssetRef {
+            authored: "t.png".to_owned(),
+            resolved: None,
+        }),
+        st_primvar: "st".to_owned(),
+        st_fallback: glam::DVec2::ZERO,
+        transform: None,
+        scale: glam::DVec4::ONE,
+        bias: glam::DVec4::ZERO,
+        fallback: glam::DVec4::new(0.0, 0.0, 0.0, 1.0),
+        fallback_authored: false,
+        wrap_s: wrap,
+        wrap_t: wrap,
+        source_color_space: lux_usd::SourceColorSpace::Auto,
+        output: "rgb".to_owned(),
+    };
+    let modes = |g: &ShadingGraph| {
+        let image = g
+            .nodes
+            .iter()
+            .find(|n| n.category == "image")
+            .expect("an image node");
+        ["uaddressmode", "vaddressmode"].map(|name| match &image.input(name).unwrap().source {
+            Source::Value(Value::String(s)) => s.clone(),
+            s => panic!("{name}: {s:?}"),
+        })
+    };
+    for (wrap, want) in [
+        (Wrap::Repeat, "periodic"),
+        (Wrap::Black, "constant"),
+        (Wrap::Clamp, "clamp"),
+        (Wrap::Mirror, "mirror"),
+        (Wrap::UseMetadata, "periodic"),
+    ] {
+        let m = Material {
+            preview: true,
+            diffuse: Input::Texture(Box::new(texture(wrap))),
+            ..Material::new("/M")
+        };
+        let g = flatten(&m.preview_network());
+        assert_eq!(modes(&g), [want, want], "{wrap:?}");
+        assert!(
+            g.notes.iter().all(|n| !n.contains("addressmode")),
+            "{wrap:?}: {:?}",
+            g.notes
+        );
+        // The same token authored on a stage's UsdUVTexture.
+        let text = format!(
+            r#"#usda 1.0
+def Material "M" {{
+    token outputs:surface.connect = </M/S.outputs:surface>
+    def Shader "S" {{
+        uniform token info:id = "UsdPreviewSurface"
+        color3f inputs:diffuseColor.connect = </M/T.outputs:rgb>
+        token outputs:surface
+    }}
+    def Shader "T" {{
+        uniform token info:id = "UsdUVTexture"
+        asset inputs:file = @t.png@
+        token inputs:wrapS = "{0}"
+        token inputs:wrapT = "{0}"
+        float3 outputs:rgb
+    }}
+}}
+def Mesh "Q" (prepend apiSchemas = ["MaterialBindingAPI"]) {{
+    rel material:binding = </M>
+    int[] faceVertexCounts = [3]
+    int[] faceVertexIndices = [0, 1, 2]
+    point3f[] points = [(0, 0, 0), (1, 0, 0), (0, 1, 0)]
+}}
+"#,
+            wrap.token()
+        );
+        let s = lux_usd::load_usda_str(&text, lux_usd::Time::Start, &Default::default()).unwrap();
+        let g = s.materials[0].graph.as_deref().expect("the stage's graph");
+        assert_eq!(modes(g), [want, want], "{wrap:?} on a stage");
+    }
+}

@@ -19,7 +19,9 @@ use crate::mtlx::{Library, NodeDef, NodeGraphDef, library, nodedef_for_usd_id, z
 /// nodedef's (converted: a single number spread over every channel, else components dropped
 /// or zero-filled) and an input the nodedef does not declare each leave a note. A
 /// `UsdUVTexture`'s `sourceColorSpace` (`sRGB`, `raw`; `auto` leaves it unstated) becomes its
-/// file's colour space (`srgb_texture`, `raw`) when the file states none.
+/// file's colour space (`srgb_texture`, `raw`) when the file states none, and its `wrapS` /
+/// `wrapT` tokens the `image` address modes they mean (`repeat` is `periodic`, `black`
+/// `constant`, `useMetadata` `periodic`).
 pub fn flatten(network: &Network) -> ShadingGraph {
     let mut f = Flattener {
         lib: library(),
@@ -282,6 +284,11 @@ impl<'a> Flattener<'a> {
                                 d.ty.name()
                             ));
                             Src::Value(convert(v, d.ty))
+                        } else if def.category == "UsdUVTexture"
+                            && (d.name == "wrapS" || d.name == "wrapT")
+                            && let Value::String(token) = v
+                        {
+                            Src::Value(Value::String(wrap_address_mode(token).into()))
                         } else {
                             Src::Value(v.clone())
                         }
@@ -489,5 +496,20 @@ impl GraphScope<'_> {
     fn interface(&self, name: &str) -> Option<Src> {
         let k = self.def.inputs.iter().position(|i| i.name == name)?;
         Some(self.inputs[k].clone())
+    }
+}
+
+/// The MaterialX `image` address mode (`uaddressmode`, `vaddressmode`: `constant`, `clamp`,
+/// `periodic`, `mirror`) that a `UsdUVTexture` `wrapS` / `wrapT` token means, as the
+/// `IMP_UsdUVTexture` nodegraph passes it on: UsdPreviewSurface's `repeat` is `periodic`,
+/// `black` (the nodedef's first enum value) `constant` (the texture's `fallback` outside the
+/// image), `useMetadata` `periodic` (lux's readers carry no wrap metadata: `repeat`, as the
+/// USD-side inputs read it); `clamp`, `mirror` and the MaterialX names themselves stay. An
+/// unknown token stays too (the graph's compiler names it).
+fn wrap_address_mode(token: &str) -> &str {
+    match token {
+        "repeat" | "useMetadata" => "periodic",
+        "black" => "constant",
+        other => other,
     }
 }
