@@ -443,6 +443,7 @@ impl Materials {
         let mut ld = InputLoader {
             files: TextureFiles {
                 on_first_use: decoding == TextureDecoding::OnFirstUse && !strict,
+                strict,
                 ..TextureFiles::default()
             },
             graph_textures: graph::TextureCache::new(),
@@ -778,15 +779,6 @@ impl Materials {
         let (mut ns, ng) = self.normals(scene, hit, d);
         let shader = self.material_of(scene, hit);
         let at = self.lookup(scene, hit);
-        let albedo = match (self.mesh_reflectance[hit.mesh], shader) {
-            (Some(c), _) => c,
-            (None, Some(m)) => m.diffuse.eval(&at),
-            (None, None) => match &mesh.colors {
-                Some(c) => interp3(&c[hit.tri]),
-                None => DVec3::ONE,
-            },
-        };
-        let albedo = clamped_albedo(albedo);
         // Each branch builds the point in place.
         let point = |ns: DVec3, bsdf: Bsdf| SurfacePoint {
             p: hit.p,
@@ -826,10 +818,18 @@ impl Materials {
                 })),
             );
         }
+        // (a graph's material never reads its USD-side `diffuseColor`)
         let albedo = if self.no_response[hit.mesh] {
             DVec3::ZERO
         } else {
-            albedo
+            clamped_albedo(match (self.mesh_reflectance[hit.mesh], shader) {
+                (Some(c), _) => c,
+                (None, Some(m)) => m.diffuse.eval(&at),
+                (None, None) => match &mesh.colors {
+                    Some(c) => interp3(&c[hit.tri]),
+                    None => DVec3::ONE,
+                },
+            })
         };
         point(ns, Bsdf::Diffuse(DiffuseBsdf { albedo, ns }))
     }
@@ -1002,14 +1002,19 @@ impl InputLoader {
             .collect();
         // LTESpectralAPI: a spectral reflectance on the surface shader replaces diffuseColor
         // (one that lux-spectral refuses is a warning, and diffuseColor is used).
+        // A graph that shades the material reads its `diffuseColor` through its own image
+        // nodes: the USD-side input is then never looked up (its texture not decoded).
+        let (network, graph) = shading_graph(m, built);
+        let graph = graph.filter(|g| surfaces == SurfaceModel::Preview && g.surface.is_some());
+        let read = graph.is_none();
         let diffuse = match reflectance_albedo(path, &m.spectral, unit) {
             Ok(Some(c)) => Param::Value(c),
-            Ok(None) => self.colour(path, "diffuseColor", &m.diffuse, grey)?,
+            Ok(None) => self.colour(path, "diffuseColor", &m.diffuse, grey, read)?,
             Err(e) if self.strict => return Err(e),
             Err(e) => {
                 self.warnings
                     .push(format!("{e}; diffuseColor is used instead"));
-                self.colour(path, "diffuseColor", &m.diffuse, grey)?
+                self.colour(path, "diffuseColor", &m.diffuse, grey, read)?
             }
         };
         let emission = match (&m.emissive_primvar, m.emissive_texture.as_deref()) {
@@ -1021,10 +1026,7 @@ impl InputLoader {
         let primvars = self.primvars.clone();
         // A graph whose surface shader MaterialX does not define (a `PxrSurface`) has no
         // surface: such a material stays the default grey, as lux-usd warned.
-        let (network, graph) = shading_graph(m, built);
-        if surfaces == SurfaceModel::Preview
-            && let Some(g) = graph.filter(|g| g.surface.is_some())
-        {
+        if let Some(g) = graph {
             return self.graph_shader(m, g, network, diffuse, emission);
         }
         Ok(Shader {
@@ -1096,11 +1098,10 @@ impl InputLoader {
                 _ => None,
             };
             let opacity = graph.and(m.preview.then(|| m.opacity.texture()).flatten());
+            // (where a graph shades, it reads `diffuseColor` through its own image nodes)
+            let diffuse = m.diffuse.texture().filter(|_| graph.is_none());
             let emissive = m.emissive_texture.as_deref();
-            for t in [m.diffuse.texture(), opacity, emissive]
-                .into_iter()
-                .flatten()
-            {
+            for t in [diffuse, opacity, emissive].into_iter().flatten() {
                 if let Some(p) = t.file.as_ref().and_then(|f| f.resolved.as_ref())
                     && !self.files.on_first_use
                     && !self.files.files.contains_key(p)
@@ -1127,13 +1128,14 @@ impl InputLoader {
     }
 
     /// The texture `t` feeding input `name` of material `path` (its fallback, or `default`,
-    /// when the file cannot be read: [`texture_shader`]).
+    /// when the file cannot be read: [`texture_shader`]); `read`: whether a lookup reads it.
     fn shader(
         &mut self,
         path: &str,
         name: &str,
         default: DVec3,
         t: &TextureInput,
+        read: bool,
     ) -> Result<Param, RenderError> {
         texture_shader(
             path,
@@ -1141,22 +1143,23 @@ impl InputLoader {
             default,
             t,
             &mut self.files,
-            self.strict,
+            read,
             &mut self.warnings,
         )
     }
 
-    /// A colour input of material `path`.
+    /// A colour input of material `path`; `read`: whether a lookup reads it.
     fn colour(
         &mut self,
         path: &str,
         name: &str,
         input: &Input<DVec3>,
         default: DVec3,
+        read: bool,
     ) -> Result<Param, RenderError> {
         match input {
             Input::Value(v) => Ok(Param::Value(*v)),
-            Input::Texture(t) => self.shader(path, name, default, t),
+            Input::Texture(t) => self.shader(path, name, default, t, read),
             Input::Primvar(p) => Ok(self.primvar(p)),
         }
     }
@@ -1183,7 +1186,7 @@ impl InputLoader {
     ) -> Result<Param, RenderError> {
         match input {
             Input::Value(v) => Ok(Param::Value(DVec3::splat(*v))),
-            Input::Texture(t) => self.shader(path, name, DVec3::splat(default), t),
+            Input::Texture(t) => self.shader(path, name, DVec3::splat(default), t, true),
             Input::Primvar(p) => Ok(self.primvar(p)),
         }
     }
@@ -1199,7 +1202,10 @@ impl InputLoader {
         t: Option<&TextureInput>,
     ) -> Result<Option<TextureShader>, RenderError> {
         Ok(
-            match t.map(|t| self.shader(path, name, default, t)).transpose()? {
+            match t
+                .map(|t| self.shader(path, name, default, t, true))
+                .transpose()?
+            {
                 Some(Param::Texture(s)) => Some(s),
                 _ => None,
             },
@@ -1436,9 +1442,43 @@ def Mesh "T" (prepend apiSchemas = ["MaterialBindingAPI"]) {{
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// Where its graph shades a UsdPreviewSurface (the UsdPreviewSurface model), the graph's
+    /// own image node reads `diffuseColor`: the USD-side input's file is opened (its header
+    /// checked) but never decoded, even when textures are decoded up front; with Lambertian
+    /// surfaces the same input is decoded up front and read.
+    #[test]
+    fn a_diffuse_texture_its_graph_reads_is_not_decoded_twice() {
+        let dir = std::env::temp_dir().join(format!("lux_graph_reads_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("albedo.png");
+        image::RgbImage::from_pixel(2, 2, image::Rgb([200, 120, 40]))
+            .save(&file)
+            .unwrap();
+        let mut s = Scene::empty("code.usda");
+        s.materials.push(Material {
+            preview: true,
+            diffuse: Input::Texture(texture_input(Some(&file))),
+            ..Material::new("/M")
+        });
+        for (surfaces, decoded) in [
+            (SurfaceModel::Preview, false),
+            (SurfaceModel::Lambert, true),
+        ] {
+            let m = Materials::prepare(&s, false, surfaces, TextureDecoding::UpFront).unwrap();
+            assert!(m.warnings.is_empty(), "{:?}", m.warnings);
+            assert_eq!(m.materials[0].graph.is_some(), !decoded, "{surfaces:?}");
+            match &m.materials[0].diffuse {
+                Param::Texture(t) => assert_eq!(t.file().is_decoded(), decoded, "{surfaces:?}"),
+                p => panic!("{surfaces:?}: {p:?}"),
+            }
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     /// What preparing a UsdPreviewSurface reads is decoded ahead: its `diffuseColor` texture
-    /// with either surface model, its `opacity` texture only where its graph shades it (the
-    /// UsdPreviewSurface model); a file that cannot be read keeps its error.
+    /// where no graph shades it (Lambertian surfaces; a graph reads it through its own image
+    /// nodes), its `opacity` texture only where its graph shades it (the UsdPreviewSurface
+    /// model); a file that cannot be read keeps its error.
     #[test]
     fn prefetch_decodes_the_textures_the_materials_read() {
         let dir = std::env::temp_dir().join(format!("lux_prefetch_m_{}", std::process::id()));
@@ -1463,7 +1503,7 @@ def Mesh "T" (prepend apiSchemas = ["MaterialBindingAPI"]) {{
         });
         for (surfaces, want) in [
             (SurfaceModel::Lambert, vec![&white]),
-            (SurfaceModel::Preview, vec![&white, &grey]),
+            (SurfaceModel::Preview, vec![&grey]),
         ] {
             let mut ld = InputLoader {
                 files: TextureFiles::default(),

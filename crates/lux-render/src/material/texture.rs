@@ -4,7 +4,7 @@
 
 use super::Param;
 use crate::RenderError;
-use crate::assets::{TextureFile, load_texture, probe_texture};
+use crate::assets::{TextureFile, probe_texture};
 use crate::image_io::linear_to_srgb;
 use glam::{DVec2, DVec3, DVec4};
 use lux_usd::{SourceColorSpace, TextureInput, Transform2d};
@@ -127,31 +127,35 @@ pub(super) struct TextureFiles {
     pub(super) files: HashMap<PathBuf, Arc<TextureFile>>,
     /// Decode a file when a lookup first needs it ([`TextureFile::get`]) rather than now.
     pub(super) on_first_use: bool,
+    /// A file that cannot be read is an error rather than its fallback with a warning.
+    pub(super) strict: bool,
     /// Each use of a file not yet decoded, with what its failure would mean ("material M
     /// uses … for input"): the warnings of files that fail when first read.
     pub(super) pending: Vec<(Arc<TextureFile>, String)>,
 }
 
 impl TextureFiles {
-    /// The file at resolved `path`, opened once: decoded now, or (on first use) its header
-    /// checked now and its texels decoded when first read.
-    fn open(&mut self, path: &Path) -> Arc<TextureFile> {
-        let lazy = self.on_first_use;
-        self.files
+    /// The file at resolved `path`, opened once (its header checked), and decoded now unless
+    /// files are decoded on first use or `read` is false (an input no lookup reads: a
+    /// UsdPreviewSurface's USD-side `diffuseColor` where its graph shades, whose own image
+    /// nodes read the file).
+    fn open(&mut self, path: &Path, read: bool) -> Arc<TextureFile> {
+        let tex = self
+            .files
             .entry(path.to_path_buf())
             .or_insert_with(|| {
                 let path = path.to_path_buf();
-                Arc::new(if !lazy {
-                    let decoded = load_texture(&path).map_err(|e| e.to_string());
-                    TextureFile::decoded(path, decoded)
-                } else {
-                    match probe_texture(&path) {
-                        Ok(()) => TextureFile::lazy(path),
-                        Err(e) => TextureFile::decoded(path, Err(e.to_string())),
-                    }
+                Arc::new(match probe_texture(&path) {
+                    Ok(()) => TextureFile::lazy(path),
+                    Err(e) => TextureFile::decoded(path, Err(e.to_string())),
                 })
             })
-            .clone()
+            .clone();
+        if read && !self.on_first_use {
+            // (what `InputLoader::prefetch` decoded already, or decoded here)
+            tex.get();
+        }
+        tex
     }
 
     /// The warnings of the files that failed when first read during a render: the same
@@ -167,18 +171,19 @@ impl TextureFiles {
 /// The input `input` of a material fed by a `UsdUVTexture`. A texture file that does not
 /// resolve or cannot be read (missing, a format lux does not decode such as RenderMan `.tex`,
 /// corrupt) is replaced, with a warning naming the material and the file (an error when
-/// `strict`), by the texture's `inputs:fallback` when authored, else by the input's own
+/// [`TextureFiles::strict`]), by the texture's `inputs:fallback` when authored, else by the input's own
 /// default `default` (0.18 grey for `diffuseColor`): the surface stays visible and lit, where
 /// the schema default (0, 0, 0, 1) would paint it black. A file decoded on first use whose
 /// data then turns out corrupt gives the same value, its warning after the render
-/// ([`TextureFiles::late_warnings`]).
+/// ([`TextureFiles::late_warnings`]). `read`: whether a lookup reads the input at all
+/// ([`TextureFiles::open`]).
 pub(super) fn texture_shader(
     material: &str,
     input: &str,
     default: DVec3,
     t: &TextureInput,
     files: &mut TextureFiles,
-    strict: bool,
+    read: bool,
     warnings: &mut Vec<String>,
 ) -> Result<Param, RenderError> {
     let Some(file) = &t.file else {
@@ -193,6 +198,7 @@ pub(super) fn texture_shader(
         (default, format!("{input}'s default"))
     };
     let consequence = format!("material {material} uses {what} {on_failure} for {input}");
+    let strict = files.strict;
     let failed = |file: &Path, message: &str, warnings: &mut Vec<String>| {
         if strict {
             return Err(RenderError::Asset {
@@ -210,7 +216,7 @@ pub(super) fn texture_shader(
             warnings,
         );
     };
-    let tex = files.open(path);
+    let tex = files.open(path, read);
     if let Some(message) = tex.failure() {
         return failed(path, message, warnings);
     }
