@@ -15,7 +15,7 @@ use crate::sampler::MAX_SPP;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum NoiseMeasure {
     /// `σ / √max(μ, μ_min)`: the spread `σ` of the luminances of the samples of the 8
-    /// neighbours (24 from one sample a pixel: [`AdaptiveSampling::reach`]), pooled (pixel noise and edges across the neighbourhood alike), relative to
+    /// neighbours, pooled (pixel noise and edges across the neighbourhood alike), relative to
     /// the square root of their mean `μ` — noise in a square-root (gamma 2) encoding, about as
     /// the eye sees it (the measure of Blender Cycles' adaptive sampling); it antialiases
     /// edges. The direct integrator's default.
@@ -120,16 +120,10 @@ impl AdaptiveSampling {
         self.max_factor > 1
     }
 
-    /// How far a pixel's neighbours reach, in pixels across and down, when each took `spp`
-    /// first samples: by the perceived measure the 3 × 3 block (reach 1), or the 5 × 5 one
-    /// (reach 2) from one sample a pixel, so that the spread is pooled from at least 16
-    /// samples (24 rather than 8: the relative error of a variance from `m` samples is
-    /// √(2/(m − 1)), 53 % from 8, 29 % from 24); 3 (7 × 7) by the linear measure. At one sample
-    /// a pixel the 5 × 5 block cut the time × squared error of direct renders by 12–42 %
-    /// (clutter scenes, the StandardShaderBall, the luxtest sphere; BENCHMARKS.md, issue 39).
-    pub fn reach(&self, spp: u32) -> usize {
+    /// How far a pixel's neighbours reach, in pixels across and down: 1 (the 3 × 3 block) by
+    /// the perceived measure, 3 (7 × 7) by the linear one.
+    pub fn reach(&self) -> usize {
         match self.measure {
-            NoiseMeasure::Perceived if spp < 2 => 2,
             NoiseMeasure::Perceived => 1,
             NoiseMeasure::Linear => 3,
         }
@@ -183,7 +177,7 @@ impl AdaptiveSampling {
         [i, j]: [usize; 2],
         frame_mean: f64,
     ) -> u32 {
-        let nb = neighbours(first, [w, h], [i, j], self.reach(spp));
+        let nb = neighbours(first, [w, h], [i, j], self.reach());
         let m = nb.count * spp;
         if m < 2 {
             return spp;
@@ -248,12 +242,12 @@ impl AdaptiveSampling {
         {
             return plain;
         }
-        let nb = neighbours(first, [w, h], [i, j], self.reach(spp));
+        let nb = neighbours(first, [w, h], [i, j], self.reach());
         let count = nb.count as f64;
         let s = spp as f64;
         let v = linear_variance(&nb, spp);
         let mut sum = [0.0f64; 3];
-        for c in block([w, h], [i, j], self.reach(spp)) {
+        for c in block([w, h], [i, j], self.reach()) {
             for (a, b) in sum.iter_mut().zip(splits[c]) {
                 *a += b as f64;
             }
@@ -549,43 +543,6 @@ mod tests {
         assert_eq!(a.samples_at(4, &first[..1], [1, 1], [0, 0], 0.0), 4);
     }
 
-    /// From one sample a pixel the perceived measure pools the 5 × 5 block (24 samples), from
-    /// two the 3 × 3 one: on a 5 × 5 grid of one-sample cells (value 0.5, E[Y²] = 0.25) whose
-    /// border ring holds 1.0 (E[Y²] = 1), the centre's count sees the ring at one sample a pixel
-    /// (μ = 20/24, σ² = (18/24 − (20/24)²)·24/23) and not at two (8 quiet cells: spp).
-    #[test]
-    fn one_sample_a_pixel_pools_the_five_by_five_block() {
-        let a = AdaptiveSampling {
-            threshold: 0.1,
-            max_factor: 16,
-            measure: NoiseMeasure::Perceived,
-            max_splits: 1,
-        };
-        assert_eq!((a.reach(1), a.reach(2), a.reach(16)), (2, 1, 1));
-        let first: Vec<Luma> = (0..25)
-            .map(|c| {
-                let (i, j) = (c % 5, c / 5);
-                if i == 0 || j == 0 || i == 4 || j == 4 {
-                    [1.0, 1.0]
-                } else {
-                    [0.5, 0.25]
-                }
-            })
-            .collect();
-        let (mean, sq) = (20.0 / 24.0, 18.0 / 24.0);
-        let var = (sq - mean * mean) * 24.0 / 23.0;
-        let want = a.samples(1, 24, mean, var);
-        assert!(want > 1, "{want}");
-        assert_eq!(a.samples_at(1, &first, [5, 5], [2, 2], 0.0), want);
-        assert_eq!(a.samples_at(2, &first, [5, 5], [2, 2], 0.0), 2);
-        // (linear: 7 × 7 at any count)
-        let lin = AdaptiveSampling {
-            measure: NoiseMeasure::Linear,
-            ..a
-        };
-        assert_eq!((lin.reach(1), lin.reach(4)), (3, 3));
-    }
-
     /// `best_splits` against the products written out: `(v_a + v_c/k)·(c_a + k·c_c)` with
     /// `v_a` = 1, `v_c` = 16, `c_a` = `c_c` = 1 is 27, 25, 27 at k = 2, 4, 8 (the continuous
     /// optimum √16 = 4).
@@ -681,7 +638,7 @@ mod tests {
             measure: NoiseMeasure::Linear,
             max_splits: 1,
         };
-        assert_eq!(a.reach(1), 3);
+        assert_eq!(a.reach(), 3);
         // 7 × 7 cells; the left half dark (E[Y] = 0.1, E[Y²] = 0.02: variance 0.01), the right
         // bright (E[Y] = 2, E[Y²] = 4.09: variance 0.09), 4 samples each.
         let (w, h) = (7usize, 7usize);

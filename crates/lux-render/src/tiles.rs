@@ -372,7 +372,7 @@ impl Frame {
         // take their first-pass means, which the second pass updates where it adds samples;
         // every row's luminances go to `luma`, the penumbra factors (when the pilot can run)
         // to `factors`.
-        let reach = adaptive.reach(self.spp) as u32;
+        let reach = adaptive.reach() as u32;
         let hy0 = y0.saturating_sub(reach).max(self.frame_rows[0]).min(y0);
         let hy1 = (y1 + reach).min(self.frame_rows[1]).max(y1);
         let rows = (hy1 - hy0) as usize;
