@@ -95,8 +95,15 @@ fn extra_samples_go_to_the_edge_only() {
     assert_eq!(px(&adaptive, 28, 4), [0.0; 4]);
 }
 
+/// From 2 first samples and from 1.
 #[test]
 fn the_edge_column_is_unbiased_and_sharper() {
+    for spp in [2, 1] {
+        the_edge_column_is_unbiased_and_sharper_from(spp);
+    }
+}
+
+fn the_edge_column_is_unbiased_and_sharper_from(spp: u32) {
     let scene = edge_scene();
     // The lit floor's colour, from the fully covered column 8 (every sample sees it).
     let (reference, _) = render(&scene, opts(4, 99, AdaptiveSampling::OFF));
@@ -105,8 +112,8 @@ fn the_edge_column_is_unbiased_and_sharper() {
     let cover = EDGE - EDGE.floor();
     let (mut sum_a, mut sum_r, mut sq, mut sq_uniform, mut n) = (0.0, 0.0, 0.0, 0.0, 0.0);
     for seed in 0..16 {
-        let (img, _) = render(&scene, opts(2, seed, AdaptiveSampling::DEFAULT));
-        let (uni, _) = render(&scene, opts(2, seed, AdaptiveSampling::OFF));
+        let (img, _) = render(&scene, opts(spp, seed, AdaptiveSampling::DEFAULT));
+        let (uni, _) = render(&scene, opts(spp, seed, AdaptiveSampling::OFF));
         for y in 0..N {
             let p = px(&img, 16, y);
             sum_a += p[3] as f64;
@@ -123,28 +130,34 @@ fn the_edge_column_is_unbiased_and_sharper() {
     let se = rms / n.sqrt();
     assert!(
         (mean_a - cover).abs() <= 4.0 * se + 1e-6,
-        "alpha {mean_a} vs {cover} (se {se})"
+        "spp {spp}: alpha {mean_a} vs {cover} (se {se})"
     );
     assert!(
         (mean_r - cover).abs() <= 4.0 * se + 1e-4,
-        "colour {mean_r} vs {cover} (se {se})"
+        "spp {spp}: colour {mean_r} vs {cover} (se {se})"
     );
-    // With 2 stratified samples the coverage error is up to 1/2; with the edge's 32 it is
-    // about 16 × smaller. Require 4 ×.
+    // With 2 stratified samples the coverage error is up to 1/2 (with 1, 0.3 or 0.7); with
+    // the edge's 16 × spp it is about 16 × smaller. Require 4 ×.
     let rms_uniform = (sq_uniform / n).sqrt();
     assert!(
         rms * 4.0 < rms_uniform,
-        "rms {rms} vs uniform {rms_uniform}"
+        "spp {spp}: rms {rms} vs uniform {rms_uniform}"
     );
 }
 
 /// Bands of rows and a single thread give the whole frame's bits: by the perceived measure
-/// (3 × 3 neighbours) on the luxtest sphere, and by the linear one (7 × 7 neighbours and the
-/// frame pilot) with adaptive splitting on the path-traced Cornell box and sphere.
+/// (3 × 3 neighbours, from 2 samples and from 1) on the luxtest sphere, and by the linear
+/// one (7 × 7 neighbours and the frame pilot) with adaptive splitting on the path-traced
+/// Cornell box and sphere.
 #[test]
 fn bands_and_threads_give_the_bits_of_the_whole_frame() {
     let sphere = {
         let mut o = options(Profile::HdEmbree, 2, [48, 48]);
+        o.adaptive = Some(AdaptiveSampling::DEFAULT);
+        (load_sphere(), o)
+    };
+    let sphere1 = {
+        let mut o = options(Profile::HdEmbree, 1, [48, 48]);
         o.adaptive = Some(AdaptiveSampling::DEFAULT);
         (load_sphere(), o)
     };
@@ -163,7 +176,7 @@ fn bands_and_threads_give_the_bits_of_the_whole_frame() {
         o.seed = 3;
         (load_sphere(), o)
     };
-    for (scene, o) in [sphere, cornell, sphere_path] {
+    for (scene, o) in [sphere, sphere1, cornell, sphere_path] {
         let [w, h] = o.resolution.unwrap();
         let whole = Renderer::new(&scene, o.clone()).unwrap();
         let (full, st) = whole.render(&|_| {});
