@@ -107,16 +107,20 @@ impl TextureFile {
 fn decode_apart(path: &Path) -> Result<Texture, String> {
     let threads = rayon::current_num_threads();
     std::thread::scope(|s| {
-        s.spawn(|| {
+        let decode = || {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
                 .map_err(|e| format!("cannot start threads to decode it: {e}"))?;
             pool.install(|| load_texture(path))
                 .map_err(|e| e.to_string())
-        })
-        .join()
-        .unwrap_or_else(|_| Err("the decoding thread panicked".to_owned()))
+        };
+        match std::thread::Builder::new().spawn_scoped(s, decode) {
+            Ok(thread) => thread
+                .join()
+                .unwrap_or_else(|_| Err("the decoding thread panicked".to_owned())),
+            Err(e) => Err(format!("cannot start a thread to decode it: {e}")),
+        }
     })
 }
 
