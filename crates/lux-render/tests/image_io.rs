@@ -571,6 +571,46 @@ fn exr_without_rgb_is_an_error() {
     assert!(matches!(err, ImageError::Decode { .. }), "{err}");
     assert_names(&err, &path);
     assert!(err.to_string().contains("R, G and B"), "{err}");
+    // The header alone tells: probing refuses it too.
+    let err = Texture::probe(&path).unwrap_err();
+    assert!(matches!(err, ImageError::Decode { .. }), "{err}");
+    assert!(err.to_string().contains("R, G and B"), "{err}");
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `Texture::probe` refuses from the header what `Texture::load` refuses before it decodes
+/// (unsupported formats, garbage, a PNG or EXR whose header is cut short), and passes a file
+/// whose header is whole: a good one, and one cut short inside its image data, which only
+/// decoding finds.
+#[test]
+fn probing_checks_the_header_alone() {
+    let dir = scratch("probe");
+    let good = dir.join("good.png");
+    image::RgbImage::from_pixel(3, 2, image::Rgb([10, 20, 30]))
+        .save(&good)
+        .unwrap();
+    let bytes = fs::read(&good).unwrap();
+    let idat = bytes.windows(4).position(|w| w == b"IDAT").unwrap();
+    let cut_data = dir.join("cut_data.png");
+    fs::write(&cut_data, &bytes[..idat + 6]).unwrap();
+    let cut_header = dir.join("cut_header.png");
+    fs::write(&cut_header, &bytes[..20]).unwrap();
+    let garbage = dir.join("garbage.exr");
+    fs::write(&garbage, b"not an image at all").unwrap();
+    let other = dir.join("texture.tex");
+    fs::write(&other, &bytes).unwrap();
+    assert!(Texture::probe(&good).is_ok() && Texture::load(&good).is_ok());
+    assert!(Texture::probe(&cut_data).is_ok());
+    assert!(Texture::load(&cut_data).is_err());
+    for p in [&cut_header, &garbage, &other, &dir.join("missing.png")] {
+        let (probe, load) = (Texture::probe(p), Texture::load(p));
+        assert!(probe.is_err() && load.is_err(), "{}", p.display());
+        assert_names(&probe.unwrap_err(), p);
+    }
+    assert!(matches!(
+        Texture::probe(&other),
+        Err(ImageError::UnsupportedFormat { .. })
+    ));
     fs::remove_dir_all(&dir).unwrap();
 }
 

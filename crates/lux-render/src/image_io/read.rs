@@ -106,14 +106,29 @@ pub(crate) fn load_texels(src: Source<'_>) -> Result<Decoded, ImageError> {
 }
 
 /// Checks what [`load_texels`] checks before it decodes `src`: a format lux decodes (by
-/// extension), a header that parses, dimensions within the limits. Reads the header only: the
-/// pixel data may still turn out corrupt when decoded.
+/// extension), a header that parses, dimensions within the limits (and, for OpenEXR, a layer
+/// with R, G and B channels). Reads the header only: the pixel data may still turn out corrupt
+/// when decoded.
 pub(crate) fn probe_texels(src: Source<'_>) -> Result<(), ImageError> {
     let path = src.path;
     match format_of(path)? {
         Format::Exr => guarded(path, EXPECTED_EXR, || {
             let mut file = src.open().map_err(|e| io_read_error(path, e))?;
-            exr_header(path, &mut file).map(drop)
+            let meta = exr_header(path, &mut file)?;
+            // (the layer the readers take: the first with R, G and B)
+            let rgb = |h: &exr::meta::header::Header| {
+                ["R", "G", "B"]
+                    .iter()
+                    .all(|n| h.channels.list.iter().any(|c| c.name.eq(n)))
+            };
+            if !meta.headers.iter().any(rgb) {
+                return Err(ImageError::Decode {
+                    path: path.to_path_buf(),
+                    expected: EXPECTED_EXR,
+                    message: "no layer holds R, G and B channels".to_string(),
+                });
+            }
+            Ok(())
         }),
         Format::Image(format, expected) => {
             guarded(path, expected, || image_header(src, format, expected))
