@@ -578,10 +578,10 @@ fn exr_without_rgb_is_an_error() {
     fs::remove_dir_all(&dir).unwrap();
 }
 
-/// `Texture::probe` refuses from the header what `Texture::load` refuses before it decodes
-/// (unsupported formats, garbage, a PNG or EXR whose header is cut short), and passes a file
-/// whose header is whole: a good one, and one cut short inside its image data, which only
-/// decoding finds.
+/// `Texture::probe` refuses from the header what `Texture::load` refuses before it decodes (a
+/// PNG whose header is cut short, garbage named `.exr`, a format lux does not read, a missing
+/// file), and passes a file whose header is whole: a good one, and one cut short inside its
+/// image data, which only decoding finds.
 #[test]
 fn probing_checks_the_header_alone() {
     let dir = scratch("probe");
