@@ -448,7 +448,6 @@ impl Materials {
             },
             graph_textures: graph::TextureCache::new(),
             warnings: Vec::new(),
-            strict,
             primvars: Vec::new(),
         };
         // The graphs of UsdPreviewSurfaces built in code, once per material; then every
@@ -1010,7 +1009,7 @@ impl InputLoader {
         let diffuse = match reflectance_albedo(path, &m.spectral, unit) {
             Ok(Some(c)) => Param::Value(c),
             Ok(None) => self.colour(path, "diffuseColor", &m.diffuse, grey, read)?,
-            Err(e) if self.strict => return Err(e),
+            Err(e) if self.files.strict => return Err(e),
             Err(e) => {
                 self.warnings
                     .push(format!("{e}; diffuseColor is used instead"));
@@ -1070,12 +1069,12 @@ fn shading_graph<'a>(
 
 /// Prepares material inputs, reading each texture file once.
 struct InputLoader {
-    /// The `UsdUVTexture` files.
+    /// The `UsdUVTexture` files, and whether an unreadable input is an error
+    /// ([`TextureFiles::strict`]).
     files: TextureFiles,
     /// The textures of MaterialX graphs (per file and colour space).
     graph_textures: graph::TextureCache,
     warnings: Vec<String>,
-    strict: bool,
     /// The primvars of the material being prepared, by slot (name, fallback).
     primvars: Vec<(String, DVec4)>,
 }
@@ -1509,7 +1508,6 @@ def Mesh "T" (prepend apiSchemas = ["MaterialBindingAPI"]) {{
                 files: TextureFiles::default(),
                 graph_textures: graph::TextureCache::new(),
                 warnings: Vec::new(),
-                strict: false,
                 primvars: Vec::new(),
             };
             let built: Vec<_> = s

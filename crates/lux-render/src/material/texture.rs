@@ -129,8 +129,8 @@ pub(super) struct TextureFiles {
     pub(super) on_first_use: bool,
     /// A file that cannot be read is an error rather than its fallback with a warning.
     pub(super) strict: bool,
-    /// Each use of a file not yet decoded, with what its failure would mean ("material M
-    /// uses … for input"): the warnings of files that fail when first read.
+    /// Each use a lookup reads of a file not yet decoded, with what its failure would mean
+    /// ("material M uses … for input"): the warnings of files that fail when first read.
     pub(super) pending: Vec<(Arc<TextureFile>, String)>,
 }
 
@@ -171,9 +171,9 @@ impl TextureFiles {
 /// The input `input` of a material fed by a `UsdUVTexture`. A texture file that does not
 /// resolve or cannot be read (missing, a format lux does not decode such as RenderMan `.tex`,
 /// corrupt) is replaced, with a warning naming the material and the file (an error when
-/// [`TextureFiles::strict`]), by the texture's `inputs:fallback` when authored, else by the input's own
-/// default `default` (0.18 grey for `diffuseColor`): the surface stays visible and lit, where
-/// the schema default (0, 0, 0, 1) would paint it black. A file decoded on first use whose
+/// [`TextureFiles::strict`]), by the texture's `inputs:fallback` when authored, else by the
+/// input's own default `default` (0.18 grey for `diffuseColor`): the surface stays visible and
+/// lit, where the schema default (0, 0, 0, 1) would paint it black. A file decoded on first use whose
 /// data then turns out corrupt gives the same value, its warning after the render
 /// ([`TextureFiles::late_warnings`]). `read`: whether a lookup reads the input at all
 /// ([`TextureFiles::open`]).
@@ -220,7 +220,7 @@ pub(super) fn texture_shader(
     if let Some(message) = tex.failure() {
         return failed(path, message, warnings);
     }
-    if !tex.is_decoded() {
+    if read && !tex.is_decoded() {
         files.pending.push((tex.clone(), consequence.clone()));
     }
     let ext = path
