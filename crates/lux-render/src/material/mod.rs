@@ -1488,16 +1488,15 @@ def Mesh "T" (prepend apiSchemas = ["MaterialBindingAPI"]) {{
                 .save(path)
                 .unwrap();
         }
-        let tex = texture_input;
         let mut s = Scene::empty("code.usda");
         s.materials.push(Material {
             preview: true,
-            diffuse: Input::Texture(tex(Some(&white))),
-            opacity: Input::Texture(tex(Some(&grey))),
+            diffuse: Input::Texture(texture_input(Some(&white))),
+            opacity: Input::Texture(texture_input(Some(&grey))),
             ..Material::new("/M")
         });
         s.materials.push(Material {
-            diffuse: Input::Texture(tex(Some(&dir.join("gone.png")))),
+            diffuse: Input::Texture(texture_input(Some(&dir.join("gone.png")))),
             ..Material::new("/N")
         });
         for (surfaces, want) in [
