@@ -10,15 +10,14 @@ Renders a stage N times (seeds 1..N) with every pixel at `--spp S` (`--no-adapti
   floor of m first samples), for σ̂ the pixel's own σ (what no rule can know before sampling
   the pixel), its 8 neighbours' σ pooled (what a rule that reads only neighbours can know at
   best: lux's adaptive sampling keeps pixels unbiased so), or a 3 × 3, 5 × 5, 7 × 7 block's.
-- **Light samples per pixel** (`--high K`, rendered with `--light-samples 1` and `K`): the
-  variance split into the footprint's F (what is left with K light samples per light) and
-  the lights' V (the rest, per light sample), and what choosing each pixel's light samples
-  per light k ∈ {1, 2, 3, 4, 6, 8} with perfect knowledge would gain, cost per sample
-  `a + b·k` fitted from the two renders' times: Σ√((F + V/k)·cost(k)) against k = 1.
+- **Light samples a light per pixel** (`--light-samples 1,2,4,8`): the same for each count of
+  light samples a light (`--light-samples K`, its own variance and render time), with σ known from
+  the 8 neighbours and each sample at its count's cost, then with each pixel taking the count whose
+  neighbours' variance × cost is least.
 
 The figures are per-pixel oracles: an upper bound on what any rule of that kind reaches.
 
-    $PY tools/race/bound.py tools/race/shader_ball.usda 3 --lux target/release/lux --target 0.00645 --high 64
+    $PY tools/race/bound.py tools/race/shader_ball.usda 3 --lux target/release/lux --target 0.00645 --light-samples 1,2,4,8
 """
 import argparse, os, re, subprocess, sys, tempfile
 import numpy as np
@@ -43,18 +42,21 @@ def renders(a, extra, tmp, tag):
     return v, sum(secs) / len(secs)
 
 
-def samples_needed(v, sig, floor, mse):
-    """Mean of n = max(floor, c·sig) over the pixels for the c at which mean(v/n) = mse."""
-    sig = np.maximum(sig, 1e-30)
+def samples_needed(v, est, floor, mse, cost=None):
+    """(mean n, mean n·cost) over the pixels for n = max(floor, c·√(est/cost)) at the c where
+    mean(v/n) = mse: the allocation that minimises the time for the summed squared error when a
+    pixel's samples have variance v and cost `cost` each (1: samples a pixel)."""
+    cost = np.ones_like(v) if cost is None else cost
+    s = np.sqrt(np.maximum(est, 1e-30) / cost)
     lo, hi = 1e-6, 1e12
     for _ in range(200):
         c = (lo * hi) ** 0.5
-        n = np.maximum(floor, c * sig) if floor > 0 else c * sig
+        n = np.maximum(floor, c * s) if floor > 0 else c * s
         if (v / n).mean() > mse:
             lo = c
         else:
             hi = c
-    return n.mean()
+    return n.mean(), (n * cost).mean()
 
 
 def box(x, w, centre=True):
@@ -80,36 +82,38 @@ def main():
     ap.add_argument("--target", type=float, required=True, help="RMSE to reach (e.g. Mitsuba's at 64 spp)")
     ap.add_argument("--seeds", type=int, default=12)
     ap.add_argument("--spp", type=int, default=4)
-    ap.add_argument("--high", type=int, default=0, help="also split footprint and light variance with K light samples")
+    ap.add_argument("--light-samples", default="", help="counts of light samples a light to compare, e.g. 1,2,4,8")
     a = ap.parse_args()
     mse = a.target ** 2
     with tempfile.TemporaryDirectory() as tmp:
-        v, t1 = renders(a, ["--light-samples", "1"] if a.high else [], tmp, "k1")
+        v, t1 = renders(a, [], tmp, "default")
         print(f"variance of one sample: {v.mean():.4e} (mean over pixels; {a.seeds} seeds at {a.spp} spp, "
               f"{t1:.3f} s a render)")
         print("| σ known from | samples a pixel, floor 1 | floor 2 | no floor |\n|---|---|---|---|")
         rows = [("the pixel itself", v), ("its 8 neighbours", box(v, 3, centre=False)),
                 ("3 × 3 block", box(v, 3)), ("5 × 5 block", box(v, 5)), ("7 × 7 block", box(v, 7))]
         for name, est in rows:
-            s = np.sqrt(est)
-            print(f"| {name} | {samples_needed(v, s, 1, mse):.2f} | {samples_needed(v, s, 2, mse):.2f} | "
-                  f"{samples_needed(v, s, 0, mse):.2f} |")
-        if a.high:
-            vh, th = renders(a, ["--light-samples", str(a.high)], tmp, "kh")
-            f = vh
-            vl = np.maximum(v - f, 0) * a.high / (a.high - 1)
-            b = (th - t1) / (a.high - 1)
-            c0 = t1 - b
-            print(f"footprint F {f.mean():.4e}, lights V {vl.mean():.4e} (one light sample per light); "
-                  f"cost a + b·k with a = {c0:.4f} s, b = {b:.4f} s a render")
-            base = np.sqrt((f + vl) * (c0 + b)).mean() ** 2
-            ks = [1, 2, 3, 4, 6, 8]
-            eff = np.stack([np.sqrt((f + vl / k) * (c0 + b * k)) for k in ks])
-            best = eff.min(0).mean() ** 2
-            pick = np.array(ks)[eff.argmin(0)]
-            share = ", ".join(f"k={k} {100 * (pick == k).mean():.0f} %" for k in ks)
-            print(f"light samples per pixel, each pixel's best k: time × squared error {best / base:.3f} "
-                  f"of k = 1 ({share})")
+            print(f"| {name} | {samples_needed(v, est, 1, mse)[0]:.2f} | {samples_needed(v, est, 2, mse)[0]:.2f} | "
+                  f"{samples_needed(v, est, 0, mse)[0]:.2f} |")
+        if a.light_samples:
+            ks = [int(k) for k in a.light_samples.split(",")]
+            print("| light samples a light | variance of one sample | render s | samples a pixel | "
+                  "render s at the target |\n|---|---|---|---|---|")
+            vs, cs = [], []
+            for k in ks:
+                vk, tk = renders(a, ["--light-samples", str(k)], tmp, f"k{k}")
+                cost = np.full_like(vk, tk / a.spp)  # seconds of one sample in every pixel
+                n, t = samples_needed(vk, box(vk, 3, centre=False), 1, mse, cost)
+                print(f"| {k} | {vk.mean():.4e} | {tk:.3f} | {n:.2f} | {t:.3f} |")
+                vs.append(vk)
+                cs.append(cost)
+            pick = np.stack([box(vk, 3, centre=False) * c for vk, c in zip(vs, cs)]).argmin(0)
+            v_p, c_p = np.choose(pick, vs), np.choose(pick, cs)
+            est = np.choose(pick, [box(vk, 3, centre=False) for vk in vs])
+            n, t = samples_needed(v_p, est, 1, mse, c_p)
+            share = ", ".join(f"{k}: {100 * (pick == i).mean():.0f} %" for i, k in enumerate(ks))
+            print(f"each pixel's count by its neighbours ({share}): {n:.2f} samples a pixel, "
+                  f"render {t:.3f} s at the target")
 
 
 if __name__ == "__main__":
