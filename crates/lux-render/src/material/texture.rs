@@ -173,8 +173,8 @@ impl TextureFiles {
 /// corrupt) is replaced, with a warning naming the material and the file (an error when
 /// [`TextureFiles::strict`]), by the texture's `inputs:fallback` when authored, else by the
 /// input's own default `default` (0.18 grey for `diffuseColor`): the surface stays visible and
-/// lit, where the schema default (0, 0, 0, 1) would paint it black. A file decoded on first use whose
-/// data then turns out corrupt gives the same value, its warning after the render
+/// lit, where the schema default (0, 0, 0, 1) would paint it black. A file decoded on first
+/// use whose data then turns out corrupt gives the same value, its warning after the render
 /// ([`TextureFiles::late_warnings`]). `read`: whether a lookup reads the input at all
 /// ([`TextureFiles::open`]).
 pub(super) fn texture_shader(
